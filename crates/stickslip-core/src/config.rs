@@ -1,0 +1,332 @@
+//! The resolved configuration of one simulation (what a scene file turns into) and its checks.
+//!
+//! Errors name the scene key (`contact.radius`), the value and the allowed range, so the
+//! command line can pass them to the user unchanged. No TOML here: parsing lives in the
+//! `stickslip` crate.
+
+use crate::drive::{Drive, Integrator};
+use crate::landau::{LandauParams, Temperature};
+use crate::noise::NoiseKind;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// A configuration value outside its allowed range.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{key} = {value} is out of range: allowed {allowed}")]
+pub struct ConfigError {
+    /// Scene key, `section.key`.
+    pub key: String,
+    /// The offending value as text.
+    pub value: String,
+    /// The allowed range, in words.
+    pub allowed: String,
+}
+
+impl ConfigError {
+    /// A new error for `key` with `value` and `allowed`.
+    pub fn new(key: &str, value: impl std::fmt::Display, allowed: &str) -> Self {
+        Self {
+            key: key.to_string(),
+            value: value.to_string(),
+            allowed: allowed.to_string(),
+        }
+    }
+}
+
+/// Radial MDR contact or a single homogeneous node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactModel {
+    /// φ, ε, τ resolved on the radial grid; substrate by MDR (Eq. 11–16).
+    Radial,
+    /// One node for the whole contact: uniform τ, substrate as a rigid flat punch of
+    /// stiffness 2G*a0 (u3D = F/(2G*a0)), F = πa0²τ.
+    Homogeneous,
+}
+
+/// Elastic substrate (MDR) or a rigid one (u3D = 0, no operator applied).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Substrate {
+    /// u3D from the MDR compliance (Eq. 13–15).
+    Elastic,
+    /// u3D = 0.
+    Rigid,
+}
+
+/// The time-stepping scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Scheme {
+    /// The paper's algorithm: plain sums, explicit Euler, lagged elastic sweep, one reset per step.
+    Literal,
+    /// Product integration, coupling solved each step, exact Landau step, located crossings.
+    Accurate,
+}
+
+/// Contact geometry and elasticity.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactConfig {
+    /// Contact radius a0, m.
+    pub radius_m: f64,
+    /// Lubricant film thickness h0, m.
+    pub film_thickness_m: f64,
+    /// Effective shear modulus G* (Eq. 9), Pa.
+    pub g_eff_pa: f64,
+    /// Number of radial nodes N (forced to 1 for the homogeneous model).
+    pub nodes: usize,
+    /// Radial or homogeneous.
+    pub model: ContactModel,
+    /// Elastic or rigid substrate.
+    pub substrate: Substrate,
+}
+
+/// Time interval and step.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TimeConfig {
+    /// End time, s.
+    pub end_s: f64,
+    /// Time step Δt, s.
+    pub dt_s: f64,
+    /// Stepping scheme.
+    pub scheme: Scheme,
+}
+
+/// Numerical controls with documented defaults.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct NumericsConfig {
+    /// Relative residual to which the accurate scheme solves the elastic coupling (default 1e-10).
+    pub coupling_tol: f64,
+    /// A step fails as a runaway when |τ| exceeds this multiple of τmax (default 10): the
+    /// stationary curve never exceeds τmax and transients stay within a few τmax.
+    pub runaway_stress_factor: f64,
+}
+
+impl Default for NumericsConfig {
+    fn default() -> Self {
+        Self {
+            coupling_tol: 1e-10,
+            runaway_stress_factor: 10.0,
+        }
+    }
+}
+
+/// Everything one simulation needs, in SI units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SimConfig {
+    /// Lubricant parameters (Eq. 6, 8).
+    pub lubricant: LandauParams,
+    /// φ below which a node counts as melted (u0 is held at 0 there); default 0.01.
+    pub melt_threshold: f64,
+    /// Thermal noise or its deterministic alternative.
+    pub noise: NoiseKind,
+    /// Temperature law for A (Eq. 17, 18).
+    pub temperature: Temperature,
+    /// Contact.
+    pub contact: ContactConfig,
+    /// Drive of the stamp.
+    pub drive: Drive,
+    /// Integrator of the spring drive.
+    pub integrator: Integrator,
+    /// Time.
+    pub time: TimeConfig,
+    /// Numerical controls.
+    pub numerics: NumericsConfig,
+}
+
+fn positive(key: &str, v: f64) -> Result<(), ConfigError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(ConfigError::new(key, v, "finite and > 0"))
+    }
+}
+
+/// Upper bound on N: the dense operators take 8·N² bytes each.
+pub const MAX_NODES: usize = 20_000;
+
+impl SimConfig {
+    /// Checks every value; the first problem is returned.
+    ///
+    /// # Errors
+    /// A [`ConfigError`] naming the scene key, value and allowed range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let l = &self.lubricant;
+        positive("lubricant.tau_max", l.tau_max_pa)?;
+        positive("lubricant.eps_max", l.eps_max)?;
+        positive("lubricant.a", l.a_pa)?;
+        positive("lubricant.gamma", l.gamma_per_pa_s)?;
+        if !(self.melt_threshold.is_finite() && self.melt_threshold > 0.0) {
+            return Err(ConfigError::new(
+                "lubricant.melt_threshold",
+                self.melt_threshold,
+                "finite and > 0",
+            ));
+        }
+        match self.noise {
+            NoiseKind::Off => {}
+            NoiseKind::Floor { floor } => {
+                if !(floor.is_finite() && floor >= 0.0 && floor < self.melt_threshold) {
+                    return Err(ConfigError::new(
+                        "lubricant.noise.floor",
+                        floor,
+                        "finite, >= 0 and below lubricant.melt_threshold",
+                    ));
+                }
+            }
+            NoiseKind::Gaussian {
+                sigma_per_sqrt_s, ..
+            } => {
+                if !(sigma_per_sqrt_s.is_finite() && sigma_per_sqrt_s >= 0.0) {
+                    return Err(ConfigError::new(
+                        "lubricant.noise.sigma",
+                        sigma_per_sqrt_s,
+                        "finite and >= 0",
+                    ));
+                }
+            }
+        }
+        match self.temperature {
+            Temperature::Constant { a_coeff_pa } => {
+                if !a_coeff_pa.is_finite() {
+                    return Err(ConfigError::new("temperature.A0", a_coeff_pa, "finite"));
+                }
+            }
+            Temperature::Relaxation { a0_pa, t_relax_s } => {
+                if !a0_pa.is_finite() {
+                    return Err(ConfigError::new("temperature.A0", a0_pa, "finite"));
+                }
+                positive("temperature.t_relax", t_relax_s)?;
+            }
+        }
+        let c = &self.contact;
+        positive("contact.radius", c.radius_m)?;
+        positive("contact.film_thickness", c.film_thickness_m)?;
+        positive("contact.g_eff", c.g_eff_pa)?;
+        if c.nodes == 0 || c.nodes > MAX_NODES {
+            return Err(ConfigError::new(
+                "contact.nodes",
+                c.nodes,
+                &format!("1 ..= {MAX_NODES}"),
+            ));
+        }
+        match self.drive {
+            Drive::Spring(s) => {
+                positive("drive.stiffness", s.stiffness_n_per_m)?;
+                positive("drive.mass", s.mass_kg)?;
+                if !s.velocity_m_per_s.is_finite() {
+                    return Err(ConfigError::new("drive.velocity", s.velocity_m_per_s, "finite"));
+                }
+            }
+            Drive::Rigid(r) => {
+                if !r.velocity_m_per_s.is_finite() {
+                    return Err(ConfigError::new("drive.velocity", r.velocity_m_per_s, "finite"));
+                }
+            }
+        }
+        let t = &self.time;
+        positive("time.end", t.end_s)?;
+        if !(t.dt_s.is_finite() && t.dt_s > 0.0 && t.dt_s <= t.end_s) {
+            return Err(ConfigError::new(
+                "time.dt",
+                t.dt_s,
+                &format!("finite, > 0 and <= time.end = {:e}", t.end_s),
+            ));
+        }
+        let n = &self.numerics;
+        if !(n.coupling_tol.is_finite() && n.coupling_tol > 0.0 && n.coupling_tol < 1.0) {
+            return Err(ConfigError::new(
+                "numerics.coupling_tol",
+                n.coupling_tol,
+                "finite, > 0 and < 1",
+            ));
+        }
+        if !(n.runaway_stress_factor.is_finite() && n.runaway_stress_factor > 1.0) {
+            return Err(ConfigError::new(
+                "numerics.runaway_stress_factor",
+                n.runaway_stress_factor,
+                "finite and > 1",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Number of nodes actually simulated: N for the radial model, 1 for the homogeneous one.
+    pub fn simulated_nodes(&self) -> usize {
+        match self.contact.model {
+            ContactModel::Radial => self.contact.nodes,
+            ContactModel::Homogeneous => 1,
+        }
+    }
+
+    /// The fig2 scene of the paper (SPEC §4) with the given scheme, floor noise φ ≥ 1e-6.
+    pub fn fig2(scheme: Scheme) -> Self {
+        let lubricant = LandauParams {
+            tau_max_pa: 1e6,
+            eps_max: 1.0,
+            a_pa: 1e6,
+            gamma_per_pa_s: 10.0,
+        };
+        Self {
+            lubricant,
+            melt_threshold: 0.01,
+            noise: NoiseKind::Floor { floor: 1e-6 },
+            temperature: Temperature::Constant {
+                a_coeff_pa: lubricant.a_coeff_default_pa(),
+            },
+            contact: ContactConfig {
+                radius_m: 2e-5,
+                film_thickness_m: 1e-7,
+                g_eff_pa: 1e9,
+                nodes: 2000,
+                model: ContactModel::Radial,
+                substrate: Substrate::Elastic,
+            },
+            drive: Drive::Spring(crate::drive::SpringDrive {
+                stiffness_n_per_m: 500.0,
+                mass_kg: 0.1,
+                velocity_m_per_s: 1.0,
+            }),
+            integrator: Integrator::Verlet,
+            time: TimeConfig {
+                end_s: 1.3e-3,
+                dt_s: 1e-8,
+                scheme,
+            },
+            numerics: NumericsConfig::default(),
+        }
+    }
+}
+
+/// Derived parameters reported by `stickslip check` and in `run.json`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Derived {
+    /// b = 2a²εmax³/τmax, Pa (Eq. 6).
+    pub b_pa: f64,
+    /// A at t = 0, Pa (Eq. 17/18).
+    pub a_coeff_pa: f64,
+    /// Critical strain εc = √(A·b)/a at t = 0 (0 when A ≤ 0).
+    pub eps_c: f64,
+    /// Equilibrium order parameter at zero strain φ0 = √(A/a) (0 when A ≤ 0).
+    pub phi0: f64,
+    /// ω = √(K/m) of the spring drive, rad/s (0 for the rigid drive).
+    pub omega_rad_per_s: f64,
+}
+
+impl Derived {
+    /// Derived parameters of `config`.
+    pub fn of(config: &SimConfig) -> Self {
+        let l = &config.lubricant;
+        let a_coeff = config.temperature.a_coeff_pa(0.0);
+        Self {
+            b_pa: l.b_pa(),
+            a_coeff_pa: a_coeff,
+            eps_c: l.critical_strain(a_coeff),
+            phi0: l.equilibrium_phi(0.0, a_coeff),
+            omega_rad_per_s: match config.drive {
+                Drive::Spring(s) => s.omega_rad_per_s(),
+                Drive::Rigid(_) => 0.0,
+            },
+        }
+    }
+}

@@ -1,0 +1,349 @@
+//! Drive of the stamp: the spring of Eq. 10 (m·Ẍ = K(V0·t − X) − F) with velocity-Verlet and
+//! RK4 integrators, the rigid coupler X = V0·t, and the exact friction-free spring motion.
+//!
+//! In the co-moving coordinate ξ = X − V0·t the spring equation is the harmonic oscillator
+//! ξ̈ = −ω²ξ − F/m with ω = √(K/m). Both integrators are invariant under this change of
+//! variable, so for F = 0 velocity Verlet conserves a modified co-moving energy (bounded
+//! energy error) while RK4 slowly dissipates it (|R(iωΔt)| < 1).
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// A drive parameter outside its allowed range.
+///
+/// The message names the field, the offending value and the allowed range, e.g.
+/// `invalid mass_kg = 0: must be finite and > 0`.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("invalid {field} = {value}: must be {allowed}")]
+pub struct DriveParamError {
+    /// Name of the offending field (the Rust field name, e.g. `stiffness_n_per_m`).
+    pub field: &'static str,
+    /// The rejected value.
+    pub value: f64,
+    /// The allowed range, in words.
+    pub allowed: &'static str,
+}
+
+fn require_positive(field: &'static str, value: f64) -> Result<(), DriveParamError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(DriveParamError {
+            field,
+            value,
+            allowed: "finite and > 0",
+        })
+    }
+}
+
+fn require_finite(field: &'static str, value: f64) -> Result<(), DriveParamError> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(DriveParamError {
+            field,
+            value,
+            allowed: "finite",
+        })
+    }
+}
+
+/// Kinematic state of the stamp.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct DriveState {
+    /// Time t, s.
+    pub t_s: f64,
+    /// Stamp position X, m.
+    pub x_m: f64,
+    /// Stamp velocity V = Ẋ, m/s.
+    pub v_m_per_s: f64,
+}
+
+impl DriveState {
+    /// The initial state: t = 0, X = 0, V = 0 (stamp at rest).
+    #[must_use]
+    pub fn at_rest() -> Self {
+        Self::default()
+    }
+}
+
+/// Time integrator of the spring drive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Velocity Verlet: symplectic, second order, one force evaluation per step.
+    #[default]
+    Verlet,
+    /// Classical Runge–Kutta: fourth order, not symplectic (slowly dissipates energy).
+    Rk4,
+}
+
+/// Stamp pulled through a spring of stiffness K whose free end moves at V0 (Eq. 10):
+/// m·Ẍ = K·(V0·t − X) − F.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpringDrive {
+    /// Spring stiffness K, N/m; finite and > 0.
+    pub stiffness_n_per_m: f64,
+    /// Stamp mass m, kg; finite and > 0.
+    pub mass_kg: f64,
+    /// Velocity V0 of the spring's free end, m/s; finite.
+    pub velocity_m_per_s: f64,
+}
+
+impl SpringDrive {
+    /// Builds a validated spring drive.
+    ///
+    /// # Errors
+    /// [`DriveParamError`] naming the first offending field (K and m must be finite and > 0,
+    /// V0 finite).
+    pub fn new(
+        stiffness_n_per_m: f64,
+        mass_kg: f64,
+        velocity_m_per_s: f64,
+    ) -> Result<Self, DriveParamError> {
+        let drive = Self {
+            stiffness_n_per_m,
+            mass_kg,
+            velocity_m_per_s,
+        };
+        drive.validate()?;
+        Ok(drive)
+    }
+
+    /// Checks the ranges listed in [`SpringDrive::new`].
+    ///
+    /// # Errors
+    /// [`DriveParamError`] naming the first offending field.
+    pub fn validate(&self) -> Result<(), DriveParamError> {
+        require_positive("stiffness_n_per_m", self.stiffness_n_per_m)?;
+        require_positive("mass_kg", self.mass_kg)?;
+        require_finite("velocity_m_per_s", self.velocity_m_per_s)
+    }
+
+    /// Angular frequency ω = √(K/m) of the free spring, rad/s.
+    #[must_use]
+    pub fn omega_rad_per_s(&self) -> f64 {
+        (self.stiffness_n_per_m / self.mass_kg).sqrt()
+    }
+
+    /// Acceleration Ẍ = (K·(V0·t − X) − F)/m in m/s², F the friction force in N.
+    #[must_use]
+    pub fn acceleration_m_per_s2(&self, t_s: f64, x_m: f64, friction_n: f64) -> f64 {
+        (self.stiffness_n_per_m * (self.velocity_m_per_s * t_s - x_m) - friction_n) / self.mass_kg
+    }
+
+    /// Half kick of velocity Verlet: V ← V + (Δt/2)·Ẍ(t, X, F), at the current t and X.
+    pub fn half_kick(&self, state: &mut DriveState, friction_n: f64, dt_s: f64) {
+        state.v_m_per_s +=
+            0.5 * dt_s * self.acceleration_m_per_s2(state.t_s, state.x_m, friction_n);
+    }
+
+    /// Drift of velocity Verlet and time advance: X ← X + Δt·V, t ← t + Δt.
+    pub fn drift(&self, state: &mut DriveState, dt_s: f64) {
+        state.x_m += dt_s * state.v_m_per_s;
+        state.t_s += dt_s;
+    }
+
+    /// One velocity-Verlet step: [`half_kick`](Self::half_kick) with `friction_before_n`
+    /// (F at the old t, X), [`drift`](Self::drift), then a half kick with `friction_after_n`
+    /// (F at the new t, X):
+    ///
+    /// V½ = V + (Δt/2)·Ẍ(t, X, F0); X1 = X + Δt·V½; V1 = V½ + (Δt/2)·Ẍ(t + Δt, X1, F1).
+    ///
+    /// Second order and symplectic. A coupled simulation that needs F1 = F(X1) calls the three
+    /// pieces itself and computes F1 between the drift and the second half kick.
+    ///
+    /// # Example
+    /// ```
+    /// use stickslip_core::drive::{DriveState, SpringDrive};
+    /// let spring = SpringDrive::new(500.0, 0.1, 1.0).unwrap();
+    /// let mut state = DriveState::at_rest();
+    /// let friction = |x_m: f64| 1e-3 * x_m; // any force law F(X), in N
+    /// let dt_s = 1e-8;
+    /// let mut f = friction(state.x_m);
+    /// for _ in 0..100 {
+    ///     spring.half_kick(&mut state, f, dt_s);
+    ///     spring.drift(&mut state, dt_s);
+    ///     f = friction(state.x_m); // the new force, from the new position
+    ///     spring.half_kick(&mut state, f, dt_s);
+    /// }
+    /// assert!((state.t_s - 1e-6).abs() < 1e-18);
+    /// ```
+    pub fn verlet_step(
+        &self,
+        state: &mut DriveState,
+        dt_s: f64,
+        friction_before_n: f64,
+        friction_after_n: f64,
+    ) {
+        self.half_kick(state, friction_before_n, dt_s);
+        self.drift(state, dt_s);
+        self.half_kick(state, friction_after_n, dt_s);
+    }
+
+    /// One classical RK4 step of (Ẋ, V̇) = (V, Ẍ(t, X, F)) with F held constant over the step:
+    ///
+    /// k1 = f(t, y), k2 = f(t + Δt/2, y + Δt/2·k1), k3 = f(t + Δt/2, y + Δt/2·k2),
+    /// k4 = f(t + Δt, y + Δt·k3), y1 = y + Δt/6·(k1 + 2k2 + 2k3 + k4). Fourth order.
+    pub fn rk4_step(&self, state: &mut DriveState, dt_s: f64, friction_n: f64) {
+        let DriveState {
+            t_s,
+            x_m,
+            v_m_per_s,
+        } = *state;
+        let h = dt_s;
+        let acc = |t, x| self.acceleration_m_per_s2(t, x, friction_n);
+        let (k1x, k1v) = (v_m_per_s, acc(t_s, x_m));
+        let (k2x, k2v) = (
+            v_m_per_s + 0.5 * h * k1v,
+            acc(t_s + 0.5 * h, x_m + 0.5 * h * k1x),
+        );
+        let (k3x, k3v) = (
+            v_m_per_s + 0.5 * h * k2v,
+            acc(t_s + 0.5 * h, x_m + 0.5 * h * k2x),
+        );
+        let (k4x, k4v) = (v_m_per_s + h * k3v, acc(t_s + h, x_m + h * k3x));
+        state.x_m = x_m + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+        state.v_m_per_s = v_m_per_s + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        state.t_s = t_s + h;
+    }
+
+    /// One step with the friction force constant over the step: [`verlet_step`](Self::verlet_step)
+    /// with F before = F after = `friction_n`, or [`rk4_step`](Self::rk4_step).
+    pub fn step(&self, integrator: Integrator, state: &mut DriveState, dt_s: f64, friction_n: f64) {
+        match integrator {
+            Integrator::Verlet => self.verlet_step(state, dt_s, friction_n, friction_n),
+            Integrator::Rk4 => self.rk4_step(state, dt_s, friction_n),
+        }
+    }
+}
+
+/// Stamp rigidly coupled to the drive (the predecessor paper's case): X = V0·t, V = V0.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RigidDrive {
+    /// Stamp velocity V0, m/s; finite.
+    pub velocity_m_per_s: f64,
+}
+
+impl RigidDrive {
+    /// Builds a validated rigid drive.
+    ///
+    /// # Errors
+    /// [`DriveParamError`] if V0 is not finite.
+    pub fn new(velocity_m_per_s: f64) -> Result<Self, DriveParamError> {
+        let drive = Self { velocity_m_per_s };
+        drive.validate()?;
+        Ok(drive)
+    }
+
+    /// Checks that V0 is finite.
+    ///
+    /// # Errors
+    /// [`DriveParamError`] if it is not.
+    pub fn validate(&self) -> Result<(), DriveParamError> {
+        require_finite("velocity_m_per_s", self.velocity_m_per_s)
+    }
+
+    /// The exact state at time t: X = V0·t, V = V0.
+    #[must_use]
+    pub fn state_at(&self, t_s: f64) -> DriveState {
+        DriveState {
+            t_s,
+            x_m: self.velocity_m_per_s * t_s,
+            v_m_per_s: self.velocity_m_per_s,
+        }
+    }
+
+    /// Advances t by Δt and sets X = V0·t, V = V0 (exact; the friction force is irrelevant).
+    pub fn step(&self, state: &mut DriveState, dt_s: f64) {
+        *state = self.state_at(state.t_s + dt_s);
+    }
+}
+
+/// Either drive of the stamp.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Drive {
+    /// Spring drive of Eq. 10.
+    Spring(SpringDrive),
+    /// Rigid coupler X = V0·t.
+    Rigid(RigidDrive),
+}
+
+impl Drive {
+    /// Velocity V0 of the driving end, m/s.
+    #[must_use]
+    pub fn velocity_m_per_s(&self) -> f64 {
+        match self {
+            Self::Spring(s) => s.velocity_m_per_s,
+            Self::Rigid(r) => r.velocity_m_per_s,
+        }
+    }
+
+    /// Checks the parameters of the wrapped drive.
+    ///
+    /// # Errors
+    /// [`DriveParamError`] naming the first offending field.
+    pub fn validate(&self) -> Result<(), DriveParamError> {
+        match self {
+            Self::Spring(s) => s.validate(),
+            Self::Rigid(r) => r.validate(),
+        }
+    }
+
+    /// One step with the friction force constant over the step: [`SpringDrive::step`] for a
+    /// spring, the exact [`RigidDrive::step`] (ignoring `integrator` and `friction_n`) otherwise.
+    pub fn step(&self, integrator: Integrator, state: &mut DriveState, dt_s: f64, friction_n: f64) {
+        match self {
+            Self::Spring(s) => s.step(integrator, state, dt_s, friction_n),
+            Self::Rigid(r) => r.step(state, dt_s),
+        }
+    }
+}
+
+/// θ − sin θ without cancellation: the Taylor series θ³/3! − θ⁵/5! + … for |θ| < 1 (terms
+/// shrink by ≥ 20× each, truncated below 1e-17 relative), the direct difference otherwise.
+fn theta_minus_sin(theta: f64) -> f64 {
+    if theta.abs() >= 1.0 {
+        return theta - theta.sin();
+    }
+    let theta_sq = theta * theta;
+    let mut term = theta * theta_sq / 6.0;
+    let mut sum = term;
+    let mut k = 3.0;
+    while term.abs() > 1e-17 * sum.abs() {
+        term *= -theta_sq / ((k + 1.0) * (k + 2.0));
+        sum += term;
+        k += 2.0;
+    }
+    sum
+}
+
+/// Exact motion of the spring drive without friction (F = 0) from rest at t = 0:
+///
+/// X(t) = V0·t − (V0/ω)·sin ωt = (V0/ω)·(ωt − sin ωt),  V(t) = V0·(1 − cos ωt) = 2V0·sin²(ωt/2),
+///
+/// evaluated without cancellation for small ωt (X ≈ V0·ω²t³/6). Returns (X in m, V in m/s).
+#[must_use]
+pub fn free_spring_exact(drive: &SpringDrive, t_s: f64) -> (f64, f64) {
+    let omega = drive.omega_rad_per_s();
+    let v0 = drive.velocity_m_per_s;
+    let theta = omega * t_s;
+    let half_sin = (0.5 * theta).sin();
+    (
+        v0 / omega * theta_minus_sin(theta),
+        2.0 * v0 * half_sin * half_sin,
+    )
+}
+
+/// Energy in the frame co-moving with the spring's free end, in J:
+///
+/// E = ½·m·(V − V0)² + ½·K·(X − V0·t)²,
+///
+/// conserved by the exact motion when F = 0 (d/dt E = −F·(V − V0)).
+#[must_use]
+pub fn comoving_energy_j(drive: &SpringDrive, state: &DriveState) -> f64 {
+    let dv = state.v_m_per_s - drive.velocity_m_per_s;
+    let dx = state.x_m - drive.velocity_m_per_s * state.t_s;
+    0.5 * drive.mass_kg * dv * dv + 0.5 * drive.stiffness_n_per_m * dx * dx
+}

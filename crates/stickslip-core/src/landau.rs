@@ -1,0 +1,347 @@
+//! Landau kinetics of the lubricant's order parameter φ (paper Eq. 1–8, 17, 18): parameters,
+//! equilibrium, stress, temperature laws and three steppers for Eq. 8 with the strain frozen.
+//!
+//! Model (SI units throughout; φ is dimensionless, ε is a dimensionless shear strain):
+//!
+//! - free energy density f = α(T−Tc)φ² + (a/2)φ²ε² + (b/4)φ⁴ (Eq. 1);
+//! - shear stress τ = a·φ²·ε (Eq. 2, 12);
+//! - b = 2a²εmax³/τmax (Eq. 6) and, at constant temperature, A = 1.5·τmax/εmax (Eq. 17);
+//! - equilibrium φ0² = A/a − (a/b)ε², zero for ε ≥ εc = √(A·b)/a (Eq. 3, 4);
+//! - kinetics dφ/dt = −γ·φ·(a·ε² + b·φ² − A·b/a) + ξ(t) (Eq. 8); the noise ξ lives in
+//!   [`crate::noise`], this module handles the deterministic part only.
+//!
+//! With ε and A frozen over a step, Eq. 8 without noise is a Bernoulli equation. For y = φ² it
+//! reads dy/dt = −2γ·y·(c + b·y) with c = a·ε² − A·b/a, whose solution is
+//! y(t) = c·y0·e^(−2γct) / (c + b·y0·(1 − e^(−2γct))) (and y0/(1 + 2γ·b·y0·t) for c = 0).
+//! [`PhiStepper::Exact`] evaluates it without overflow for any step; [`PhiStepper::ExplicitEuler`]
+//! is the paper's scheme; [`PhiStepper::ImplicitEuler`] is a cheap, unconditionally stable
+//! first-order alternative.
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// A lubricant parameter outside its allowed range.
+///
+/// The message names the field, the offending value and the allowed range, e.g.
+/// `invalid tau_max_pa = -1: must be finite and > 0`.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("invalid {field} = {value}: must be {allowed}")]
+pub struct LandauParamError {
+    /// Name of the offending field (the Rust field name, e.g. `gamma_per_pa_s`).
+    pub field: &'static str,
+    /// The rejected value.
+    pub value: f64,
+    /// The allowed range, in words (e.g. `finite and > 0`).
+    pub allowed: &'static str,
+}
+
+/// Checks that `value` is finite and strictly positive.
+fn require_positive(field: &'static str, value: f64) -> Result<(), LandauParamError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(LandauParamError {
+            field,
+            value,
+            allowed: "finite and > 0",
+        })
+    }
+}
+
+/// Material parameters of the Landau model as the user gives them (Eq. 6, 8).
+///
+/// Fields are public for convenience; [`LandauParams::new`] (or [`LandauParams::validate`])
+/// checks that every one of them is finite and > 0. All other functions of this module assume
+/// validated parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LandauParams {
+    /// Maximum shear stress τmax of the stationary stress–strain curve, Pa.
+    pub tau_max_pa: f64,
+    /// Strain εmax at which the stationary stress peaks, dimensionless.
+    pub eps_max: f64,
+    /// Expansion coefficient a of Eq. 1, Pa.
+    pub a_pa: f64,
+    /// Kinetic coefficient γ of Eq. 8, 1/(Pa·s).
+    pub gamma_per_pa_s: f64,
+}
+
+impl LandauParams {
+    /// Builds validated parameters.
+    ///
+    /// # Errors
+    /// [`LandauParamError`] naming the first field that is not finite and > 0.
+    pub fn new(
+        tau_max_pa: f64,
+        eps_max: f64,
+        a_pa: f64,
+        gamma_per_pa_s: f64,
+    ) -> Result<Self, LandauParamError> {
+        let params = Self {
+            tau_max_pa,
+            eps_max,
+            a_pa,
+            gamma_per_pa_s,
+        };
+        params.validate()?;
+        Ok(params)
+    }
+
+    /// Checks that every field is finite and > 0.
+    ///
+    /// # Errors
+    /// [`LandauParamError`] naming the first offending field.
+    pub fn validate(&self) -> Result<(), LandauParamError> {
+        require_positive("tau_max_pa", self.tau_max_pa)?;
+        require_positive("eps_max", self.eps_max)?;
+        require_positive("a_pa", self.a_pa)?;
+        require_positive("gamma_per_pa_s", self.gamma_per_pa_s)
+    }
+
+    /// Quartic coefficient b = 2·a²·εmax³/τmax of Eq. 1, in Pa (Eq. 6).
+    #[must_use]
+    pub fn b_pa(&self) -> f64 {
+        2.0 * self.a_pa * self.a_pa * self.eps_max.powi(3) / self.tau_max_pa
+    }
+
+    /// Temperature coefficient A = 2α(Tc − T)·a/b at the temperature that produced τmax, εmax:
+    /// A = 1.5·τmax/εmax, in Pa (Eq. 17).
+    #[must_use]
+    pub fn a_coeff_default_pa(&self) -> f64 {
+        1.5 * self.tau_max_pa / self.eps_max
+    }
+
+    /// Critical strain εc = √(A·b)/a for this A (0 for A ≤ 0); see [`critical_strain`].
+    #[must_use]
+    pub fn critical_strain(&self, a_coeff_pa: f64) -> f64 {
+        critical_strain(a_coeff_pa, self.a_pa, self.b_pa())
+    }
+
+    /// Equilibrium order parameter φ0(ε) for this A; see [`equilibrium_phi`].
+    #[must_use]
+    pub fn equilibrium_phi(&self, eps: f64, a_coeff_pa: f64) -> f64 {
+        equilibrium_phi(eps, a_coeff_pa, self.a_pa, self.b_pa())
+    }
+
+    /// Bernoulli coefficient c = a·ε² − A·b/a in Pa: y = φ² relaxes as dy/dt = −2γ·y·(c + b·y).
+    /// c > 0 means the film melts (y → 0), c < 0 that it grows towards y = −c/b.
+    #[must_use]
+    pub fn bernoulli_c_pa(&self, eps: f64, a_coeff_pa: f64) -> f64 {
+        self.a_pa * eps * eps - a_coeff_pa * self.b_pa() / self.a_pa
+    }
+}
+
+/// Critical strain εc = √(A·b)/a above which the solid film has no equilibrium (Eq. 4).
+///
+/// Returns 0 when A ≤ 0 (the film is molten at any strain). Never NaN for a > 0, b > 0.
+#[must_use]
+pub fn critical_strain(a_coeff_pa: f64, a_pa: f64, b_pa: f64) -> f64 {
+    if a_coeff_pa > 0.0 {
+        (a_coeff_pa * b_pa).sqrt() / a_pa
+    } else {
+        0.0
+    }
+}
+
+/// Equilibrium order parameter φ0 = √(max(0, A/a − (a/b)·ε²)) (Eq. 3).
+///
+/// Returns 0 for A ≤ 0 or |ε| ≥ εc; never NaN for finite inputs with a > 0, b > 0.
+#[must_use]
+pub fn equilibrium_phi(eps: f64, a_coeff_pa: f64, a_pa: f64, b_pa: f64) -> f64 {
+    let phi_sq = a_coeff_pa / a_pa - (a_pa / b_pa) * eps * eps;
+    if phi_sq > 0.0 { phi_sq.sqrt() } else { 0.0 }
+}
+
+/// Deterministic right-hand side of Eq. 8: dφ/dt = −γ·φ·(a·ε² + b·φ² − A·b/a), in 1/s.
+#[must_use]
+pub fn rhs(phi: f64, eps: f64, a_coeff_pa: f64, params: &LandauParams) -> f64 {
+    let a = params.a_pa;
+    let b = params.b_pa();
+    -params.gamma_per_pa_s * phi * (a * eps * eps + b * phi * phi - a_coeff_pa * b / a)
+}
+
+/// Shear stress of the film τ = a·φ²·ε, in Pa (Eq. 2, 12).
+#[must_use]
+pub fn stress(phi: f64, eps: f64, a_pa: f64) -> f64 {
+    a_pa * phi * phi * eps
+}
+
+/// Temperature law, expressed through the coefficient A(t) (Eq. 17, 18).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Temperature {
+    /// Constant temperature: A(t) = `a_coeff_pa` (Eq. 17 gives the default 1.5·τmax/εmax).
+    Constant {
+        /// A in Pa; any finite value (A ≤ 0 means a completely molten film).
+        a_coeff_pa: f64,
+    },
+    /// Heating lubricant: A(t) = A0·exp(−t/t̃) (Eq. 18).
+    Relaxation {
+        /// A0 = A(0) in Pa; any finite value.
+        a0_pa: f64,
+        /// Relaxation time t̃ in s; finite and > 0.
+        t_relax_s: f64,
+    },
+}
+
+impl Temperature {
+    /// The coefficient A(t) in Pa at time `t_s`: constant, or A0·exp(−t/t̃) (Eq. 18).
+    #[must_use]
+    pub fn a_coeff_pa(&self, t_s: f64) -> f64 {
+        match *self {
+            Self::Constant { a_coeff_pa } => a_coeff_pa,
+            Self::Relaxation { a0_pa, t_relax_s } => a0_pa * (-t_s / t_relax_s).exp(),
+        }
+    }
+
+    /// Checks that A (or A0) is finite and that t̃ is finite and > 0.
+    ///
+    /// # Errors
+    /// [`LandauParamError`] naming the offending field.
+    pub fn validate(&self) -> Result<(), LandauParamError> {
+        let finite = |field, value: f64| {
+            if value.is_finite() {
+                Ok(())
+            } else {
+                Err(LandauParamError {
+                    field,
+                    value,
+                    allowed: "finite",
+                })
+            }
+        };
+        match *self {
+            Self::Constant { a_coeff_pa } => finite("a_coeff_pa", a_coeff_pa),
+            Self::Relaxation { a0_pa, t_relax_s } => {
+                finite("a0_pa", a0_pa)?;
+                require_positive("t_relax_s", t_relax_s)
+            }
+        }
+    }
+}
+
+/// Time stepper for Eq. 8 without noise over one step Δt, with ε and A frozen over the step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PhiStepper {
+    /// The paper's explicit Euler: φ1 = φ0 + Δt·rhs(φ0).
+    ///
+    /// First order; unstable once Δt·|∂rhs/∂φ| > 2 (at the solid equilibrium with ε = 0,
+    /// |∂rhs/∂φ| = 2γ·A·b/a). The raw value is returned — it may be negative, huge or NaN —
+    /// so that callers of the literal scheme see the instability instead of a clamped number.
+    ExplicitEuler,
+    /// The closed-form solution of the frozen-ε Bernoulli equation; exact up to rounding for
+    /// any Δt ≥ 0 and never overflowing. See [`exact_phi`].
+    Exact,
+    /// Backward Euler on y = φ²: y1 = y0 − 2γΔt·y1·(c + b·y1), solved in closed form for its
+    /// positive root. First order, unconditionally stable, positivity preserving.
+    ImplicitEuler,
+}
+
+impl PhiStepper {
+    /// Advances φ by `dt_s` with strain `eps` and coefficient `a_coeff_pa` frozen.
+    ///
+    /// - `ExplicitEuler`: φ + Δt·[`rhs`]`(φ, ε, A)` (raw, may be < 0 or non-finite);
+    /// - `Exact`: [`exact_phi`]`(φ, ε, A, params, Δt)`, ≥ 0;
+    /// - `ImplicitEuler`: with c = a·ε² − A·b/a, y0 = φ², α = 1 + 2γΔt·c, β = 2γΔt·b, the
+    ///   positive root of β·y1² + α·y1 − y0 = 0,
+    ///   y1 = 2·y0 / (α + √(α² + 4β·y0)) for α ≥ 0 and y1 = (√(α² + 4β·y0) − α)/(2β) for α < 0
+    ///   (the same root, each form free of cancellation); returns √y1 ≥ 0.
+    ///   For α < 0 (Δt > 1/(2γ|c|) in a growth regime) a tiny y0 > 0 jumps to y1 ≈ −α/β, a
+    ///   known large-step artifact of backward Euler; y0 = 0 stays 0.
+    ///
+    /// `Exact` and `ImplicitEuler` use |φ| (Eq. 8 is odd in φ, so the sign carries no
+    /// information) and return a value ≥ 0. `dt_s` must be ≥ 0.
+    #[must_use]
+    pub fn step(
+        &self,
+        phi: f64,
+        eps: f64,
+        a_coeff_pa: f64,
+        params: &LandauParams,
+        dt_s: f64,
+    ) -> f64 {
+        match self {
+            Self::ExplicitEuler => phi + dt_s * rhs(phi, eps, a_coeff_pa, params),
+            Self::Exact => exact_phi(phi, eps, a_coeff_pa, params, dt_s),
+            Self::ImplicitEuler => implicit_euler_phi(phi, eps, a_coeff_pa, params, dt_s),
+        }
+    }
+}
+
+/// Backward Euler on y = φ² (see [`PhiStepper::ImplicitEuler`]).
+fn implicit_euler_phi(
+    phi: f64,
+    eps: f64,
+    a_coeff_pa: f64,
+    params: &LandauParams,
+    dt_s: f64,
+) -> f64 {
+    let phi = phi.abs();
+    if dt_s == 0.0 || phi == 0.0 {
+        return phi;
+    }
+    let y0 = phi * phi;
+    let two_gamma_dt = 2.0 * params.gamma_per_pa_s * dt_s;
+    let alpha = 1.0 + two_gamma_dt * params.bernoulli_c_pa(eps, a_coeff_pa);
+    let beta = two_gamma_dt * params.b_pa();
+    // √(α² + 4β·y0) without overflowing α².
+    let root = alpha.hypot(2.0 * (beta * y0).sqrt());
+    let y1 = if alpha >= 0.0 {
+        2.0 * y0 / (alpha + root)
+    } else {
+        (root - alpha) / (2.0 * beta)
+    };
+    y1.sqrt()
+}
+
+/// Exact solution φ(t) of dφ/dt = −γ·φ·(a·ε² + b·φ² − A·b/a) with ε, A frozen, from φ(0) = φ0.
+///
+/// With y = φ², c = a·ε² − A·b/a:
+/// y(t) = c·y0·e^(−2γct) / (c + b·y0·(1 − e^(−2γct))), and y0/(1 + 2γ·b·y0·t) for c = 0.
+///
+/// Evaluated without overflow for any t ≥ 0: with s = |c|, w = 2γ·s·t, e = e^(−w) ≤ 1 and
+/// h = (1 − e^(−w))/s = −expm1(−w)/s (→ 2γt as s → 0; taken as 2γt when s is 0 or subnormal),
+///
+/// - c ≥ 0 (melting): y = y0·e / (1 + b·y0·h);
+/// - c < 0 (growth, numerator and denominator divided by e^(2γ|c|t)): y = 1 / (e/y0 + b·h),
+///   which tends to the equilibrium −c/b for t → ∞ instead of overflowing.
+///
+/// All terms are non-negative, so there is no cancellation and the result is exact up to a few
+/// rounding errors. Uses |φ0| (Eq. 8 is odd in φ); returns |φ(t)| ≥ 0, and 0 for φ0 = 0.
+/// φ0 must satisfy φ0² < f64::MAX.
+///
+/// # Example
+/// ```
+/// use stickslip_core::landau::{LandauParams, exact_phi};
+/// let p = LandauParams::new(1e6, 1.0, 1e6, 10.0).unwrap();
+/// let a_coeff = p.a_coeff_default_pa();
+/// // Growth at ε = 0 over a huge step lands on the equilibrium √(A/a) = √1.5.
+/// let phi = exact_phi(1e-3, 0.0, a_coeff, &p, 1e3);
+/// assert!((phi - 1.5f64.sqrt()).abs() < 1e-15);
+/// // Beyond εc = √3 the film melts.
+/// assert!(exact_phi(1.2, 2.0, a_coeff, &p, 1e-6) < 1e-4);
+/// ```
+#[must_use]
+pub fn exact_phi(phi0: f64, eps: f64, a_coeff_pa: f64, params: &LandauParams, t_s: f64) -> f64 {
+    let phi0 = phi0.abs();
+    if t_s == 0.0 || phi0 == 0.0 {
+        return phi0;
+    }
+    let y0 = phi0 * phi0;
+    let b = params.b_pa();
+    let two_gamma = 2.0 * params.gamma_per_pa_s;
+    let c = params.bernoulli_c_pa(eps, a_coeff_pa);
+    let s = c.abs();
+    let (e, h) = if s.is_normal() {
+        let w = two_gamma * s * t_s;
+        ((-w).exp(), -(-w).exp_m1() / s)
+    } else {
+        (1.0, two_gamma * t_s)
+    };
+    let y = if c >= 0.0 {
+        y0 * e / (1.0 + b * y0 * h)
+    } else {
+        1.0 / (e / y0 + b * h)
+    };
+    y.sqrt()
+}

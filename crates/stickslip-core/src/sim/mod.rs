@@ -1,0 +1,586 @@
+//! The time loop: one [`Simulation`] advances film, substrate and stamp by one step at a time.
+//!
+//! Effects are composed from [`SimConfig`]: what a scene leaves off is not computed at all
+//! (no operator for a rigid substrate, no random numbers for floor/off noise, one node for the
+//! homogeneous model). Two schemes:
+//!
+//! **literal** (the paper's): φ by explicit Euler with ε of the previous step; u0 grows by the
+//! stamp's advance and is reset to 0 where φ < threshold, once per step; ε = (u0 − u3D_prev)/h0
+//! with the substrate displacement of the previous step (one lagged sweep of the coupling);
+//! plain sums for Eq. 13–16.
+//!
+//! **accurate**: per node, the exact Landau step with ε frozen at its mid-step value; u0 reset
+//! where the deterministic path crosses the threshold, re-solidifying nodes accumulate u0 only
+//! from the located crossing time on; the coupling (I + K)·u3D = K·u0 solved to a tolerance
+//! (see [`coupling`]); product integration for Eq. 13–16.
+//!
+//! The stamp is advanced by velocity Verlet (half kick with F_n, drift, film update, half kick
+//! with F_{n+1}) or RK4 with F frozen over the step; the rigid drive sets X = V0·t.
+
+pub mod coupling;
+pub mod events;
+
+use crate::config::{ContactModel, Scheme, SimConfig, Substrate};
+use crate::drive::{Drive, DriveState, Integrator};
+use crate::grid::Grid;
+use crate::landau::{PhiStepper, rhs};
+use crate::mdr::{MdrOperators, Quadrature};
+use crate::noise::{NoiseSource, NoiseState};
+use coupling::CouplingSolver;
+use events::{EventTracker, MeltingEvent, StepSample};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+use thiserror::Error;
+
+/// A step produced a non-finite or runaway value.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error(
+    "numerical failure at t = {t_s:e} s, step {step}, node {node} (r = {r_m:e} m): \
+     {quantity} = {value:e}. {diagnosis}"
+)]
+pub struct NumericalFailure {
+    /// Time at the end of the failing step, s.
+    pub t_s: f64,
+    /// Number of the failing step (from 1).
+    pub step: u64,
+    /// Node where the bad value appeared first.
+    pub node: usize,
+    /// Radius of that node, m.
+    pub r_m: f64,
+    /// Which quantity (`phi`, `tau`, `u3d`, `X`, …).
+    pub quantity: &'static str,
+    /// The bad value.
+    pub value: f64,
+    /// What it means and what to do.
+    pub diagnosis: String,
+}
+
+/// Everything that evolves; serialisable so a run can be checkpointed and resumed bit-identically.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SimState {
+    /// Steps taken.
+    pub step: u64,
+    /// Stamp kinematics (and the time).
+    pub drive: DriveState,
+    /// Order parameter φ per node.
+    pub phi: Vec<f64>,
+    /// Stamp-surface displacement since the node last re-solidified, m.
+    pub u0_m: Vec<f64>,
+    /// Substrate displacement, m.
+    pub u3d_m: Vec<f64>,
+    /// Elastic strain ε = (u0 − u3D)/h0 as used for τ.
+    pub eps: Vec<f64>,
+    /// Shear stress τ = aφ²ε, Pa.
+    pub tau_pa: Vec<f64>,
+    /// Friction force F = 2π∫τ r dr, N.
+    pub force_n: f64,
+    /// Noise generator state.
+    pub noise: NoiseState,
+    /// Melting events so far.
+    pub events: EventTracker,
+    /// Coupling-solver iterations summed over all steps (accurate scheme).
+    pub coupling_iterations: u64,
+}
+
+/// Scalar observables at the current time.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Observables {
+    /// Time, s.
+    pub t_s: f64,
+    /// Stamp position X, m.
+    pub x_m: f64,
+    /// Stamp velocity V, m/s.
+    pub v_m_per_s: f64,
+    /// Friction force from 2π∫τ r dr, N.
+    pub f_n: f64,
+    /// Friction force from 2∫q dx, N.
+    pub f_1d_n: f64,
+    /// Area-weighted mean of φ.
+    pub phi_mean: f64,
+    /// Area-weighted mean of ε.
+    pub eps_mean: f64,
+    /// Melted area fraction (φ < threshold).
+    pub melted_fraction: f64,
+}
+
+enum Contact {
+    Radial {
+        ops: MdrOperators,
+        solver: Option<CouplingSolver>,
+    },
+    Homogeneous {
+        area_m2: f64,
+        /// u3D per unit τ, m/Pa (0 for a rigid substrate).
+        compliance_m_per_pa: f64,
+    },
+}
+
+/// One simulation: configuration, operators, state and scratch.
+pub struct Simulation {
+    config: SimConfig,
+    contact: Contact,
+    noise: NoiseSource,
+    state: SimState,
+    radii_m: Vec<f64>,
+    area_weights: Vec<f64>,
+    kappa: f64,
+    scratch_q: Vec<f64>,
+    scratch_u: Vec<f64>,
+    phi_sq: Vec<f64>,
+}
+
+impl std::fmt::Debug for Simulation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Simulation")
+            .field("config", &self.config)
+            .field("step", &self.state.step)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Simulation {
+    /// Builds operators and the initial state (X = Ẋ = 0, u0 = u3D = 0, φ = √(A/a)).
+    ///
+    /// # Errors
+    /// The first invalid configuration value.
+    pub fn new(config: SimConfig, merge_gap_s: f64) -> Result<Self, crate::config::ConfigError> {
+        config.validate()?;
+        let n = config.simulated_nodes();
+        let c = config.contact;
+        let grid = Grid::new(c.radius_m, n)
+            .map_err(|e| crate::config::ConfigError::new("contact.nodes", n, &e.to_string()))?;
+        let elastic = c.substrate == Substrate::Elastic;
+        let contact = match c.model {
+            ContactModel::Radial => {
+                let quadrature = match config.time.scheme {
+                    Scheme::Literal => Quadrature::Literal,
+                    Scheme::Accurate => Quadrature::Product,
+                };
+                let solver = (elastic && config.time.scheme == Scheme::Accurate)
+                    .then(|| CouplingSolver::new(n));
+                Contact::Radial {
+                    ops: MdrOperators::new(grid, quadrature),
+                    solver,
+                }
+            }
+            ContactModel::Homogeneous => Contact::Homogeneous {
+                area_m2: PI * c.radius_m * c.radius_m,
+                compliance_m_per_pa: if elastic {
+                    PI * c.radius_m / (2.0 * c.g_eff_pa)
+                } else {
+                    0.0
+                },
+            },
+        };
+        let noise = NoiseSource::new(config.noise, n).map_err(|e| {
+            crate::config::ConfigError::new("lubricant.noise", "-", &e.to_string())
+        })?;
+        let a0 = config.temperature.a_coeff_pa(0.0);
+        let phi_init = config.lubricant.equilibrium_phi(0.0, a0);
+        let (radii_m, area_weights) = match c.model {
+            ContactModel::Radial => (grid.radii_m(), grid.area_weights()),
+            ContactModel::Homogeneous => (vec![0.0], vec![1.0]),
+        };
+        let kappa = config.lubricant.a_pa / (c.film_thickness_m * c.g_eff_pa);
+        let state = SimState {
+            step: 0,
+            drive: DriveState::at_rest(),
+            phi: vec![phi_init; n],
+            u0_m: vec![0.0; n],
+            u3d_m: vec![0.0; n],
+            eps: vec![0.0; n],
+            tau_pa: vec![0.0; n],
+            force_n: 0.0,
+            noise: noise.state(),
+            events: EventTracker::new(merge_gap_s),
+            coupling_iterations: 0,
+        };
+        let mut sim = Self {
+            config,
+            contact,
+            noise,
+            state,
+            radii_m,
+            area_weights,
+            kappa,
+            scratch_q: vec![0.0; n],
+            scratch_u: vec![0.0; n],
+            phi_sq: vec![0.0; n],
+        };
+        sim.observe_events();
+        Ok(sim)
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SimConfig {
+        &self.config
+    }
+
+    /// The state (for checkpoints and profiles).
+    pub fn state(&self) -> &SimState {
+        &self.state
+    }
+
+    /// Replaces the state with a checkpointed one of the same configuration.
+    ///
+    /// # Errors
+    /// If the node count or the noise state does not fit.
+    pub fn restore(&mut self, state: SimState) -> Result<(), String> {
+        if state.phi.len() != self.radii_m.len() {
+            return Err(format!(
+                "checkpoint has {} nodes, the scene {}",
+                state.phi.len(),
+                self.radii_m.len()
+            ));
+        }
+        self.noise.restore(&state.noise).map_err(|e| e.to_string())?;
+        self.state = state;
+        Ok(())
+    }
+
+    /// Node radii, m.
+    pub fn radii_m(&self) -> &[f64] {
+        &self.radii_m
+    }
+
+    /// Current time, s.
+    pub fn time_s(&self) -> f64 {
+        self.state.drive.t_s
+    }
+
+    /// Melting events so far.
+    pub fn events(&self) -> &[MeltingEvent] {
+        self.state.events.events()
+    }
+
+    /// Advances by `dt_s` (normally `config.time.dt_s`).
+    ///
+    /// # Errors
+    /// [`NumericalFailure`] when a value turns non-finite or runs away (|τ| beyond
+    /// `numerics.runaway_stress_factor`·τmax, or the coupling solve fails).
+    pub fn step(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
+        match self.config.time.scheme {
+            Scheme::Literal => self.step_literal(dt_s),
+            Scheme::Accurate => self.step_accurate(dt_s)?,
+        }
+        self.state.step += 1;
+        self.check_state()?;
+        self.observe_events();
+        Ok(())
+    }
+
+    fn drive_first_half(&mut self, dt_s: f64) -> f64 {
+        let x0 = self.state.drive.x_m;
+        let f = self.state.force_n;
+        match (&self.config.drive, self.config.integrator) {
+            (Drive::Spring(s), Integrator::Verlet) => {
+                s.half_kick(&mut self.state.drive, f, dt_s);
+                s.drift(&mut self.state.drive, dt_s);
+            }
+            (d, integrator) => d.step(integrator, &mut self.state.drive, dt_s, f),
+        }
+        self.state.drive.x_m - x0
+    }
+
+    fn drive_second_half(&mut self, dt_s: f64) {
+        if let (Drive::Spring(s), Integrator::Verlet) = (&self.config.drive, self.config.integrator)
+        {
+            s.half_kick(&mut self.state.drive, self.state.force_n, dt_s);
+        }
+    }
+
+    fn step_literal(&mut self, dt_s: f64) {
+        let t0 = self.state.drive.t_s;
+        let a_coeff = self.config.temperature.a_coeff_pa(t0);
+        let params = self.config.lubricant;
+        for (phi, &eps) in self.state.phi.iter_mut().zip(&self.state.eps) {
+            *phi += dt_s * rhs(*phi, eps, a_coeff, &params);
+        }
+        self.noise.apply(&mut self.state.phi, dt_s);
+        let dx = self.drive_first_half(dt_s);
+        let thr = self.config.melt_threshold;
+        for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
+            *u0 = if phi < thr { 0.0 } else { *u0 + dx };
+        }
+        let h0 = self.config.contact.film_thickness_m;
+        let a = params.a_pa;
+        for i in 0..self.state.phi.len() {
+            let eps = (self.state.u0_m[i] - self.state.u3d_m[i]) / h0;
+            self.state.eps[i] = eps;
+            self.state.tau_pa[i] = a * self.state.phi[i] * self.state.phi[i] * eps;
+        }
+        // One lagged sweep: the substrate answers the stress just computed, for the next step.
+        match &self.contact {
+            Contact::Radial { ops, .. } => {
+                if self.config.contact.substrate == Substrate::Elastic {
+                    ops.compliance(&self.state.tau_pa, &mut self.scratch_q, &mut self.state.u3d_m);
+                    let inv_g = 1.0 / self.config.contact.g_eff_pa;
+                    self.state.u3d_m.iter_mut().for_each(|u| *u *= inv_g);
+                }
+            }
+            Contact::Homogeneous {
+                compliance_m_per_pa,
+                ..
+            } => {
+                self.state.u3d_m[0] = compliance_m_per_pa * self.state.tau_pa[0];
+            }
+        }
+        self.state.force_n = self.force_3d();
+        self.drive_second_half(dt_s);
+    }
+
+    fn step_accurate(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
+        let t0 = self.state.drive.t_s;
+        let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
+        let params = self.config.lubricant;
+        let thr = self.config.melt_threshold;
+        let h0 = self.config.contact.film_thickness_m;
+        let dx = self.drive_first_half(dt_s);
+        let half_deps = 0.5 * dx / h0;
+        for i in 0..self.state.phi.len() {
+            let phi0 = self.state.phi[i];
+            let solid0 = phi0 >= thr;
+            // u0 is held at 0 while melted, so only solid nodes see the stamp's advance.
+            let eps_mid = if solid0 {
+                self.state.eps[i] + half_deps
+            } else {
+                self.state.eps[i]
+            };
+            let phi1 = PhiStepper::Exact.step(phi0, eps_mid, a_mid, &params, dt_s);
+            let u0 = &mut self.state.u0_m[i];
+            *u0 = match (solid0, phi1 >= thr) {
+                (true, true) => *u0 + dx,
+                (false, true) => {
+                    let theta = crossing_fraction(phi0, phi1, thr, eps_mid, a_mid, &params, dt_s);
+                    (1.0 - theta) * dx
+                }
+                (_, false) => 0.0,
+            };
+            self.state.phi[i] = phi1;
+        }
+        self.noise.apply(&mut self.state.phi, dt_s);
+        for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
+            if phi < thr {
+                *u0 = 0.0;
+            }
+        }
+        self.solve_coupling(self.state.step + 1, t0 + dt_s)?;
+        let a = params.a_pa;
+        for i in 0..self.state.phi.len() {
+            let eps = (self.state.u0_m[i] - self.state.u3d_m[i]) / h0;
+            self.state.eps[i] = eps;
+            self.state.tau_pa[i] = a * self.state.phi[i] * self.state.phi[i] * eps;
+        }
+        self.state.force_n = self.force_3d();
+        self.drive_second_half(dt_s);
+        Ok(())
+    }
+
+    fn solve_coupling(&mut self, step: u64, t_s: f64) -> Result<(), NumericalFailure> {
+        match &mut self.contact {
+            Contact::Radial {
+                ops,
+                solver: Some(solver),
+            } => {
+                for (p2, &p) in self.phi_sq.iter_mut().zip(&self.state.phi) {
+                    *p2 = p * p;
+                }
+                let report = solver.solve(
+                    ops,
+                    &self.phi_sq,
+                    self.kappa,
+                    &self.state.u0_m,
+                    &mut self.state.u3d_m,
+                    self.config.numerics.coupling_tol,
+                );
+                self.state.coupling_iterations += report.iterations as u64;
+                if !report.converged {
+                    return Err(NumericalFailure {
+                        t_s,
+                        step,
+                        node: 0,
+                        r_m: 0.0,
+                        quantity: "coupling residual",
+                        value: report.rel_residual,
+                        diagnosis: format!(
+                            "the elastic coupling solve did not reach numerics.coupling_tol = {:e} \
+                             in {} iterations",
+                            self.config.numerics.coupling_tol, report.iterations
+                        ),
+                    });
+                }
+            }
+            Contact::Radial { solver: None, .. } => {}
+            Contact::Homogeneous {
+                compliance_m_per_pa,
+                ..
+            } => {
+                let phi = self.state.phi[0];
+                let k = *compliance_m_per_pa * self.config.lubricant.a_pa * phi * phi
+                    / self.config.contact.film_thickness_m;
+                self.state.u3d_m[0] = k * self.state.u0_m[0] / (1.0 + k);
+            }
+        }
+        Ok(())
+    }
+
+    fn force_3d(&self) -> f64 {
+        match &self.contact {
+            Contact::Radial { ops, .. } => ops.force_3d_n(&self.state.tau_pa),
+            Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.tau_pa[0],
+        }
+    }
+
+    /// Scalar observables now (computes F from 2∫q dx with one forward transform).
+    pub fn observables(&mut self) -> Observables {
+        let f_1d_n = match &self.contact {
+            Contact::Radial { ops, .. } => {
+                ops.forward(&self.state.tau_pa, &mut self.scratch_q);
+                ops.force_1d_n(&self.scratch_q)
+            }
+            Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.tau_pa[0],
+        };
+        let thr = self.config.melt_threshold;
+        let mut phi_mean = 0.0;
+        let mut eps_mean = 0.0;
+        let mut melted = 0.0;
+        for i in 0..self.state.phi.len() {
+            let w = self.area_weights[i];
+            phi_mean += w * self.state.phi[i];
+            eps_mean += w * self.state.eps[i];
+            if self.state.phi[i] < thr {
+                melted += w;
+            }
+        }
+        Observables {
+            t_s: self.state.drive.t_s,
+            x_m: self.state.drive.x_m,
+            v_m_per_s: self.state.drive.v_m_per_s,
+            f_n: self.state.force_n,
+            f_1d_n,
+            phi_mean,
+            eps_mean,
+            melted_fraction: melted,
+        }
+    }
+
+    /// Profiles φ, ε, τ, u0, u3D against r (copies of the state vectors).
+    pub fn substrate_displacement_scratch(&mut self) -> &mut [f64] {
+        &mut self.scratch_u
+    }
+
+    fn observe_events(&mut self) {
+        let thr = self.config.melt_threshold;
+        let mut count = 0;
+        let mut outer = 0.0_f64;
+        let mut inner = f64::INFINITY;
+        let mut fraction = 0.0;
+        for (i, &phi) in self.state.phi.iter().enumerate() {
+            if phi < thr {
+                count += 1;
+                outer = outer.max(self.radii_m[i]);
+                inner = inner.min(self.radii_m[i]);
+                fraction += self.area_weights[i];
+            }
+        }
+        let sample = StepSample {
+            t_s: self.state.drive.t_s,
+            x_m: self.state.drive.x_m,
+            f_n: self.state.force_n,
+            melted_nodes: count,
+            outermost_melted_m: outer,
+            innermost_melted_m: inner,
+            center_melted: self.state.phi[0] < thr,
+            melted_fraction: fraction,
+        };
+        self.state.events.observe(&sample);
+    }
+
+    fn check_state(&self) -> Result<(), NumericalFailure> {
+        let s = &self.state;
+        let fail = |node: usize, quantity: &'static str, value: f64, diagnosis: String| {
+            Err(NumericalFailure {
+                t_s: s.drive.t_s,
+                step: s.step,
+                node,
+                r_m: self.radii_m.get(node).copied().unwrap_or(0.0),
+                quantity,
+                value,
+                diagnosis,
+            })
+        };
+        let d = &s.drive;
+        if !(d.x_m.is_finite() && d.v_m_per_s.is_finite() && s.force_n.is_finite()) {
+            return fail(0, "X, V or F", d.x_m + d.v_m_per_s + s.force_n, non_finite_advice(&self.config));
+        }
+        let limit = self.config.numerics.runaway_stress_factor * self.config.lubricant.tau_max_pa;
+        let mut worst = (0usize, 0.0_f64);
+        let mut sum = 0.0;
+        for (i, (&tau, &phi)) in s.tau_pa.iter().zip(&s.phi).enumerate() {
+            sum += tau + phi + s.u3d_m[i];
+            if tau.abs() > worst.1 {
+                worst = (i, tau.abs());
+            }
+        }
+        if !sum.is_finite() {
+            for (i, ((&tau, &phi), &u)) in s.tau_pa.iter().zip(&s.phi).zip(&s.u3d_m).enumerate() {
+                for (q, v) in [("phi", phi), ("tau", tau), ("u3d", u)] {
+                    if !v.is_finite() {
+                        return fail(i, q, v, non_finite_advice(&self.config));
+                    }
+                }
+            }
+        }
+        if worst.1 > limit {
+            return fail(
+                worst.0,
+                "tau",
+                s.tau_pa[worst.0],
+                format!(
+                    "|tau| exceeds numerics.runaway_stress_factor x tau_max = {limit:e} Pa: the \
+                     solution is running away. {}",
+                    non_finite_advice(&self.config)
+                ),
+            );
+        }
+        Ok(())
+    }
+}
+
+fn non_finite_advice(config: &SimConfig) -> String {
+    match config.time.scheme {
+        Scheme::Literal => "The literal scheme is unstable here (explicit Euler beyond its \
+                            stability limit, or a lagged elastic sweep with contraction factor \
+                            >= 1): reduce time.dt or use time.scheme = \"accurate\"."
+            .to_string(),
+        Scheme::Accurate => "Reduce time.dt or check the scene's parameters.".to_string(),
+    }
+}
+
+/// Fraction θ ∈ [0, 1] of the step at which the exact path from φ0 reaches `thr` (growing).
+fn crossing_fraction(
+    phi0: f64,
+    phi1: f64,
+    thr: f64,
+    eps: f64,
+    a_coeff: f64,
+    params: &crate::landau::LandauParams,
+    dt_s: f64,
+) -> f64 {
+    if phi1 <= phi0 || phi0 <= 0.0 {
+        return 1.0;
+    }
+    let y0 = phi0 * phi0;
+    let ys = thr * thr;
+    let b = params.b_pa();
+    let c = params.bernoulli_c_pa(eps, a_coeff);
+    let two_gamma = 2.0 * params.gamma_per_pa_s;
+    // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct), solved for y(t) = ys.
+    let t = if c == 0.0 {
+        (y0 / ys - 1.0) / (two_gamma * b * y0).abs() * -1.0
+    } else {
+        let e = ys * (c + b * y0) / (y0 * (c + b * ys));
+        -e.ln() / (two_gamma * c)
+    };
+    (t / dt_s).clamp(0.0, 1.0)
+}
