@@ -215,12 +215,20 @@ impl SimConfig {
                 positive("drive.stiffness", s.stiffness_n_per_m)?;
                 positive("drive.mass", s.mass_kg)?;
                 if !s.velocity_m_per_s.is_finite() {
-                    return Err(ConfigError::new("drive.velocity", s.velocity_m_per_s, "finite"));
+                    return Err(ConfigError::new(
+                        "drive.velocity",
+                        s.velocity_m_per_s,
+                        "finite",
+                    ));
                 }
             }
             Drive::Rigid(r) => {
                 if !r.velocity_m_per_s.is_finite() {
-                    return Err(ConfigError::new("drive.velocity", r.velocity_m_per_s, "finite"));
+                    return Err(ConfigError::new(
+                        "drive.velocity",
+                        r.velocity_m_per_s,
+                        "finite",
+                    ));
                 }
             }
         }

@@ -10,10 +10,10 @@
 //!
 //! Invariant: this crate does no file I/O and knows nothing of TOML, CSV or SVG.
 
+pub mod config;
 pub mod drive;
 pub mod grid;
 pub mod landau;
 pub mod mdr;
 pub mod noise;
-pub mod config;
 pub mod sim;

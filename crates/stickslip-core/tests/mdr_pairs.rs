@@ -145,10 +145,18 @@ fn table() -> Vec<(String, Quadrature, Op, bool, Vec<f64>)> {
     let mut rows = Vec::new();
     for pair in pairs::ALL {
         for quad in [Quadrature::Literal, Quadrature::Product] {
-            for op in [Op::Forward, Op::Back, Op::Compliance, Op::Force3d, Op::Force1d, Op::ForceAgreement] {
+            for op in [
+                Op::Forward,
+                Op::Back,
+                Op::Compliance,
+                Op::Force3d,
+                Op::Force1d,
+                Op::ForceAgreement,
+            ] {
                 let errs: Vec<(f64, f64)> =
                     SIZES.iter().map(|&n| errors(&pair, quad, op, n)).collect();
-                let norms: &[bool] = if matches!(op, Op::Force3d | Op::Force1d | Op::ForceAgreement) {
+                let norms: &[bool] = if matches!(op, Op::Force3d | Op::Force1d | Op::ForceAgreement)
+                {
                     &[false]
                 } else {
                     &[false, true]
@@ -185,7 +193,11 @@ fn every_operator_converges_at_its_claimed_order() {
             failures.push(format!("{pair} {quad:?} {op:?} {norm}: e={e:?} p={p:?}"));
         }
     }
-    assert!(failures.is_empty(), "orders off their claims:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "orders off their claims:\n{}",
+        failures.join("\n")
+    );
 }
 
 #[test]

@@ -140,7 +140,11 @@ fn packed_apply_matches_dense_faer_product() {
                         y[i],
                         ym[(i, 0)]
                     );
-                    assert_eq!(y[i].to_bits(), y_par[i].to_bits(), "apply_par must be bit-identical");
+                    assert_eq!(
+                        y[i].to_bits(),
+                        y_par[i].to_bits(),
+                        "apply_par must be bit-identical"
+                    );
                 }
             }
         }

@@ -65,9 +65,7 @@ pub const SMOOTHER: ExactPair = ExactPair {
     description: "τ ∝ (a0² − r²)^(3/2): bounded slope everywhere",
     tau: |r, a0| edge_sq(a0, r).powf(1.5),
     q: |x, a0| 3.0 * PI / 8.0 * edge_sq(a0, x).powi(2),
-    u3d_g: |r, a0| {
-        3.0 * PI / 8.0 * (a0.powi(4) - a0 * a0 * r * r + 3.0 * r.powi(4) / 8.0)
-    },
+    u3d_g: |r, a0| 3.0 * PI / 8.0 * (a0.powi(4) - a0 * a0 * r * r + 3.0 * r.powi(4) / 8.0),
     force: |a0| 2.0 * PI * a0.powi(5) / 5.0,
 };
 

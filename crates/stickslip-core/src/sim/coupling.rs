@@ -15,6 +15,26 @@ use faer::matrix_free::{IdentityPrecond, InitialGuessStatus, LinOp};
 use faer::{MatMut, MatRef, Par};
 use std::sync::Mutex;
 
+/// Work vectors of one operator application: D·x, q, x and the result.
+#[derive(Debug)]
+struct Scratch {
+    dx: Vec<f64>,
+    q: Vec<f64>,
+    x: Vec<f64>,
+    y: Vec<f64>,
+}
+
+impl Scratch {
+    fn new(n: usize) -> Self {
+        Self {
+            dx: vec![0.0; n],
+            q: vec![0.0; n],
+            x: vec![0.0; n],
+            y: vec![0.0; n],
+        }
+    }
+}
+
 /// (I + κ·C·D) as a faer linear operator.
 #[derive(Debug)]
 struct CouplingOperator<'a> {
@@ -22,7 +42,7 @@ struct CouplingOperator<'a> {
     phi_sq: &'a [f64],
     kappa: f64,
     /// Scratch for D·x and for q; a Mutex only because faer requires `Sync`.
-    scratch: &'a Mutex<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)>,
+    scratch: &'a Mutex<Scratch>,
 }
 
 /// out = κ·C·(φ² ∘ x), with `dx` and `q` as scratch.
@@ -51,9 +71,15 @@ impl LinOp<f64> for CouplingOperator<'_> {
     fn ncols(&self) -> usize {
         self.phi_sq.len()
     }
-    fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, _stack: &mut MemStack) {
+    fn apply(
+        &self,
+        mut out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        _par: Par,
+        _stack: &mut MemStack,
+    ) {
         let mut guard = self.scratch.lock().expect("coupling scratch poisoned");
-        let (dx, q, x, y) = &mut *guard;
+        let Scratch { dx, q, x, y } = &mut *guard;
         for col in 0..rhs.ncols() {
             for (i, xi) in x.iter_mut().enumerate() {
                 *xi = rhs[(i, col)];
@@ -64,7 +90,13 @@ impl LinOp<f64> for CouplingOperator<'_> {
             }
         }
     }
-    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, stack: &mut MemStack) {
+    fn conj_apply(
+        &self,
+        out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        par: Par,
+        stack: &mut MemStack,
+    ) {
         self.apply(out, rhs, par, stack);
     }
 }
@@ -73,14 +105,16 @@ impl LinOp<f64> for CouplingOperator<'_> {
 pub struct CouplingSolver {
     n: usize,
     buffer: MemBuffer,
-    scratch: Mutex<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)>,
+    scratch: Mutex<Scratch>,
     rhs: faer::Mat<f64>,
     sol: faer::Mat<f64>,
 }
 
 impl std::fmt::Debug for CouplingSolver {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("CouplingSolver").field("n", &self.n).finish_non_exhaustive()
+        f.debug_struct("CouplingSolver")
+            .field("n", &self.n)
+            .finish_non_exhaustive()
     }
 }
 
@@ -108,7 +142,7 @@ impl CouplingSolver {
         Self {
             n,
             buffer: MemBuffer::new(req),
-            scratch: Mutex::new((vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n])),
+            scratch: Mutex::new(Scratch::new(n)),
             rhs: faer::Mat::zeros(n, 1),
             sol: faer::Mat::zeros(n, 1),
         }
@@ -133,7 +167,7 @@ impl CouplingSolver {
         };
         {
             let mut guard = self.scratch.lock().expect("coupling scratch poisoned");
-            let (dx, q, _, b) = &mut *guard;
+            let Scratch { dx, q, y: b, .. } = &mut *guard;
             apply_k(ops, phi_sq, kappa, u0, dx, q, b);
             for i in 0..n {
                 self.rhs[(i, 0)] = b[i];
@@ -147,7 +181,7 @@ impl CouplingSolver {
             max_iters: 500,
             ..Default::default()
         };
-        let mut stack = MemStack::new(&mut self.buffer);
+        let stack = MemStack::new(&mut self.buffer);
         let result = bicgstab(
             self.sol.as_mut(),
             IdentityPrecond { dim: n },
@@ -157,7 +191,7 @@ impl CouplingSolver {
             params,
             |_| {},
             Par::Seq,
-            &mut stack,
+            stack,
         );
         for (i, u) in u3d.iter_mut().enumerate() {
             *u = self.sol[(i, 0)];
@@ -193,10 +227,22 @@ impl LinOp<f64> for DummyOp {
     fn ncols(&self) -> usize {
         self.0
     }
-    fn apply(&self, _out: MatMut<'_, f64>, _rhs: MatRef<'_, f64>, _par: Par, _stack: &mut MemStack) {
+    fn apply(
+        &self,
+        _out: MatMut<'_, f64>,
+        _rhs: MatRef<'_, f64>,
+        _par: Par,
+        _stack: &mut MemStack,
+    ) {
         unreachable!("DummyOp only sizes scratch")
     }
-    fn conj_apply(&self, _out: MatMut<'_, f64>, _rhs: MatRef<'_, f64>, _par: Par, _stack: &mut MemStack) {
+    fn conj_apply(
+        &self,
+        _out: MatMut<'_, f64>,
+        _rhs: MatRef<'_, f64>,
+        _par: Par,
+        _stack: &mut MemStack,
+    ) {
         unreachable!("DummyOp only sizes scratch")
     }
 }

@@ -68,6 +68,9 @@ pub struct SimState {
     pub u0_m: Vec<f64>,
     /// Substrate displacement, m.
     pub u3d_m: Vec<f64>,
+    /// Substrate displacement one step earlier, m: the coupling solve starts from the linear
+    /// extrapolation 2·u3D_n − u3D_{n−1}, which cuts the solver's iterations in the stick phase.
+    pub u3d_prev_m: Vec<f64>,
     /// Elastic strain ε = (u0 − u3D)/h0 as used for τ.
     pub eps: Vec<f64>,
     /// Shear stress τ = aφ²ε, Pa.
@@ -105,8 +108,8 @@ pub struct Observables {
 
 enum Contact {
     Radial {
-        ops: MdrOperators,
-        solver: Option<CouplingSolver>,
+        ops: Box<MdrOperators>,
+        solver: Option<Box<CouplingSolver>>,
     },
     Homogeneous {
         area_m2: f64,
@@ -157,9 +160,9 @@ impl Simulation {
                     Scheme::Accurate => Quadrature::Product,
                 };
                 let solver = (elastic && config.time.scheme == Scheme::Accurate)
-                    .then(|| CouplingSolver::new(n));
+                    .then(|| Box::new(CouplingSolver::new(n)));
                 Contact::Radial {
-                    ops: MdrOperators::new(grid, quadrature),
+                    ops: Box::new(MdrOperators::new(grid, quadrature)),
                     solver,
                 }
             }
@@ -172,9 +175,8 @@ impl Simulation {
                 },
             },
         };
-        let noise = NoiseSource::new(config.noise, n).map_err(|e| {
-            crate::config::ConfigError::new("lubricant.noise", "-", &e.to_string())
-        })?;
+        let noise = NoiseSource::new(config.noise, n)
+            .map_err(|e| crate::config::ConfigError::new("lubricant.noise", "-", &e.to_string()))?;
         let a0 = config.temperature.a_coeff_pa(0.0);
         let phi_init = config.lubricant.equilibrium_phi(0.0, a0);
         let (radii_m, area_weights) = match c.model {
@@ -188,6 +190,7 @@ impl Simulation {
             phi: vec![phi_init; n],
             u0_m: vec![0.0; n],
             u3d_m: vec![0.0; n],
+            u3d_prev_m: vec![0.0; n],
             eps: vec![0.0; n],
             tau_pa: vec![0.0; n],
             force_n: 0.0,
@@ -233,7 +236,9 @@ impl Simulation {
                 self.radii_m.len()
             ));
         }
-        self.noise.restore(&state.noise).map_err(|e| e.to_string())?;
+        self.noise
+            .restore(&state.noise)
+            .map_err(|e| e.to_string())?;
         self.state = state;
         Ok(())
     }
@@ -313,7 +318,11 @@ impl Simulation {
         match &self.contact {
             Contact::Radial { ops, .. } => {
                 if self.config.contact.substrate == Substrate::Elastic {
-                    ops.compliance(&self.state.tau_pa, &mut self.scratch_q, &mut self.state.u3d_m);
+                    ops.compliance(
+                        &self.state.tau_pa,
+                        &mut self.scratch_q,
+                        &mut self.state.u3d_m,
+                    );
                     let inv_g = 1.0 / self.config.contact.g_eff_pa;
                     self.state.u3d_m.iter_mut().for_each(|u| *u *= inv_g);
                 }
@@ -384,6 +393,16 @@ impl Simulation {
             } => {
                 for (p2, &p) in self.phi_sq.iter_mut().zip(&self.state.phi) {
                     *p2 = p * p;
+                }
+                for (u, prev) in self
+                    .state
+                    .u3d_m
+                    .iter_mut()
+                    .zip(self.state.u3d_prev_m.iter_mut())
+                {
+                    let current = *u;
+                    *u = 2.0 * current - *prev;
+                    *prev = current;
                 }
                 let report = solver.solve(
                     ops,
@@ -511,7 +530,12 @@ impl Simulation {
         };
         let d = &s.drive;
         if !(d.x_m.is_finite() && d.v_m_per_s.is_finite() && s.force_n.is_finite()) {
-            return fail(0, "X, V or F", d.x_m + d.v_m_per_s + s.force_n, non_finite_advice(&self.config));
+            return fail(
+                0,
+                "X, V or F",
+                d.x_m + d.v_m_per_s + s.force_n,
+                non_finite_advice(&self.config),
+            );
         }
         let limit = self.config.numerics.runaway_stress_factor * self.config.lubricant.tau_max_pa;
         let mut worst = (0usize, 0.0_f64);
@@ -576,11 +600,11 @@ fn crossing_fraction(
     let c = params.bernoulli_c_pa(eps, a_coeff);
     let two_gamma = 2.0 * params.gamma_per_pa_s;
     // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct), solved for y(t) = ys.
-    let t = if c == 0.0 {
-        (y0 / ys - 1.0) / (two_gamma * b * y0).abs() * -1.0
-    } else {
-        let e = ys * (c + b * y0) / (y0 * (c + b * ys));
-        -e.ln() / (two_gamma * c)
-    };
+    if c >= 0.0 {
+        // With c ≥ 0 the exact path only decays: a rise came from noise, at the step's end.
+        return 1.0;
+    }
+    let e = ys * (c + b * y0) / (y0 * (c + b * ys));
+    let t = -e.ln() / (two_gamma * c);
     (t / dt_s).clamp(0.0, 1.0)
 }
