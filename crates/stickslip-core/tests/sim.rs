@@ -135,3 +135,30 @@ fn restoring_a_state_continues_bit_identically() {
     }
     assert_eq!(a.state(), b.state());
 }
+
+#[test]
+fn lagged_sweep_contraction_scales_with_substrate_softness() {
+    // ρ ∝ 1/G*: fig2 (G* = 1e9 Pa) contracts, a ten times softer substrate does not (SPEC §2).
+    let rho = |g: f64, scheme| {
+        let mut c = small_fig2(scheme, 200);
+        c.contact.g_eff_pa = g;
+        Simulation::new(c, 1e-5).unwrap().lagged_sweep_contraction()
+    };
+    for scheme in [Scheme::Literal, Scheme::Accurate] {
+        let stiff = rho(1e9, scheme);
+        let soft = rho(1e8, scheme);
+        eprintln!("{scheme:?}: rho(1e9) = {stiff:.4}, rho(1e8) = {soft:.4}");
+        assert!(stiff > 0.1 && stiff < 1.0, "{scheme:?}: rho = {stiff}");
+        assert!(soft > 1.0, "{scheme:?}: rho = {soft}");
+        assert!(
+            (soft / stiff - 10.0).abs() < 1e-6,
+            "{scheme:?}: {soft} / {stiff}"
+        );
+    }
+    let mut c = small_fig2(Scheme::Accurate, 50);
+    c.contact.substrate = Substrate::Rigid;
+    assert_eq!(
+        Simulation::new(c, 1e-5).unwrap().lagged_sweep_contraction(),
+        0.0
+    );
+}

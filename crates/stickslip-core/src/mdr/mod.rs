@@ -90,7 +90,7 @@ impl MdrOperators {
     /// If `tau_pa.len()` or `q_out_n_per_m.len()` differs from N.
     #[track_caller]
     pub fn forward(&self, tau_pa: &[f64], q_out_n_per_m: &mut [f64]) {
-        self.forward.apply(tau_pa, q_out_n_per_m);
+        apply_sized(&self.forward, tau_pa, q_out_n_per_m);
     }
 
     /// Back transform (Eq. 15): `u3d_out[i] ≈ (2/π)∫_0^{r_i} u1D(x)/√(r_i² − x²) dx`
@@ -100,7 +100,7 @@ impl MdrOperators {
     /// If `u1d_m.len()` or `u3d_out_m.len()` differs from N.
     #[track_caller]
     pub fn back(&self, u1d_m: &[f64], u3d_out_m: &mut [f64]) {
-        self.back.apply(u1d_m, u3d_out_m);
+        apply_sized(&self.back, u1d_m, u3d_out_m);
     }
 
     /// Composite compliance without the modulus: `out = back(forward(τ))` in Pa·m,
@@ -110,8 +110,8 @@ impl MdrOperators {
     /// If any slice length differs from N.
     #[track_caller]
     pub fn compliance(&self, tau_pa: &[f64], scratch_q: &mut [f64], out_pa_m: &mut [f64]) {
-        self.forward.apply(tau_pa, scratch_q);
-        self.back.apply(scratch_q, out_pa_m);
+        apply_sized(&self.forward, tau_pa, scratch_q);
+        apply_sized(&self.back, scratch_q, out_pa_m);
     }
 
     /// F = 2π∫τ r dr as Σ w_i τ_i (Eq. 16, 3D form), in N.
@@ -167,6 +167,19 @@ impl MdrOperators {
             faer::Par::Seq,
         );
         c
+    }
+}
+
+/// Below this size a mat-vec is too short to pay for sharing it among threads.
+const PARALLEL_MIN_NODES: usize = 512;
+
+/// Sequential or row-parallel apply by size; both give identical bits.
+#[track_caller]
+fn apply_sized(op: &TriangularOperator, x: &[f64], y: &mut [f64]) {
+    if op.size() >= PARALLEL_MIN_NODES {
+        op.apply_par(x, y);
+    } else {
+        op.apply(x, y);
     }
 }
 

@@ -450,6 +450,52 @@ impl Simulation {
         }
     }
 
+    /// Contraction factor ρ(K) of the paper's lagged elastic sweep u3D ← K·(u0 − u3D) for
+    /// the current φ, with K = (a/(h0·G*))·C·diag(φ²) and C this scheme's compliance.
+    ///
+    /// The sweep converges only when ρ < 1; the accurate scheme's solve does not need it.
+    /// K has non-negative entries, so power iteration from a positive vector converges to ρ
+    /// (Perron–Frobenius); 0 for a rigid substrate.
+    pub fn lagged_sweep_contraction(&mut self) -> f64 {
+        let n = self.state.phi.len();
+        let phi_sq: Vec<f64> = self.state.phi.iter().map(|p| p * p).collect();
+        match &self.contact {
+            _ if self.config.contact.substrate == Substrate::Rigid => 0.0,
+            Contact::Homogeneous {
+                compliance_m_per_pa,
+                ..
+            } => {
+                compliance_m_per_pa * self.config.lubricant.a_pa * phi_sq[0]
+                    / self.config.contact.film_thickness_m
+            }
+            Contact::Radial { ops, .. } => {
+                let mut x = vec![1.0 / (n as f64).sqrt(); n];
+                let mut dx = vec![0.0; n];
+                let mut y = vec![0.0; n];
+                let mut rho = 0.0;
+                for _ in 0..500 {
+                    for i in 0..n {
+                        dx[i] = self.kappa * phi_sq[i] * x[i];
+                    }
+                    ops.compliance(&dx, &mut self.scratch_q, &mut y);
+                    let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    if norm == 0.0 {
+                        return 0.0;
+                    }
+                    let converged = (norm - rho).abs() <= 1e-10 * norm;
+                    rho = norm;
+                    for i in 0..n {
+                        x[i] = y[i] / norm;
+                    }
+                    if converged {
+                        break;
+                    }
+                }
+                rho
+            }
+        }
+    }
+
     /// Scalar observables now (computes F from 2∫q dx with one forward transform).
     pub fn observables(&mut self) -> Observables {
         let f_1d_n = match &self.contact {
