@@ -162,3 +162,33 @@ fn lagged_sweep_contraction_scales_with_substrate_softness() {
         0.0
     );
 }
+
+#[test]
+fn literal_euler_overshoot_is_caught_even_under_a_floor() {
+    // γ raised 10⁴×: Δt·2γAb/a = 6000 ≫ 2. The floor φ ≥ 1e-6 would clip the negative
+    // overshoot into a "melted" film; the step must fail instead, naming φ.
+    let mut c = small_fig2(Scheme::Literal, 20);
+    c.lubricant.gamma_per_pa_s = 1e5;
+    c.time.dt_s = 1e-8;
+    let mut sim = Simulation::new(c, 1e-5).unwrap();
+    let err = (0..1000)
+        .find_map(|_| sim.step(1e-8).err())
+        .expect("explicit Euler must fail");
+    assert_eq!(err.quantity, "phi");
+    assert!(
+        err.diagnosis.contains("explicit Euler"),
+        "{}",
+        err.diagnosis
+    );
+    // The accurate scheme at the same Δt stays bounded.
+    let mut c = small_fig2(Scheme::Accurate, 20);
+    c.lubricant.gamma_per_pa_s = 1e5;
+    let mut sim = Simulation::new(c, 1e-5).unwrap();
+    run_until(&mut sim, 2e-5, 1e-8);
+    assert!(
+        sim.state()
+            .phi
+            .iter()
+            .all(|p| p.is_finite() && *p >= 0.0 && *p < 1.3)
+    );
+}

@@ -265,7 +265,7 @@ impl Simulation {
     /// `numerics.runaway_stress_factor`·τmax, or the coupling solve fails).
     pub fn step(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
         match self.config.time.scheme {
-            Scheme::Literal => self.step_literal(dt_s),
+            Scheme::Literal => self.step_literal(dt_s)?,
             Scheme::Accurate => self.step_accurate(dt_s)?,
         }
         self.state.step += 1;
@@ -294,12 +294,33 @@ impl Simulation {
         }
     }
 
-    fn step_literal(&mut self, dt_s: f64) {
+    fn step_literal(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
         let t0 = self.state.drive.t_s;
         let a_coeff = self.config.temperature.a_coeff_pa(t0);
         let params = self.config.lubricant;
         for (phi, &eps) in self.state.phi.iter_mut().zip(&self.state.eps) {
             *phi += dt_s * rhs(*phi, eps, a_coeff, &params);
+        }
+        // Eq. 8 keeps φ ≥ 0 exactly; a negative φ is explicit Euler overshooting its
+        // stability limit. Caught here, before noise or a floor could hide it.
+        if let Some(node) = self.state.phi.iter().position(|p| p.is_nan() || *p < 0.0) {
+            let b = params.b_pa();
+            let stiffness = 2.0 * params.gamma_per_pa_s * (a_coeff * b / params.a_pa).abs();
+            return Err(NumericalFailure {
+                t_s: t0 + dt_s,
+                step: self.state.step + 1,
+                node,
+                r_m: self.radii_m[node],
+                quantity: "phi",
+                value: self.state.phi[node],
+                diagnosis: format!(
+                    "explicit Euler overshot below 0 (Eq. 8 keeps phi >= 0): dt x stiffness = \
+                     {:.3} with stiffness 2*gamma*A*b/a = {stiffness:e} 1/s; explicit Euler \
+                     needs it well below 1 (oscillates above 1, unstable above 2). Reduce \
+                     time.dt or use time.scheme = \"accurate\".",
+                    dt_s * stiffness
+                ),
+            });
         }
         self.noise.apply(&mut self.state.phi, dt_s);
         let dx = self.drive_first_half(dt_s);
@@ -336,6 +357,7 @@ impl Simulation {
         }
         self.state.force_n = self.force_3d();
         self.drive_second_half(dt_s);
+        Ok(())
     }
 
     fn step_accurate(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {

@@ -1,0 +1,15 @@
+//! stickslip: scene files, output files and the run loop behind the `stickslip` command line.
+//!
+//! - [`scene`]: TOML scenes (INTERFACE.md) with `--set` overrides, defaults and validation,
+//!   resolved into the engine's configuration;
+//! - [`output`]: atomic files, the CSV tables and run.json;
+//! - [`runner`]: the fixed-step time loop with recording and a progress bar.
+//!
+//! The numerics live in `stickslip-core`; this crate does the I/O.
+
+pub mod output;
+pub mod runner;
+pub mod scene;
+
+pub use runner::{RunError, RunSummary, run};
+pub use scene::{ResolvedScene, Scene, SceneError};

@@ -1,0 +1,275 @@
+//! Runs a resolved scene: the fixed-step time loop, recording of series, probes and profiles,
+//! the progress bar, and the output files (written also when the numerics fail).
+//!
+//! Steps: n = ⌈end/dt − 1e-9⌉, all of length dt except the last, which is end − t and so lands
+//! exactly on end. Series and probe rows: at t = 0, at the first step at or after each multiple
+//! of `output.series_interval` (with a tolerance of 1e-6·dt for rounding of the summed time),
+//! and at the end. Profiles: at the step nearest to each requested time, i.e. at the first
+//! recorded time t (t = 0 included) with t ≥ profile_time − h/2, h the length of the step that
+//! follows (dt, the shorter last step, or 0 at the end, where all remaining times are
+//! recorded); times that fall on the same step give one profile.
+
+use crate::output::report::{DerivedReport, RunReport, seed_of, write_report};
+use crate::output::tables::{ProbeWriter, ProfileWriter, SeriesWriter, write_events};
+use crate::scene::ResolvedScene;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use stickslip_core::config::ConfigError;
+use stickslip_core::sim::events::MeltingEvent;
+use stickslip_core::sim::{NumericalFailure, Simulation};
+use thiserror::Error;
+
+/// Steps between progress-bar updates.
+const PROGRESS_EVERY: u64 = 1024;
+/// Runs shorter than this show no progress bar.
+const PROGRESS_DELAY: Duration = Duration::from_secs(1);
+
+/// What a finished run reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSummary {
+    /// Steps taken.
+    pub steps: u64,
+    /// Time reached, s.
+    pub t_final_s: f64,
+    /// Melting events.
+    pub events: Vec<MeltingEvent>,
+    /// Wall-clock time of the time loop, s.
+    pub wall_seconds: f64,
+    /// Rows written to series.csv.
+    pub series_rows: u64,
+    /// Coupling-solver iterations (accurate scheme).
+    pub coupling_iterations: u64,
+}
+
+/// Why a run did not finish.
+#[derive(Debug, Error)]
+pub enum RunError {
+    /// The configuration was rejected by the engine (exit 2).
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The output directory cannot be created or written to (exit 2).
+    #[error("cannot write to output directory {path}: {source}; allowed: a writable directory")]
+    OutDir {
+        /// The directory.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// Writing an output file failed during or after the run (exit 1).
+    #[error("cannot write output in {path}: {source}")]
+    Io {
+        /// The directory.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// The numerics failed; everything recorded up to then has been written (exit 3).
+    #[error("{failure} (output up to the failure written to {dir})")]
+    Numerical {
+        /// The failure, naming time, step and node.
+        failure: NumericalFailure,
+        /// The output directory.
+        dir: PathBuf,
+    },
+}
+
+impl RunError {
+    /// Exit status of the command line: 2 bad scene or output directory, 3 numerical failure,
+    /// 1 an I/O error during the run.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Self::Config(_) | Self::OutDir { .. } => 2,
+            Self::Io { .. } => 1,
+            Self::Numerical { .. } => 3,
+        }
+    }
+}
+
+/// The output files being written and what is still to be recorded.
+struct Recorder {
+    series: SeriesWriter,
+    probes: ProbeWriter,
+    profiles: ProfileWriter,
+    /// Requested profile times, sorted, deduplicated.
+    profile_times_s: Vec<f64>,
+    next_profile: usize,
+    series_interval_s: f64,
+    /// Index k of the next multiple k·interval to record at.
+    next_mark: f64,
+    last_series_t_s: Option<f64>,
+    tol_s: f64,
+}
+
+impl Recorder {
+    fn create(dir: &Path, scene: &ResolvedScene, radii_m: &[f64]) -> io::Result<Self> {
+        let mut profile_times_s = scene.output.profile_times_s.clone();
+        profile_times_s.sort_by(f64::total_cmp);
+        profile_times_s.dedup();
+        let dt_s = scene.config.time.dt_s;
+        Ok(Self {
+            series: SeriesWriter::create(dir)?,
+            probes: ProbeWriter::create(dir, &scene.output.probe_radii_m, radii_m)?,
+            profiles: ProfileWriter::create(dir)?,
+            profile_times_s,
+            next_profile: 0,
+            series_interval_s: scene.output.series_interval_s,
+            next_mark: 0.0,
+            last_series_t_s: None,
+            tol_s: 1e-6 * dt_s,
+        })
+    }
+
+    fn series_row(&mut self, sim: &mut Simulation) -> io::Result<()> {
+        let o = sim.observables();
+        self.series.row(&o)?;
+        self.probes.row(o.t_s, &sim.state().phi)?;
+        self.last_series_t_s = Some(o.t_s);
+        self.next_mark = ((o.t_s + self.tol_s) / self.series_interval_s).floor() + 1.0;
+        Ok(())
+    }
+
+    /// Records whatever is due at the current time of `sim`; `h_next_s` is the length of the
+    /// step that follows (0 at the end).
+    fn observe(&mut self, sim: &mut Simulation, h_next_s: f64) -> io::Result<()> {
+        let t = sim.time_s();
+        if t + self.tol_s >= self.next_mark * self.series_interval_s {
+            self.series_row(sim)?;
+        }
+        let mut wrote = false;
+        while self
+            .profile_times_s
+            .get(self.next_profile)
+            .is_some_and(|&p| t >= p - 0.5 * h_next_s)
+        {
+            if !wrote {
+                self.profiles.profile(t, sim.radii_m(), sim.state())?;
+                wrote = true;
+            }
+            self.next_profile += 1;
+        }
+        Ok(())
+    }
+
+    /// Records the final row (if not yet recorded) and commits all streamed files.
+    fn finish(mut self, sim: &mut Simulation, record_end: bool) -> io::Result<u64> {
+        if record_end && self.last_series_t_s != Some(sim.time_s()) {
+            self.series_row(sim)?;
+        }
+        let rows = self.series.rows();
+        self.series.commit()?;
+        self.probes.commit()?;
+        self.profiles.commit()?;
+        Ok(rows)
+    }
+}
+
+fn progress_bar(steps: u64) -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{elapsed_precise} [{wide_bar}] {pos}/{len} steps, t = {msg} s, eta {eta}",
+    ) {
+        pb.set_style(style);
+    }
+    pb
+}
+
+/// Runs `scene`, writing series.csv, events.csv, profiles.csv, probes.csv and run.json into
+/// `out_dir` (created if needed). With `quiet`, no progress bar; otherwise one appears on
+/// stderr after about a second when stderr is a terminal.
+///
+/// # Errors
+/// [`RunError`]; on a numerical failure everything recorded so far is written first, with
+/// run.json `status = "failed"`.
+pub fn run(scene: &ResolvedScene, out_dir: &Path, quiet: bool) -> Result<RunSummary, RunError> {
+    let mut sim = Simulation::new(scene.config.clone(), scene.output.event_merge_gap_s)?;
+    let out_dir_err = |source| RunError::OutDir {
+        path: out_dir.to_path_buf(),
+        source,
+    };
+    let io_err = |source| RunError::Io {
+        path: out_dir.to_path_buf(),
+        source,
+    };
+    std::fs::create_dir_all(out_dir).map_err(out_dir_err)?;
+    let radii = sim.radii_m().to_vec();
+    let mut rec = Recorder::create(out_dir, scene, &radii).map_err(out_dir_err)?;
+    let steps = scene.steps;
+    let end = scene.config.time.end_s;
+    let dt = scene.config.time.dt_s;
+    // Length of step i (from 1): dt, except the last, which lands on end.
+    let step_length = |i: u64, t: f64| {
+        if i > steps {
+            0.0
+        } else if i == steps {
+            (end - t).max(0.0)
+        } else {
+            dt
+        }
+    };
+    rec.observe(&mut sim, step_length(1, 0.0)).map_err(io_err)?;
+    let pb = progress_bar(steps);
+    let mut shown = false;
+    let start = Instant::now();
+    let mut failure = None;
+    for i in 1..=steps {
+        let h = step_length(i, sim.time_s());
+        if h <= 0.0 {
+            break;
+        }
+        if let Err(f) = sim.step(h) {
+            failure = Some(f);
+            break;
+        }
+        let t = sim.time_s();
+        rec.observe(&mut sim, step_length(i + 1, t))
+            .map_err(io_err)?;
+        if i % PROGRESS_EVERY == 0 {
+            pb.set_position(i);
+            pb.set_message(format!("{:.4e}", sim.time_s()));
+            if !shown && !quiet && start.elapsed() >= PROGRESS_DELAY {
+                pb.set_draw_target(ProgressDrawTarget::stderr());
+                shown = true;
+            }
+        }
+    }
+    let wall_seconds = start.elapsed().as_secs_f64();
+    pb.finish_and_clear();
+
+    let series_rows = rec.finish(&mut sim, failure.is_none()).map_err(io_err)?;
+    let events = sim.events().to_vec();
+    write_events(out_dir, &events).map_err(io_err)?;
+    let state = sim.state();
+    let report = RunReport {
+        name: &scene.name,
+        status: if failure.is_some() { "failed" } else { "ok" },
+        failure: failure.as_ref().map(ToString::to_string),
+        version: env!("CARGO_PKG_VERSION"),
+        scene: &scene.resolved,
+        derived: DerivedReport::of(scene),
+        steps: state.step,
+        rejected_steps: 0,
+        t_final: sim.time_s(),
+        wall_seconds,
+        coupling_iterations: state.coupling_iterations,
+        seed: seed_of(scene),
+        events: events.len(),
+        series_rows,
+    };
+    write_report(out_dir, &report).map_err(io_err)?;
+    if let Some(failure) = failure {
+        return Err(RunError::Numerical {
+            failure,
+            dir: out_dir.to_path_buf(),
+        });
+    }
+    Ok(RunSummary {
+        steps: state.step,
+        t_final_s: sim.time_s(),
+        events,
+        wall_seconds,
+        series_rows,
+        coupling_iterations: state.coupling_iterations,
+    })
+}

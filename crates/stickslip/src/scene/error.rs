@@ -1,0 +1,334 @@
+//! [`SceneError`]: everything that can be wrong with a scene file or a `--set` override,
+//! each naming the key, the value and what is allowed; plus the translation of toml/serde
+//! errors into such messages.
+
+use stickslip_core::config::ConfigError;
+use thiserror::Error;
+
+/// A bad scene (command-line exit status 2).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SceneError {
+    /// The scene file could not be read (or is not UTF-8).
+    #[error("cannot read scene file {path}: {message}")]
+    Read {
+        /// The path as given.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// The text is not valid TOML.
+    #[error(
+        "scene is not valid TOML at line {line}, column {column}: {message} (near `{excerpt}`); \
+         allowed: a TOML document with the keys of INTERFACE.md"
+    )]
+    Syntax {
+        /// Line, from 1.
+        line: usize,
+        /// Column, from 1.
+        column: usize,
+        /// The parser's message.
+        message: String,
+        /// The offending line, shortened.
+        excerpt: String,
+    },
+    /// A `--set` argument that cannot be applied.
+    #[error(
+        "--set {arg:?}: {problem}; allowed: section.key=value with a TOML value \
+         (e.g. contact.nodes=200, time.scheme=literal, output.probe_radii=[2e-6])"
+    )]
+    Override {
+        /// The argument as given.
+        arg: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// A key that the section does not have.
+    #[error("unknown key `{key}` = {value} in section {section}; allowed keys there: {allowed}")]
+    UnknownKey {
+        /// Full key path, e.g. `lubricant.taumax`.
+        key: String,
+        /// The section, e.g. `[lubricant]` or `(top level)`.
+        section: String,
+        /// The value given.
+        value: String,
+        /// The keys the section accepts.
+        allowed: String,
+    },
+    /// A required key is absent.
+    #[error("missing required key `{key}` (value: none); allowed: {allowed}")]
+    MissingKey {
+        /// Full key path.
+        key: String,
+        /// The allowed range of the key.
+        allowed: String,
+    },
+    /// A key with a value of the wrong type.
+    #[error("{key} = {value} has the wrong type; allowed: {allowed}")]
+    WrongType {
+        /// Full key path.
+        key: String,
+        /// The value given.
+        value: String,
+        /// The expected type.
+        allowed: String,
+    },
+    /// A value outside its allowed range (same wording as the engine's `ConfigError`).
+    #[error("{key} = {value} is out of range: allowed {allowed}")]
+    Invalid {
+        /// Full key path.
+        key: String,
+        /// The value given.
+        value: String,
+        /// The allowed range.
+        allowed: String,
+    },
+    /// Keys that exclude each other.
+    #[error("{key} = {value} is contradictory with {other}; allowed: {allowed}")]
+    Contradictory {
+        /// Full key path of the key that may not be there.
+        key: String,
+        /// Its value.
+        value: String,
+        /// What it contradicts, e.g. `drive.kind = "rigid"`.
+        other: String,
+        /// What is allowed instead.
+        allowed: String,
+    },
+}
+
+impl SceneError {
+    /// An [`SceneError::Invalid`] for `key` with `value` and `allowed`.
+    pub fn invalid(key: &str, value: impl std::fmt::Display, allowed: impl Into<String>) -> Self {
+        Self::Invalid {
+            key: key.to_string(),
+            value: value.to_string(),
+            allowed: allowed.into(),
+        }
+    }
+
+    /// A [`SceneError::MissingKey`] for `key`.
+    pub fn missing(key: &str, allowed: impl Into<String>) -> Self {
+        Self::MissingKey {
+            key: key.to_string(),
+            allowed: allowed.into(),
+        }
+    }
+
+    /// The key the error is about, if any.
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            Self::UnknownKey { key, .. }
+            | Self::MissingKey { key, .. }
+            | Self::WrongType { key, .. }
+            | Self::Invalid { key, .. }
+            | Self::Contradictory { key, .. } => Some(key),
+            Self::Read { .. } | Self::Syntax { .. } | Self::Override { .. } => None,
+        }
+    }
+}
+
+impl From<ConfigError> for SceneError {
+    /// Keeps key and range; float values are re-rendered with [`human`] so all messages spell
+    /// values alike (`contact.nodes` is the engine's only integer key).
+    fn from(e: ConfigError) -> Self {
+        let value = match e.value.parse::<f64>() {
+            Ok(f) if e.key != "contact.nodes" => human(f),
+            _ => e.value,
+        };
+        Self::Invalid {
+            key: e.key,
+            value,
+            allowed: e.allowed,
+        }
+    }
+}
+
+/// A float for messages, spelled as it could be written in a scene: plain decimals for
+/// 1e-3 ≤ |x| < 1e4 and for 0 (`0.5`, `500`, `0`), else shortest scientific (`2e-5`, `1e9`),
+/// and `nan`, `inf`, `-inf`.
+pub(crate) fn human(f: f64) -> String {
+    if !f.is_finite() {
+        format_float(f)
+    } else if f == 0.0 || (1e-3..1e4).contains(&f.abs()) {
+        format!("{f}")
+    } else {
+        format!("{f:e}")
+    }
+}
+
+/// Longest value text quoted in a message.
+const MAX_VALUE_CHARS: usize = 80;
+
+/// Shortens `s` to at most [`MAX_VALUE_CHARS`] characters (on a char boundary).
+pub(crate) fn shorten(s: &str) -> String {
+    if s.chars().count() <= MAX_VALUE_CHARS {
+        s.to_string()
+    } else {
+        let mut out: String = s.chars().take(MAX_VALUE_CHARS).collect();
+        out.push('…');
+        out
+    }
+}
+
+/// A TOML value as it would be written in a scene (shortened), for messages.
+pub(crate) fn show_value(v: &toml::Value) -> String {
+    fn write(v: &toml::Value, out: &mut String, depth: usize) {
+        if out.len() > 4 * MAX_VALUE_CHARS {
+            return;
+        }
+        match v {
+            toml::Value::String(s) => out.push_str(&format!("{s:?}")),
+            toml::Value::Integer(i) => out.push_str(&i.to_string()),
+            toml::Value::Float(f) => out.push_str(&human(*f)),
+            toml::Value::Boolean(b) => out.push_str(&b.to_string()),
+            toml::Value::Datetime(d) => out.push_str(&d.to_string()),
+            toml::Value::Array(a) => {
+                out.push('[');
+                for (i, x) in a.iter().enumerate() {
+                    if i > 0 {
+                        out.push_str(", ");
+                    }
+                    if depth > 8 {
+                        out.push('…');
+                        break;
+                    }
+                    write(x, out, depth + 1);
+                }
+                out.push(']');
+            }
+            toml::Value::Table(t) => {
+                out.push('{');
+                for (i, (k, x)) in t.iter().enumerate() {
+                    if i > 0 {
+                        out.push_str(", ");
+                    }
+                    if depth > 8 {
+                        out.push('…');
+                        break;
+                    }
+                    out.push_str(k);
+                    out.push_str(" = ");
+                    write(x, out, depth + 1);
+                }
+                out.push('}');
+            }
+        }
+    }
+    let mut out = String::new();
+    write(v, &mut out, 0);
+    shorten(&out)
+}
+
+/// A float as TOML would accept it back (`nan`, `inf`, `-inf`, else shortest `{:e}`).
+pub(crate) fn format_float(f: f64) -> String {
+    if f.is_nan() {
+        "nan".to_string()
+    } else if f.is_infinite() {
+        if f > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else {
+        format!("{f:e}")
+    }
+}
+
+/// The value at `path` in `root`, if there is one.
+pub(crate) fn lookup<'a>(root: &'a toml::Table, path: &[String]) -> Option<&'a toml::Value> {
+    let (first, rest) = path.split_first()?;
+    let mut v = root.get(first)?;
+    for k in rest {
+        v = v.as_table()?.get(k)?;
+    }
+    Some(v)
+}
+
+/// Turns the error of deserializing `root` (a parsed scene) into a [`SceneError`] naming the
+/// key path.
+///
+/// toml reports errors of deserializing from a [`toml::Value`] as the serde message followed by
+/// a line ``in `a.b` `` naming the table path; the serde messages have fixed forms
+/// (`unknown field`, `invalid type`, …).
+pub(crate) fn from_de_error(root: &toml::Table, e: &toml::de::Error) -> SceneError {
+    let text = e.to_string();
+    let text = text.trim_end();
+    let (message, path) = match text.rfind("\nin `") {
+        Some(pos) => {
+            let tail = &text[pos + "\nin `".len()..];
+            let path = tail.strip_suffix('`').unwrap_or(tail);
+            (&text[..pos], path.to_string())
+        }
+        None => (text, String::new()),
+    };
+    let message = message.trim();
+    let path_keys: Vec<String> = if path.is_empty() {
+        Vec::new()
+    } else {
+        path.split('.').map(str::to_string).collect()
+    };
+    let section = if path.is_empty() {
+        "(top level)".to_string()
+    } else {
+        format!("[{path}]")
+    };
+    let join = |k: &str| {
+        if path.is_empty() {
+            k.to_string()
+        } else {
+            format!("{path}.{k}")
+        }
+    };
+    if let Some(rest) = message.strip_prefix("unknown field `")
+        && let Some((field, expected)) = rest.split_once('`')
+    {
+        let mut keys = path_keys.clone();
+        keys.push(field.to_string());
+        let value = lookup(root, &keys).map_or_else(|| "?".to_string(), show_value);
+        let allowed = expected
+            .trim_start_matches(", ")
+            .trim_start_matches("expected one of ")
+            .trim_start_matches("expected ")
+            .replace('`', "");
+        return SceneError::UnknownKey {
+            key: shorten(&join(field)),
+            section,
+            value,
+            allowed,
+        };
+    }
+    if let Some(rest) = message.strip_prefix("missing field `")
+        && let Some((field, _)) = rest.split_once('`')
+    {
+        return SceneError::missing(&join(field), "see INTERFACE.md");
+    }
+    let value = lookup(root, &path_keys).map_or_else(|| "?".to_string(), show_value);
+    if let Some(rest) = message.strip_prefix("invalid type: ")
+        && let Some((_, expected)) = rest.rsplit_once(", expected ")
+    {
+        let is_array = matches!(lookup(root, &path_keys), Some(toml::Value::Array(_)));
+        let allowed = match expected {
+            "f64" if is_array => "an array of numbers".to_string(),
+            "f64" => "a number (float or integer)".to_string(),
+            "i64" => "an integer".to_string(),
+            "a string" => "a string".to_string(),
+            "a sequence" => "an array of numbers".to_string(),
+            e if e.starts_with("struct ") => "a table".to_string(),
+            e => e.to_string(),
+        };
+        return SceneError::WrongType {
+            key: if path.is_empty() {
+                "(top level)".to_string()
+            } else {
+                shorten(&path)
+            },
+            value,
+            allowed,
+        };
+    }
+    SceneError::WrongType {
+        key: if path.is_empty() {
+            "(top level)".to_string()
+        } else {
+            shorten(&path)
+        },
+        value,
+        allowed: shorten(message),
+    }
+}

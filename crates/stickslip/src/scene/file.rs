@@ -1,0 +1,197 @@
+//! The scene file as written: a serde mirror of INTERFACE.md's TOML, every key optional here.
+//!
+//! Unknown keys are rejected (`deny_unknown_fields` on every section). Which keys are required,
+//! their defaults and their allowed ranges are decided when the scene is resolved
+//! ([`super::resolve`]); the resolved scene is this same structure with every default filled in,
+//! so it can be written to `run.json` and read back as a scene.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scene file as written (see INTERFACE.md). All quantities SI.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Name of the scene (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// `[lubricant]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lubricant: Option<LubricantSection>,
+    /// `[temperature]` (optional).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<TemperatureSection>,
+    /// `[contact]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSection>,
+    /// `[drive]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive: Option<DriveSection>,
+    /// `[time]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeSection>,
+    /// `[output]` (optional).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub output: Option<OutputSection>,
+    /// `[numerics]` (optional; an addition to INTERFACE.md).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub numerics: Option<NumericsSection>,
+}
+
+/// `[lubricant]`: the Landau film (Eq. 1–8).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LubricantSection {
+    /// τmax, Pa (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tau_max: Option<f64>,
+    /// εmax, dimensionless (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eps_max: Option<f64>,
+    /// a, Pa (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a: Option<f64>,
+    /// γ, 1/(Pa·s) (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gamma: Option<f64>,
+    /// φ below which a node counts as melted (default 0.01).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub melt_threshold: Option<f64>,
+    /// `[lubricant.noise]` (optional; default floor 1e-6).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub noise: Option<NoiseSection>,
+}
+
+/// `[lubricant.noise]`: thermal noise ξ(t) or its deterministic floor.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoiseSection {
+    /// `"gaussian"`, `"floor"` (default) or `"off"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// σ, s^-1/2 (gaussian only; default 1.0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<f64>,
+    /// φ floor, dimensionless (floor only; default 1e-6).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub floor: Option<f64>,
+    /// Seed of the per-node streams (gaussian only; default 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seed: Option<i64>,
+}
+
+/// `[temperature]`: the law of A(t) (Eq. 17, 18).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TemperatureSection {
+    /// `"constant"` (default) or `"relaxation"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub law: Option<String>,
+    /// A (constant) or A0 (relaxation), Pa.
+    #[serde(rename = "A0", skip_serializing_if = "Option::is_none")]
+    pub a0: Option<f64>,
+    /// t̃, s (relaxation only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t_relax: Option<f64>,
+}
+
+/// `[contact]`: stamp geometry and elasticity (Eq. 9–16).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// a0, m (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// h0, m (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub film_thickness: Option<f64>,
+    /// G*, Pa (or g1, nu1, g2, nu2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g_eff: Option<f64>,
+    /// G1, Pa.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g1: Option<f64>,
+    /// ν1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nu1: Option<f64>,
+    /// G2, Pa.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g2: Option<f64>,
+    /// ν2.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nu2: Option<f64>,
+    /// N (default 2000).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nodes: Option<i64>,
+    /// `"radial"` (default) or `"homogeneous"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
+    /// `"elastic"` (default) or `"rigid"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub substrate: Option<String>,
+}
+
+/// `[drive]`: how the stamp is pulled (Eq. 10).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveSection {
+    /// `"spring"` (default) or `"rigid"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// K, N/m (spring only, required there).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
+    /// m, kg (spring only, required there).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// V0, m/s (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<f64>,
+    /// `"verlet"` (default) or `"rk4"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<String>,
+}
+
+/// `[time]`: interval, step and scheme.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSection {
+    /// End time, s (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub end: Option<f64>,
+    /// Step Δt, s (default 1e-8).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// `"accurate"` (default) or `"literal"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scheme: Option<String>,
+}
+
+/// `[output]`: what is recorded.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Times of the profiles, s (default `[time.end]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profile_times: Option<Vec<f64>>,
+    /// Radii of the φ(t) probes, m (default none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub probe_radii: Option<Vec<f64>>,
+    /// Merge gap of melting events, s (default 1e-5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub event_merge_gap: Option<f64>,
+    /// Interval between rows of series.csv and probes.csv, s (default 1e-7; an addition).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub series_interval: Option<f64>,
+}
+
+/// `[numerics]`: numerical controls (an addition to INTERFACE.md).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NumericsSection {
+    /// Relative residual of the coupling solve (default 1e-10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coupling_tol: Option<f64>,
+    /// Runaway limit on |τ| in units of τmax (default 10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub runaway_stress_factor: Option<f64>,
+}

@@ -1,0 +1,341 @@
+//! Runs of the shipped scenes through the binary: fig2 events and forces, both schemes, exit 3
+//! on a numerical failure with partial output, determinism (also across thread counts), the
+//! step and recording schedule, and `check`.
+
+mod common;
+
+use common::{Csv, bin, run, scene, texts};
+use std::path::Path;
+
+/// fig2 shortened: N = 50, 1 ms, Δt = 2e-8 s (four events).
+const FIG2_SHORT: &[&str] = &[
+    "--set",
+    "contact.nodes=50",
+    "--set",
+    "time.end=1.0e-3",
+    "--set",
+    "time.dt=2e-8",
+    "--set",
+    "output.profile_times=[0.0, 1e-3]",
+    "--quiet",
+];
+
+fn run_scene(name: &str, out: &Path, extra: &[&str]) -> std::process::Output {
+    let scene = scene(name).display().to_string();
+    let out = out.display().to_string();
+    let mut args = vec!["run", scene.as_str(), "--out", out.as_str()];
+    args.extend_from_slice(extra);
+    run(&args)
+}
+
+fn assert_ok(out: &std::process::Output) {
+    assert_eq!(out.status.code(), Some(0), "stderr: {}", texts(out).1);
+}
+
+#[test]
+fn fig2_short_run_shows_shrinking_intervals_edge_onset_and_consistent_forces() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("fig2");
+    assert_ok(&run_scene("fig2", &dir, FIG2_SHORT));
+
+    let events = Csv::read(&dir.join("events.csv"));
+    assert_eq!(
+        &events.header[..5],
+        &["k", "t_onset", "r_first", "x_onset", "f_peak"]
+    );
+    let onsets = events.col("t_onset");
+    assert!(onsets.len() >= 3, "only {} events", onsets.len());
+    let intervals: Vec<f64> = onsets.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(
+        intervals.windows(2).all(|w| w[1] < w[0]),
+        "intervals do not shrink: {intervals:?}"
+    );
+    let a0 = 2e-5;
+    let r_first = events.col("r_first")[0];
+    assert!(r_first >= 0.95 * a0, "first melting at r = {r_first:e} m");
+    for f in events.col("f_peak") {
+        assert!((1.15e-3..=1.35e-3).contains(&f), "f_peak = {f:e} N");
+    }
+
+    let series = Csv::read(&dir.join("series.csv"));
+    for c in [
+        "t",
+        "X",
+        "V",
+        "F",
+        "phi_mean",
+        "eps_mean",
+        "melted_fraction",
+        "F_1d",
+    ] {
+        assert!(series.header.iter().any(|h| h == c), "series.csv lacks {c}");
+    }
+    let t = series.col("t");
+    assert_eq!(t[0], 0.0);
+    assert_eq!(*t.last().unwrap(), 1e-3, "the run ends exactly on time.end");
+    assert!(t.windows(2).all(|w| w[1] > w[0]));
+    let (f, f1d) = (series.col("F"), series.col("F_1d"));
+    let mut compared = 0;
+    for (a, b) in f.iter().zip(&f1d) {
+        if a.abs() > 1e-4 {
+            compared += 1;
+            assert!(((a - b) / a).abs() < 1e-3, "F = {a:e}, F_1d = {b:e}");
+        }
+    }
+    assert!(compared > 100);
+
+    let profiles = Csv::read(&dir.join("profiles.csv"));
+    assert_eq!(
+        profiles.header,
+        ["t", "r", "phi", "eps", "tau", "u0", "u3d"]
+    );
+    assert_eq!(profiles.rows.len(), 2 * 50, "profiles at t = 0 and 1e-3");
+    let probes = Csv::read(&dir.join("probes.csv"));
+    assert_eq!(probes.header[0], "t");
+    assert_eq!(probes.header[1], "phi@2e-6");
+    assert_eq!(probes.header.len(), 10);
+    assert_eq!(probes.rows.len(), series.rows.len());
+
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(report["status"], "ok");
+    assert_eq!(report["steps"], 50_000);
+    assert_eq!(report["rejected_steps"], 0);
+    assert_eq!(report["seed"], serde_json::Value::Null);
+    assert_eq!(report["scene"]["contact"]["nodes"], 50);
+    assert_eq!(report["scene"]["lubricant"]["noise"]["kind"], "floor");
+    assert!((report["derived"]["eps_c"].as_f64().unwrap() - 3f64.sqrt()).abs() < 1e-12);
+    // No temporary files left behind.
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().file_name();
+        assert!(!name.to_string_lossy().ends_with(".tmp"), "{name:?} left");
+    }
+}
+
+#[test]
+fn literal_scheme_runs_too() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("literal");
+    let mut args = FIG2_SHORT.to_vec();
+    args.extend_from_slice(&["--set", "time.scheme=literal"]);
+    assert_ok(&run_scene("fig2", &dir, &args));
+    for f in [
+        "series.csv",
+        "events.csv",
+        "profiles.csv",
+        "probes.csv",
+        "run.json",
+    ] {
+        assert!(dir.join(f).is_file(), "{f} missing");
+    }
+    assert!(!Csv::read(&dir.join("events.csv")).rows.is_empty());
+    assert!(Csv::read(&dir.join("series.csv")).rows.len() > 1000);
+}
+
+#[test]
+fn explicit_euler_beyond_its_limit_exits_3_with_partial_output() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("blowup");
+    let out = run_scene(
+        "fig2",
+        &dir,
+        &[
+            "--set",
+            "contact.nodes=40",
+            "--set",
+            "time.scheme=literal",
+            "--set",
+            "lubricant.gamma=1e5",
+            "--set",
+            "lubricant.noise.kind=off",
+            "--set",
+            "time.end=1e-4",
+            "--set",
+            "output.profile_times=[0.0]",
+            "--quiet",
+        ],
+    );
+    let (_, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(3), "stderr: {stderr}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    for word in ["t = ", "step ", "node "] {
+        assert!(stderr.contains(word), "message lacks {word:?}: {stderr}");
+    }
+    let series = Csv::read(&dir.join("series.csv"));
+    assert_eq!(series.header[0], "t");
+    assert!(!series.rows.is_empty(), "the row at t = 0 is kept");
+    assert_eq!(Csv::read(&dir.join("profiles.csv")).rows.len(), 40);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(report["status"], "failed");
+    assert!(
+        report["failure"]
+            .as_str()
+            .unwrap()
+            .contains("numerical failure")
+    );
+}
+
+const OUTPUTS: [&str; 4] = ["series.csv", "events.csv", "profiles.csv", "probes.csv"];
+
+fn assert_identical(a: &Path, b: &Path) {
+    for f in OUTPUTS {
+        let (x, y) = (
+            std::fs::read(a.join(f)).unwrap(),
+            std::fs::read(b.join(f)).unwrap(),
+        );
+        assert!(
+            x == y,
+            "{f} differs between {} and {}",
+            a.display(),
+            b.display()
+        );
+    }
+}
+
+#[test]
+fn runs_are_bit_reproducible() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    assert_ok(&run_scene("fig2", &a, FIG2_SHORT));
+    assert_ok(&run_scene("fig2", &b, FIG2_SHORT));
+    assert_identical(&a, &b);
+}
+
+#[test]
+fn runs_do_not_depend_on_the_thread_count() {
+    // N = 600 takes the engine's row-parallel operator path (N >= 512); rigid_fast melts
+    // three times in 1 µs.
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = scene("rigid_fast").display().to_string();
+    let mut dirs = Vec::new();
+    for threads in ["1", "2"] {
+        let dir = tmp.path().join(format!("threads{threads}"));
+        let out = bin()
+            .env("RAYON_NUM_THREADS", threads)
+            .args([
+                "run",
+                &scene,
+                "--out",
+                &dir.display().to_string(),
+                "--set",
+                "contact.nodes=600",
+                "--set",
+                "time.end=1e-6",
+                "--set",
+                "output.profile_times=[5e-7, 1e-6]",
+                "--quiet",
+            ])
+            .output()
+            .unwrap();
+        assert_ok(&out);
+        dirs.push(dir);
+    }
+    assert!(Csv::read(&dirs[0].join("events.csv")).rows.len() >= 2);
+    assert_identical(&dirs[0], &dirs[1]);
+}
+
+#[test]
+fn steps_land_on_end_and_rows_follow_the_series_interval() {
+    // dt = 3e-8 does not divide end = 1e-6: 34 steps, the last one shorter.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("sched");
+    assert_ok(&run_scene(
+        "homogeneous",
+        &dir,
+        &[
+            "--set",
+            "time.end=1e-6",
+            "--set",
+            "time.dt=3e-8",
+            "--set",
+            "output.series_interval=1e-7",
+            "--set",
+            "output.profile_times=[0.0, 5e-7, 5.1e-7, 1e-6]",
+            "--set",
+            "output.probe_radii=[0.0, 1e-5]",
+            "--quiet",
+        ],
+    ));
+    let t = Csv::read(&dir.join("series.csv")).col("t");
+    // t = 0, then the first step at or after each multiple of 1e-7 (steps are 3e-8 long).
+    assert_eq!(t.len(), 11, "{t:?}");
+    assert_eq!(t[0], 0.0);
+    for (k, &tk) in t.iter().enumerate().skip(1) {
+        let mark = k as f64 * 1e-7;
+        assert!(tk >= mark - 1e-15 && tk < mark + 3e-8, "row {k} at {tk:e}");
+    }
+    assert_eq!(*t.last().unwrap(), 1e-6);
+    let profile_t = Csv::read(&dir.join("profiles.csv")).col("t");
+    // 5e-7 and 5.1e-7 fall on the same step; one node (homogeneous).
+    assert_eq!(profile_t.len(), 3, "{profile_t:?}");
+    assert_eq!(profile_t[0], 0.0);
+    assert!((profile_t[1] - 5.1e-7).abs() < 1.5e-8);
+    assert_eq!(profile_t[2], 1e-6);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
+    assert_eq!(report["steps"], 34);
+    assert_eq!(report["t_final"], 1e-6);
+}
+
+#[test]
+fn complete_melting_has_zero_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("melt");
+    assert_ok(&run_scene(
+        "melt",
+        &dir,
+        &[
+            "--set",
+            "contact.nodes=40",
+            "--set",
+            "time.end=2e-5",
+            "--set",
+            "output.profile_times=[0.0]",
+            "--quiet",
+        ],
+    ));
+    let series = Csv::read(&dir.join("series.csv"));
+    assert!(series.col("F").iter().all(|&f| f == 0.0));
+    assert!(series.col("melted_fraction").iter().all(|&m| m > 0.999));
+    let events = Csv::read(&dir.join("events.csv"));
+    assert_eq!(events.rows.len(), 1);
+    assert_eq!(events.col("t_onset")[0], 0.0);
+}
+
+#[test]
+fn all_shipped_scenes_check() {
+    for name in [
+        "fig2",
+        "fig3",
+        "fig4",
+        "rigid",
+        "rigid_fast",
+        "melt",
+        "homogeneous",
+    ] {
+        let out = run(&["check", &scene(name).display().to_string()]);
+        assert_ok(&out);
+    }
+}
+
+#[test]
+fn check_prints_derived_parameters() {
+    let out = run(&["check", &scene("fig2").display().to_string()]);
+    assert_ok(&out);
+    let (stdout, _) = texts(&out);
+    for line in [
+        "eps_c = 1.732",
+        "b = 2e6 Pa",
+        "A = 1.5e6 Pa",
+        "phi0 = 1.2247",
+        "omega = 70.71",
+        "nodes = 2000",
+        "steps = 130000",
+    ] {
+        assert!(
+            stdout.contains(line),
+            "check output lacks {line:?}:\n{stdout}"
+        );
+    }
+}
