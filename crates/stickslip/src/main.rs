@@ -9,6 +9,7 @@ use std::process::ExitCode;
 use stickslip::output::report::DerivedReport;
 use stickslip::scene::{ResolvedScene, Scene};
 use stickslip_core::config::Scheme;
+use stickslip_core::sim::Simulation;
 
 /// Stick–slip friction of a lubricant film under a flat stamp.
 #[derive(Debug, Parser)]
@@ -60,7 +61,10 @@ fn fail(message: impl std::fmt::Display, code: u8) -> ExitCode {
 fn print_check(scene: &ResolvedScene) {
     println!("# resolved scene (defaults filled in)");
     print!("{}", scene.resolved.to_toml_string());
-    let d = DerivedReport::of(scene);
+    let rho = Simulation::new(scene.config.clone(), scene.output.event_merge_gap_s)
+        .map(|mut sim| sim.lagged_sweep_contraction())
+        .unwrap_or(f64::NAN);
+    let d = DerivedReport::of(scene, rho);
     let c = &scene.config;
     println!();
     println!("# derived parameters");
@@ -72,6 +76,11 @@ fn print_check(scene: &ResolvedScene) {
     println!("g_eff = {:e} Pa", d.g_eff);
     println!("nodes = {}", d.nodes);
     println!("steps = {}", d.steps_planned);
+    println!(
+        "lagged_sweep_contraction = {:.4} (rho of the paper's lagged elastic sweep at t = 0; \
+         the literal scheme needs < 1)",
+        d.lagged_sweep_contraction
+    );
     if c.time.scheme == Scheme::Literal {
         // Explicit Euler on Eq. 8 at the solid equilibrium (ε = 0): |∂rhs/∂φ| = 2γ·A·b/a.
         let stiffness = 2.0 * c.lubricant.gamma_per_pa_s * d.a.max(0.0) * d.b / c.lubricant.a_pa;

@@ -27,11 +27,14 @@ pub struct DerivedReport {
     pub nodes: usize,
     /// Steps the scene asks for.
     pub steps_planned: u64,
+    /// Contraction factor ρ((a·φ0²/h0)·C/G*) of the paper's lagged elastic sweep at t = 0,
+    /// for this scheme's compliance C: the literal scheme only converges for ρ < 1.
+    pub lagged_sweep_contraction: f64,
 }
 
 impl DerivedReport {
     /// The derived parameters of `scene`.
-    pub fn of(scene: &ResolvedScene) -> Self {
+    pub fn of(scene: &ResolvedScene, lagged_sweep_contraction: f64) -> Self {
         let d = &scene.derived;
         Self {
             b: d.b_pa,
@@ -42,6 +45,7 @@ impl DerivedReport {
             g_eff: scene.config.contact.g_eff_pa,
             nodes: scene.config.simulated_nodes(),
             steps_planned: scene.steps,
+            lagged_sweep_contraction,
         }
     }
 }
