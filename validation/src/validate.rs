@@ -1,0 +1,110 @@
+//! `cargo xtask validate [--check]`: build the binary, run the scenes, check the claims, write
+//! (or, with `--check`, compare against) the reports.
+
+use crate::claims::{Runs, evaluate};
+use crate::report::{
+    Outcome, Resolution, claims_table_text, compare, index_md, summary_json, write_atomic,
+};
+use crate::runner::{build_binary, run_all, specs};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// What `validate` should do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Workspace root.
+    pub root: PathBuf,
+    /// Compare with the committed `reports/summary.json` instead of writing reports.
+    pub check: bool,
+    /// Runs in parallel.
+    pub jobs: usize,
+}
+
+/// Runs the validation. `Ok(true)` when every claim passes (and, with `--check`, the fresh
+/// verdicts, event counts and reduced block equal the committed ones).
+///
+/// # Errors
+/// When the binary cannot be built or the reports cannot be read or written.
+pub fn validate(opts: &Options) -> Result<bool, String> {
+    let start = Instant::now();
+    let root = &opts.root;
+    println!("validate: building the stickslip binary (cargo build --release -p stickslip)");
+    let bin = build_binary(root)?;
+    let build_seconds = start.elapsed().as_secs_f64();
+    let scenes = root.join("validation").join("scenes");
+    let out_root = root.join("target").join("validation");
+    std::fs::create_dir_all(&out_root).map_err(|e| format!("{}: {e}", out_root.display()))?;
+    let run_start = Instant::now();
+    let specs = specs();
+    println!(
+        "validate: {} runs, {} at a time, outputs in {}",
+        specs.len(),
+        opts.jobs,
+        out_root.display()
+    );
+    let results = run_all(&bin, &scenes, &out_root, specs, opts.jobs);
+    let mut runs = Runs::default();
+    for (name, r) in &results {
+        runs.map.insert(name.clone(), r.output.clone());
+    }
+    let reduced = runs.get("fig2_reduced_cli").map(crate::reduced::features);
+    let resolution = Resolution::of(&runs);
+    let claims = evaluate(&runs);
+    let outcome = Outcome {
+        claims: &claims,
+        runs: &runs,
+        results: &results,
+        reduced: reduced.as_ref().map_err(Clone::clone),
+        resolution: resolution.as_ref(),
+        wall_seconds: run_start.elapsed().as_secs_f64(),
+        build_seconds,
+    };
+    let summary = summary_json(&outcome);
+    println!("\nclaims:\n{}", claims_table_text(&claims));
+    let all_pass = claims.iter().all(|c| c.pass);
+    let reports = root.join("reports");
+    if opts.check {
+        let path = reports.join("summary.json");
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let committed: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let diffs = compare(&summary, &committed);
+        if diffs.is_empty() {
+            println!(
+                "check: verdicts, event counts and the reduced block match reports/summary.json"
+            );
+        } else {
+            println!("check: reports/summary.json is stale (run `cargo xtask validate`):");
+            for d in &diffs {
+                println!("  - {d}");
+            }
+        }
+        println!(
+            "validate --check took {:.0} s",
+            start.elapsed().as_secs_f64()
+        );
+        return Ok(all_pass && diffs.is_empty());
+    }
+    std::fs::create_dir_all(&reports).map_err(|e| format!("{}: {e}", reports.display()))?;
+    let figures = crate::figures::all(&runs);
+    for fig in &figures {
+        match &fig.svg {
+            Ok(svg) => write_atomic(&reports.join(fig.file), svg.as_bytes())
+                .map_err(|e| format!("{}: {e}", fig.file))?,
+            Err(e) => println!("figure {} not drawn: {e}", fig.file),
+        }
+    }
+    let md = index_md(&outcome, &figures);
+    write_atomic(&reports.join("index.md"), md.as_bytes()).map_err(|e| format!("index.md: {e}"))?;
+    let mut json = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
+    json.push('\n');
+    write_atomic(&reports.join("summary.json"), json.as_bytes())
+        .map_err(|e| format!("summary.json: {e}"))?;
+    println!(
+        "validate: wrote reports/index.md, reports/summary.json and {} figures in {:.0} s",
+        figures.iter().filter(|f| f.svg.is_ok()).count(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(all_pass)
+}
