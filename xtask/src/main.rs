@@ -12,7 +12,9 @@ Commands:
       --check   rerun and compare verdicts, event counts and the reduced block with the
                 committed reports/summary.json, writing nothing; exits 1 on a mismatch
       --jobs N  scene runs in parallel (default 2)
-  convergence   run the full convergence study (not built yet)
+  convergence   run the full convergence study (crate stickslip-convergence, release build)
+                and write reports/convergence.{md,json} and reports/convergence_*.svg;
+                options are passed on (`cargo xtask convergence --help`)
   bench         run the headline performance comparisons (not built yet)
 ";
 
@@ -59,6 +61,33 @@ fn validate(args: &[String]) -> ExitCode {
     }
 }
 
+/// Runs the study in its own release binary, so xtask itself stays light to build.
+fn convergence(args: &[String]) -> ExitCode {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let status = std::process::Command::new(cargo)
+        .current_dir(workspace_root())
+        .args([
+            "run",
+            "--release",
+            "-q",
+            "-p",
+            "stickslip-convergence",
+            "--bin",
+            "convergence",
+            "--",
+        ])
+        .args(args)
+        .status();
+    match status {
+        Ok(s) if s.success() => ExitCode::SUCCESS,
+        Ok(s) => ExitCode::from(u8::try_from(s.code().unwrap_or(1)).unwrap_or(1)),
+        Err(e) => {
+            eprintln!("convergence: cannot run cargo: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
@@ -67,6 +96,7 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Some("validate") => validate(&args[1..]),
+        Some("convergence") => convergence(&args[1..]),
         Some(other) => {
             eprintln!("unknown xtask command `{other}`\n\n{HELP}");
             ExitCode::from(2)

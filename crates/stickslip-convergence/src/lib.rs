@@ -1,32 +1,433 @@
-//! stickslip-convergence: observed orders of accuracy from error sequences (Celik et al. 2008).
+//! stickslip-convergence: how the errors of stickslip fall with N and Δt, at which order, and
+//! what each digit of accuracy costs in seconds.
+//!
+//! Pieces:
+//! - [`celik`]: observed orders and the three-grid procedure of Celik et al. 2008 (apparent
+//!   order by fixed-point iteration, extrapolated value, GCI, oscillation flag);
+//! - [`operators`]: the MDR operators against exact pairs (both quadratures, two norms);
+//! - [`steppers`]: Landau φ-steppers and drive integrators against closed forms;
+//! - [`fig2`] and [`simulation`]: whole-simulation convergence of fig2 (event onsets, peak
+//!   forces, stick-phase force) refining N and Δt separately for each scheme;
+//! - [`work_precision`]: error against wall seconds, against a much finer reference;
+//! - [`report`] and [`plot`]: `reports/convergence.md`, `convergence.json`, `convergence_*.svg`.
+//!
+//! Entry point: [`run_convergence_cli`] (used by `cargo xtask convergence` and by the
+//! `convergence` binary of this crate).
 //!
 //! Invariant: this crate only calls `stickslip-core`'s public API.
 
-/// Observed orders p_k = ln(e_k / e_{k+1}) / ln(h_k / h_{k+1}) for errors `errors`
-/// measured at resolutions `spacings` (any decreasing sequence of step sizes).
-///
-/// # Panics
-/// If the two slices have different lengths.
-#[track_caller]
-pub fn observed_orders(spacings: &[f64], errors: &[f64]) -> Vec<f64> {
-    assert_eq!(spacings.len(), errors.len(), "one error per spacing");
-    spacings
-        .windows(2)
-        .zip(errors.windows(2))
-        .map(|(h, e)| (e[0] / e[1]).ln() / (h[0] / h[1]).ln())
-        .collect()
+pub mod celik;
+pub mod fig2;
+pub mod operators;
+pub mod plot;
+pub mod report;
+pub mod simulation;
+pub mod steppers;
+pub mod study;
+pub mod work_precision;
+
+pub use celik::observed_orders;
+
+use fig2::{EventRecord, RunRecord};
+use serde::{Deserialize, Serialize};
+use simulation::scheme_name;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+use stickslip_core::config::Scheme;
+use stickslip_core::drive::Integrator;
+use study::{Refined, Study};
+use work_precision::{Reference, WorkPrecision};
+
+/// Levels and repeats of one full study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// Node counts of the operator study.
+    pub operator_nodes: Vec<usize>,
+    /// Δt levels of the Landau stepper study, s.
+    pub landau_dts_s: Vec<f64>,
+    /// Δt levels of the drive integrator study, s.
+    pub drive_dts_s: Vec<f64>,
+    /// Node counts of the whole-simulation N refinement.
+    pub sim_nodes: Vec<usize>,
+    /// Δt held fixed in the N refinement, s.
+    pub sim_nodes_dt_s: f64,
+    /// Δt levels of the whole-simulation Δt refinement, s.
+    pub sim_dts_s: Vec<f64>,
+    /// N held fixed in the Δt refinement.
+    pub sim_dts_nodes: usize,
+    /// (N, Δt) of the work–precision points, per method.
+    pub wp_points: Vec<(usize, f64)>,
+    /// Nodes of the reference.
+    pub ref_nodes: usize,
+    /// Δt of the three reference runs, coarse to fine, s.
+    pub ref_dts_s: [f64; 3],
+    /// Timing repeats per work–precision point.
+    pub repeats: usize,
+    /// Largest N allowed in the simulation studies.
+    pub max_nodes: usize,
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+impl Settings {
+    /// The full study: N = 125 … 2000 (capped by `max_nodes`), Δt = 1.6e-7 … 2.5e-9.
+    pub fn full(max_nodes: usize) -> Self {
+        Self {
+            operator_nodes: operators::DEFAULT_NODES.to_vec(),
+            landau_dts_s: steppers::LANDAU_DT_S.to_vec(),
+            drive_dts_s: steppers::drive_dts(5..=12),
+            sim_nodes: [125, 250, 500, 1000, 2000]
+                .into_iter()
+                .filter(|&n| n <= max_nodes)
+                .collect(),
+            sim_nodes_dt_s: 1e-8,
+            sim_dts_s: vec![1.6e-7, 8e-8, 4e-8, 2e-8, 1e-8, 5e-9, 2.5e-9],
+            sim_dts_nodes: 125,
+            wp_points: vec![(25, 4e-8), (50, 2e-8), (100, 1e-8), (200, 5e-9)],
+            ref_nodes: 400,
+            ref_dts_s: [5e-9, 2.5e-9, 1.25e-9],
+            repeats: 3,
+            max_nodes,
+        }
+    }
 
-    #[test]
-    fn second_order_sequence_gives_two() {
-        let h = [0.1, 0.05, 0.025];
-        let e: Vec<f64> = h.iter().map(|x| 3.0 * x * x).collect();
-        for p in observed_orders(&h, &e) {
-            assert!((p - 2.0).abs() < 1e-12, "p = {p}");
+    /// A smoke-test study of about a minute: small N, few levels, one repeat.
+    pub fn quick() -> Self {
+        Self {
+            operator_nodes: vec![125, 250, 500],
+            landau_dts_s: vec![2e-8, 1e-8, 5e-9, 2.5e-9],
+            drive_dts_s: steppers::drive_dts(6..=9),
+            sim_nodes: vec![50, 100, 200],
+            sim_nodes_dt_s: 1e-8,
+            sim_dts_s: vec![4e-8, 2e-8, 1e-8],
+            sim_dts_nodes: 50,
+            wp_points: vec![(25, 4e-8), (50, 2e-8)],
+            ref_nodes: 100,
+            ref_dts_s: [2e-8, 1e-8, 5e-9],
+            repeats: 1,
+            max_nodes: 200,
+        }
+    }
+}
+
+/// One fig2 run as written to JSON, with its errors against the reference.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// Which study the run belongs to (`N`, `dt`, `reference`, `work-precision`).
+    pub role: String,
+    /// Scheme.
+    pub scheme: String,
+    /// Nodes.
+    pub nodes: usize,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Wall seconds of this run (work–precision: the median of the repeats).
+    pub wall_s: f64,
+    /// Events.
+    pub events: Vec<EventRecord>,
+    /// The core's error message if a step failed.
+    pub failure: Option<String>,
+    /// max over events of |onset − reference|, s.
+    pub onset_error_s: Option<f64>,
+    /// max over events of |f_peak − reference|/reference.
+    pub f_peak_error_rel: Option<f64>,
+    /// Stick-phase RMS force error against the reference, relative to max F.
+    pub force_error_rel: Option<f64>,
+}
+
+/// Everything the report is made of (the content of `reports/convergence.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Results {
+    /// Producer and command.
+    pub generated_by: String,
+    /// Wall seconds of the whole study.
+    pub total_wall_s: f64,
+    /// Levels used.
+    pub settings: Settings,
+    /// All studies.
+    pub studies: Vec<Study>,
+    /// Relative error of X(1.3 ms) of each drive integrator at Δt = 1e-8 s (free spring).
+    pub drive_fig2_rel_error: Vec<(String, f64)>,
+    /// Every fig2 run.
+    pub runs: Vec<RunSummary>,
+    /// The work–precision study.
+    pub work_precision: WorkPrecision,
+    /// Where the accurate scheme's Δt error of the first onset is made.
+    pub localisation: simulation::Localisation,
+}
+
+fn summary(role: &str, r: &RunRecord, reference: &Reference) -> RunSummary {
+    let p = work_precision::point(r, reference, vec![r.wall_s]);
+    RunSummary {
+        role: role.to_string(),
+        scheme: scheme_name(r.spec.scheme).to_string(),
+        nodes: r.spec.nodes,
+        dt_s: r.spec.dt_s,
+        wall_s: r.wall_s,
+        events: r.events.clone(),
+        failure: r.failure.clone(),
+        onset_error_s: p.onset_error_s,
+        f_peak_error_rel: p.f_peak_error_rel,
+        force_error_rel: p.force_error_rel,
+    }
+}
+
+/// Runs every study of `settings`; `log` receives one line per finished piece.
+pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
+    let start = Instant::now();
+    let mut studies = Vec::new();
+    let stamp = |start: &Instant| format!("[{:7.1} s]", start.elapsed().as_secs_f64());
+
+    studies.extend(operators::study(&settings.operator_nodes));
+    log(&format!("{} operators done", stamp(&start)));
+    studies.extend(steppers::landau_study(&settings.landau_dts_s));
+    studies.extend(steppers::drive_study(&settings.drive_dts_s));
+    let drive_fig2_rel_error = [(Integrator::Verlet, "verlet"), (Integrator::Rk4, "rk4")]
+        .into_iter()
+        .map(|(i, n)| (n.to_string(), steppers::drive_error_at_fig2(i)))
+        .collect();
+    log(&format!("{} steppers done", stamp(&start)));
+
+    let mut progress = |r: &RunRecord| {
+        log(&format!(
+            "{} {} N={} dt={:e}: {:.1} s, {} events{}",
+            stamp(&start),
+            scheme_name(r.spec.scheme),
+            r.spec.nodes,
+            r.spec.dt_s,
+            r.wall_s,
+            r.events.len(),
+            r.failure
+                .as_ref()
+                .map(|f| format!(" FAILED: {f}"))
+                .unwrap_or_default()
+        ));
+    };
+
+    let (reference, ref_runs) =
+        work_precision::reference(settings.ref_nodes, settings.ref_dts_s, &mut progress);
+    let mut runs: Vec<RunSummary> = ref_runs
+        .iter()
+        .map(|r| summary("reference", r, &reference))
+        .collect();
+
+    for scheme in [Scheme::Literal, Scheme::Accurate] {
+        let levels: Vec<f64> = settings.sim_nodes.iter().map(|&n| n as f64).collect();
+        let recs = simulation::run_levels(
+            scheme,
+            Refined::Nodes,
+            &levels,
+            settings.sim_nodes_dt_s,
+            fig2::FIG2_END_S,
+            &mut progress,
+        );
+        studies.extend(simulation::studies(Refined::Nodes, &recs));
+        runs.extend(recs.iter().map(|r| summary("N", r, &reference)));
+        let recs = simulation::run_levels(
+            scheme,
+            Refined::Dt,
+            &settings.sim_dts_s,
+            settings.sim_dts_nodes as f64,
+            fig2::FIG2_END_S,
+            &mut progress,
+        );
+        studies.extend(simulation::studies(Refined::Dt, &recs));
+        runs.extend(recs.iter().map(|r| summary("dt", r, &reference)));
+    }
+
+    let localisation = simulation::localise(
+        Scheme::Accurate,
+        settings.sim_dts_nodes,
+        4e-8,
+        1e-8,
+        7e-6,
+        &mut progress,
+    );
+
+    let mut points = Vec::new();
+    for scheme in [Scheme::Literal, Scheme::Accurate] {
+        let curve = work_precision::curve(
+            scheme,
+            &settings.wp_points,
+            settings.repeats,
+            &reference,
+            &mut progress,
+        );
+        for p in &curve {
+            runs.push(RunSummary {
+                role: "work-precision".into(),
+                scheme: p.method.clone(),
+                nodes: p.nodes,
+                dt_s: p.dt_s,
+                wall_s: p.wall_s,
+                events: Vec::new(),
+                failure: p.failure.clone(),
+                onset_error_s: p.onset_error_s,
+                f_peak_error_rel: p.f_peak_error_rel,
+                force_error_rel: p.force_error_rel,
+            });
+        }
+        points.extend(curve);
+    }
+    Results {
+        generated_by: "cargo xtask convergence (stickslip-convergence)".into(),
+        total_wall_s: start.elapsed().as_secs_f64(),
+        settings: settings.clone(),
+        studies,
+        drive_fig2_rel_error,
+        runs,
+        work_precision: WorkPrecision {
+            reference,
+            points,
+            repeats: settings.repeats,
+        },
+        localisation,
+    }
+}
+
+/// Re-derives the theory annotations of the studies from the current code (used when
+/// re-rendering a stored study, so that corrected wording reaches the report without a re-run).
+pub fn refresh_annotations(r: &mut Results) {
+    for s in &mut r.studies {
+        if s.study != "simulation" {
+            continue;
+        }
+        let scheme = if s.scheme == "literal" {
+            Scheme::Literal
+        } else {
+            Scheme::Accurate
+        };
+        let (order, words) = simulation::theory(scheme, s.refined, &s.observable);
+        s.theory_order = order;
+        s.theory = words.to_string();
+    }
+}
+
+/// The workspace's `reports/` directory (next to `crates/`).
+pub fn default_reports_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reports")
+}
+
+const HELP: &str = "\
+cargo xtask convergence [options]
+
+Runs the convergence studies (operators, steppers, whole fig2 simulation, work-precision) and
+writes reports/convergence.md, reports/convergence.json and reports/convergence_*.svg.
+
+Options:
+  --max-nodes N    largest N of the whole-simulation N refinement (default 2000; the levels
+                   are 125, 250, 500, 1000, 2000 up to N)
+  --repeats K      timing repeats per work-precision point (default 3)
+  --ref-nodes N    nodes of the work-precision reference (default 400)
+  --quick          a smoke study of about a minute (small N, few levels)
+  --render-only    re-render the .md and .svg files from the existing convergence.json
+  --out DIR        output directory (default: the workspace's reports/)
+  -h, --help       this text
+";
+
+/// `cargo xtask convergence` with `args` (the words after `convergence`).
+///
+/// Exit status: 0 success, 2 bad arguments, 1 an I/O or rendering error.
+pub fn run_convergence_cli(args: &[String]) -> ExitCode {
+    let mut max_nodes = 2000;
+    let mut repeats = None;
+    let mut ref_nodes = None;
+    let mut quick = false;
+    let mut render_only = false;
+    let mut out = default_reports_dir();
+    let mut it = args.iter();
+    let bad = |msg: String| {
+        eprintln!("convergence: {msg}\n\n{HELP}");
+        ExitCode::from(2)
+    };
+    while let Some(a) = it.next() {
+        let mut value = |name: &str| -> Result<String, ExitCode> {
+            it.next()
+                .cloned()
+                .ok_or_else(|| bad(format!("{name} needs a value")))
+        };
+        let parse_usize = |name: &str, v: String| -> Result<usize, ExitCode> {
+            v.parse::<usize>()
+                .ok()
+                .filter(|&n| n >= 1)
+                .ok_or_else(|| bad(format!("{name} = {v}: expected an integer >= 1")))
+        };
+        let step = match a.as_str() {
+            "-h" | "--help" => {
+                print!("{HELP}");
+                return ExitCode::SUCCESS;
+            }
+            "--max-nodes" => value(a)
+                .and_then(|v| parse_usize(a, v))
+                .map(|n| max_nodes = n),
+            "--repeats" => value(a)
+                .and_then(|v| parse_usize(a, v))
+                .map(|n| repeats = Some(n)),
+            "--ref-nodes" => value(a)
+                .and_then(|v| parse_usize(a, v))
+                .map(|n| ref_nodes = Some(n)),
+            "--quick" => {
+                quick = true;
+                Ok(())
+            }
+            "--render-only" => {
+                render_only = true;
+                Ok(())
+            }
+            "--out" => value(a).map(|v| out = PathBuf::from(v)),
+            other => Err(bad(format!("unknown option `{other}`"))),
+        };
+        if let Err(code) = step {
+            return code;
+        }
+    }
+    let json_path = out.join("convergence.json");
+    let results = if render_only {
+        let text = match std::fs::read_to_string(&json_path) {
+            Ok(t) => t,
+            Err(e) => {
+                eprintln!("convergence: cannot read {}: {e}", json_path.display());
+                return ExitCode::from(1);
+            }
+        };
+        match serde_json::from_str::<Results>(&text) {
+            Ok(mut r) => {
+                refresh_annotations(&mut r);
+                r
+            }
+            Err(e) => {
+                eprintln!("convergence: {} is not a study: {e}", json_path.display());
+                return ExitCode::from(1);
+            }
+        }
+    } else {
+        let mut settings = if quick {
+            Settings::quick()
+        } else {
+            Settings::full(max_nodes)
+        };
+        if let Some(r) = repeats {
+            settings.repeats = r;
+        }
+        if let Some(n) = ref_nodes {
+            settings.ref_nodes = n;
+        }
+        eprintln!(
+            "convergence: N levels {:?}, dt levels {:?}, reference N = {}; this takes a while",
+            settings.sim_nodes, settings.sim_dts_s, settings.ref_nodes
+        );
+        run_all(&settings, &mut |line| eprintln!("{line}"))
+    };
+    match report::write_all(&results, &out) {
+        Ok(files) => {
+            for f in files {
+                println!("wrote {}", f.display());
+            }
+            eprintln!("convergence: total {:.0} s", results.total_wall_s);
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("convergence: {e}");
+            ExitCode::from(1)
         }
     }
 }

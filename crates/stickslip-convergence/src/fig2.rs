@@ -1,0 +1,177 @@
+//! One fig2 run recorded for convergence studies: event onsets, peak forces, F(t) samples, time.
+//!
+//! The run is the core's `SimConfig::fig2` (floor noise φ ≥ 1e-6, deterministic) with the
+//! scheme, N, Δt and end time given. Only the core's public API is used: the loop calls
+//! `Simulation::step` and reads `state()` and `events()` after every step.
+
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+use stickslip_core::config::{Scheme, SimConfig};
+use stickslip_core::sim::Simulation;
+
+/// Gap below which the core merges melting rises into one event, s (the CLI's default).
+pub const MERGE_GAP_S: f64 = 1e-5;
+
+/// End time of fig2, s.
+pub const FIG2_END_S: f64 = 1.3e-3;
+
+/// Spacing of the common time grid on which F(t) is sampled, s.
+pub const SAMPLE_DT_S: f64 = 1e-7;
+
+/// What to run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSpec {
+    /// Stepping scheme.
+    pub scheme: Scheme,
+    /// Radial nodes N.
+    pub nodes: usize,
+    /// Time step Δt, s.
+    pub dt_s: f64,
+    /// End time, s (fig2: 1.3e-3).
+    pub end_s: f64,
+    /// Optional change of step: from time t (s) on, step with Δt' (s) instead of `dt_s`.
+    pub switch: Option<(f64, f64)>,
+}
+
+impl RunSpec {
+    /// fig2 with `scheme`, `nodes`, `dt_s` over the paper's 1.3 ms.
+    pub fn fig2(scheme: Scheme, nodes: usize, dt_s: f64) -> Self {
+        Self {
+            scheme,
+            nodes,
+            dt_s,
+            end_s: FIG2_END_S,
+            switch: None,
+        }
+    }
+
+    /// The core configuration of this run.
+    pub fn config(&self) -> SimConfig {
+        let mut c = SimConfig::fig2(self.scheme);
+        c.contact.nodes = self.nodes;
+        c.time.dt_s = self.dt_s;
+        c.time.end_s = self.end_s;
+        c
+    }
+
+    /// The step to take from time `t_s`.
+    pub fn dt_at(&self, t_s: f64) -> f64 {
+        match self.switch {
+            Some((t_switch, dt)) if t_s >= t_switch - 1e-3 * self.dt_s.min(dt) => dt,
+            _ => self.dt_s,
+        }
+    }
+}
+
+/// One melting event as recorded.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EventRecord {
+    /// The core's onset: end of the first step with a melted node, s (quantised to Δt).
+    pub onset_step_s: f64,
+    /// Onset located inside that step: per newly melted node, ln φ interpolated linearly in
+    /// time between the two step ends to the threshold; the earliest node counts, s.
+    pub onset_s: f64,
+    /// The core's `f_peak`: largest step-end F since the previous event began, N.
+    pub f_peak_n: f64,
+    /// Radius of the outermost node melted at the onset, m.
+    pub r_first_m: f64,
+}
+
+/// Everything a study needs from one run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunRecord {
+    /// What was run.
+    pub spec: RunSpec,
+    /// Merged melting events in order.
+    pub events: Vec<EventRecord>,
+    /// F at t_j = j·[`SAMPLE_DT_S`], j = 0, 1, …, linearly interpolated between step ends, N.
+    pub force_samples_n: Vec<f64>,
+    /// Wall-clock seconds for building the simulation and stepping it to the end.
+    pub wall_s: f64,
+    /// The core's error message if a step failed (the record then stops there).
+    pub failure: Option<String>,
+}
+
+impl RunRecord {
+    /// Time of force sample j, s.
+    pub fn sample_time_s(j: usize) -> f64 {
+        j as f64 * SAMPLE_DT_S
+    }
+}
+
+/// Runs `spec` once and records it.
+///
+/// # Panics
+/// If the configuration is invalid (fig2 with N ≥ 1 and 0 < Δt ≤ end is always valid).
+#[track_caller]
+pub fn run(spec: &RunSpec) -> RunRecord {
+    let start = Instant::now();
+    let config = spec.config();
+    let thr = config.melt_threshold;
+    let mut sim = Simulation::new(config, MERGE_GAP_S).expect("valid fig2 configuration");
+    let samples = (spec.end_s / SAMPLE_DT_S).floor() as usize + 1;
+    let mut force = Vec::with_capacity(samples);
+    force.push(sim.state().force_n);
+    let mut prev_phi = sim.state().phi.clone();
+    let mut prev_t = sim.time_s();
+    let mut prev_f = sim.state().force_n;
+    let mut onsets: Vec<f64> = Vec::new();
+    let mut failure = None;
+    loop {
+        let dt = spec.dt_at(sim.time_s());
+        if sim.time_s() > spec.end_s - 0.5 * dt {
+            break;
+        }
+        if let Err(e) = sim.step(dt) {
+            failure = Some(e.to_string());
+            break;
+        }
+        let t = sim.time_s();
+        let state = sim.state();
+        let f = state.force_n;
+        while force.len() < samples {
+            let ts = RunRecord::sample_time_s(force.len());
+            if ts > t + 1e-3 * dt {
+                break;
+            }
+            let w = ((ts - prev_t) / (t - prev_t)).clamp(0.0, 1.0);
+            force.push(prev_f + w * (f - prev_f));
+        }
+        if sim.events().len() > onsets.len() {
+            let mut theta_min: f64 = 1.0;
+            for (&p0, &p1) in prev_phi.iter().zip(&state.phi) {
+                if p1 < thr && p0 >= thr {
+                    let theta = if p1 > 0.0 {
+                        (p0 / thr).ln() / (p0 / p1).ln()
+                    } else {
+                        1.0
+                    };
+                    theta_min = theta_min.min(theta);
+                }
+            }
+            onsets.push(prev_t + theta_min * (t - prev_t));
+        }
+        prev_phi.copy_from_slice(&state.phi);
+        prev_t = t;
+        prev_f = f;
+    }
+    let wall_s = start.elapsed().as_secs_f64();
+    let events = sim
+        .events()
+        .iter()
+        .zip(&onsets)
+        .map(|(e, &onset_s)| EventRecord {
+            onset_step_s: e.t_onset_s,
+            onset_s,
+            f_peak_n: e.f_peak_n,
+            r_first_m: e.r_first_m,
+        })
+        .collect();
+    RunRecord {
+        spec: *spec,
+        events,
+        force_samples_n: force,
+        wall_s,
+        failure,
+    }
+}

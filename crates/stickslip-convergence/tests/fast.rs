@@ -1,0 +1,176 @@
+//! The fast subset of the convergence study (small N, few levels, short fig2): observed orders
+//! must stay within a stated band of theory. The full study runs under `cargo xtask convergence`.
+//!
+//! Bands (and why they are this wide):
+//! - Landau explicit/implicit Euler: order 1 ± 0.15 on the asymptotic levels;
+//! - drive: Verlet 2 ± 0.2, RK4 4 ± 0.3;
+//! - MDR operators, N = 125, 250, 500: product integration 2 (1.8 … 2.35) on the smoother pair,
+//!   literal sums ½ ± 0.1 in the interior and 0 ± 0.1 (no convergence) for the back transform
+//!   in the max norm;
+//! - fig2 up to 0.8 ms (events 1 and 2), N = 25: the onset of event 1 converges at order 1 in Δt
+//!   for both schemes (band 0.7 … 1.4: three coarse levels, the asymptotic range is not reached
+//!   exactly), and the literal onset stays at least 0.5 µs before the accurate one whatever N
+//!   (its different limit: the axis melts first);
+//! - first event, N = 25, 50, 100 at Δt = 1e-8 s: accurate onset order 1 in N (0.7 … 1.4),
+//!   literal f_peak order 1 in N (0.8 … 1.2), literal onset moving by < 10 ns with N.
+//!
+//! The whole file runs in about 2 s in the debug profile (the core is built with opt-level 3).
+
+use stickslip_convergence::celik::three_grid;
+use stickslip_convergence::fig2::{RunSpec, run};
+use stickslip_convergence::operators;
+use stickslip_convergence::steppers;
+use stickslip_convergence::study::Study;
+use stickslip_core::config::Scheme;
+
+fn in_band(what: &str, p: f64, lo: f64, hi: f64) {
+    assert!(
+        (lo..=hi).contains(&p),
+        "{what}: observed order {p:.3} outside [{lo}, {hi}]"
+    );
+}
+
+fn last_order(s: &Study) -> f64 {
+    s.observed_order
+        .last()
+        .copied()
+        .flatten()
+        .unwrap_or(f64::NAN)
+}
+
+#[test]
+fn landau_steppers_are_first_order() {
+    let studies = steppers::landau_study(&[2.5e-9, 1.25e-9, 6.25e-10]);
+    for s in studies.iter().filter(|s| s.scheme != "exact") {
+        eprintln!("{} {}: {:?}", s.scheme, s.fixed, s.errors);
+        in_band(
+            &format!("{} {}", s.scheme, s.fixed),
+            last_order(s),
+            0.85,
+            1.15,
+        );
+    }
+    for s in studies.iter().filter(|s| s.scheme == "exact") {
+        assert!(
+            s.errors.iter().all(|e| e.is_some_and(|e| e < 1e-12)),
+            "{:?}",
+            s.errors
+        );
+    }
+}
+
+#[test]
+fn drive_integrators_reach_their_orders() {
+    for s in steppers::drive_study(&steppers::drive_dts(6..=9)) {
+        let (lo, hi) = if s.scheme == "verlet" {
+            (1.8, 2.2)
+        } else {
+            (3.7, 4.3)
+        };
+        for p in s.defined_orders() {
+            in_band(&s.scheme, p, lo, hi);
+        }
+    }
+}
+
+#[test]
+fn operator_orders_on_small_grids() {
+    let studies = operators::study(&[125, 250, 500]);
+    let find = |pair: &str, quad: &str, op: &str, norm: &str| {
+        studies
+            .iter()
+            .find(|s| {
+                let (p, n) = operators::pair_and_norm(s);
+                p == pair && n == norm && s.scheme == quad && s.observable == op
+            })
+            .expect("study present")
+    };
+    for op in ["forward", "back", "compliance"] {
+        for norm in ["max", "interior"] {
+            for p in find("smoother", "product", op, norm).defined_orders() {
+                in_band(&format!("product {op} {norm}"), p, 1.8, 2.35);
+            }
+        }
+        for p in find("smooth", "literal", op, "interior").defined_orders() {
+            in_band(&format!("literal {op} interior"), p, 0.4, 0.6);
+        }
+    }
+    for p in find("uniform", "literal", "back", "max").defined_orders() {
+        in_band("literal back max", p, -0.1, 0.1);
+    }
+}
+
+fn onsets(scheme: Scheme, nodes: usize, dt: f64) -> Vec<f64> {
+    let mut spec = RunSpec::fig2(scheme, nodes, dt);
+    spec.end_s = 8e-4;
+    let r = run(&spec);
+    assert!(r.failure.is_none(), "{:?}", r.failure);
+    assert_eq!(r.events.len(), 2, "{scheme:?} N={nodes} dt={dt}: events");
+    r.events.iter().map(|e| e.onset_s).collect()
+}
+
+#[test]
+fn fig2_onsets_converge_at_first_order_in_dt() {
+    for (scheme, dts) in [
+        (Scheme::Accurate, [4e-8, 2e-8, 1e-8]),
+        (Scheme::Literal, [2e-8, 1e-8, 5e-9]),
+    ] {
+        let v: Vec<f64> = dts.iter().map(|&dt| onsets(scheme, 25, dt)[0]).collect();
+        let c = three_grid([dts[2], dts[1], dts[0]], [v[2], v[1], v[0]]).unwrap();
+        eprintln!(
+            "{scheme:?}: onsets {v:?} -> p = {:.3}, ext = {:e}",
+            c.p, c.phi_ext
+        );
+        in_band(&format!("{scheme:?} onset 1 in dt"), c.p, 0.7, 1.4);
+    }
+}
+
+#[test]
+fn literal_onsets_converge_elsewhere() {
+    for n in [25, 50] {
+        let lit = onsets(Scheme::Literal, n, 1e-8);
+        let acc = onsets(Scheme::Accurate, n, 1e-8);
+        for k in 0..2 {
+            assert!(
+                acc[k] - lit[k] > 0.5e-6,
+                "N = {n}, event {}: literal {:e} vs accurate {:e}",
+                k + 1,
+                lit[k],
+                acc[k]
+            );
+        }
+    }
+}
+
+fn first_event(scheme: Scheme, nodes: usize, dt: f64) -> (f64, f64) {
+    let mut spec = RunSpec::fig2(scheme, nodes, dt);
+    spec.end_s = 6.2e-4;
+    let r = run(&spec);
+    let e = r.events.first().expect("one event");
+    (e.onset_s, e.f_peak_n)
+}
+
+#[test]
+fn fig2_first_event_in_n() {
+    let ns = [25, 50, 100];
+    let h = [1.0 / 100.0, 1.0 / 50.0, 1.0 / 25.0];
+    let acc: Vec<(f64, f64)> = ns
+        .iter()
+        .map(|&n| first_event(Scheme::Accurate, n, 1e-8))
+        .collect();
+    let lit: Vec<(f64, f64)> = ns
+        .iter()
+        .map(|&n| first_event(Scheme::Literal, n, 1e-8))
+        .collect();
+    let p = |v: &[(f64, f64)], get: fn(&(f64, f64)) -> f64| {
+        three_grid(h, [get(&v[2]), get(&v[1]), get(&v[0])])
+            .map(|c| c.p)
+            .unwrap_or(f64::NAN)
+    };
+    in_band("accurate onset 1 in N", p(&acc, |x| x.0), 0.7, 1.4);
+    in_band("literal f_peak 1 in N", p(&lit, |x| x.1), 0.8, 1.2);
+    // The literal onset barely depends on N (its axis node has u3D = 0 at every N).
+    for w in lit.windows(2) {
+        assert!((w[1].0 - w[0].0).abs() < 1e-8, "{lit:?}");
+    }
+}
