@@ -141,6 +141,9 @@ pub struct Results {
     pub generated_by: String,
     /// Wall seconds of the whole study.
     pub total_wall_s: f64,
+    /// Cargo profile the study ran in (`release`, or `dev` with the core at opt-level 3).
+    #[serde(default = "dev_profile")]
+    pub build_profile: String,
     /// Levels used.
     pub settings: Settings,
     /// All studies.
@@ -153,6 +156,10 @@ pub struct Results {
     pub work_precision: WorkPrecision,
     /// Where the accurate scheme's Δt error of the first onset is made.
     pub localisation: simulation::Localisation,
+}
+
+fn dev_profile() -> String {
+    "dev (the core at opt-level 3)".to_string()
 }
 
 fn summary(role: &str, r: &RunRecord, reference: &Reference) -> RunSummary {
@@ -271,6 +278,11 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
     Results {
         generated_by: "cargo xtask convergence (stickslip-convergence)".into(),
         total_wall_s: start.elapsed().as_secs_f64(),
+        build_profile: if cfg!(debug_assertions) {
+            dev_profile()
+        } else {
+            "release".to_string()
+        },
         settings: settings.clone(),
         studies,
         drive_fig2_rel_error,
