@@ -135,7 +135,8 @@ impl CouplingSolver {
         let req = bicgstab_scratch::<f64>(
             IdentityPrecond { dim: n },
             IdentityPrecond { dim: n },
-            DummyOp(n),
+            // Stands in for the coupling operator, whose own scratch is empty too.
+            IdentityPrecond { dim: n },
             1,
             Par::Seq,
         );
@@ -210,39 +211,5 @@ impl CouplingSolver {
                 }
             }
         }
-    }
-}
-
-/// Stand-in operator of the right size, only to size the scratch.
-#[derive(Debug)]
-struct DummyOp(usize);
-
-impl LinOp<f64> for DummyOp {
-    fn apply_scratch(&self, _rhs_ncols: usize, _par: Par) -> StackReq {
-        StackReq::EMPTY
-    }
-    fn nrows(&self) -> usize {
-        self.0
-    }
-    fn ncols(&self) -> usize {
-        self.0
-    }
-    fn apply(
-        &self,
-        _out: MatMut<'_, f64>,
-        _rhs: MatRef<'_, f64>,
-        _par: Par,
-        _stack: &mut MemStack,
-    ) {
-        unreachable!("DummyOp only sizes scratch")
-    }
-    fn conj_apply(
-        &self,
-        _out: MatMut<'_, f64>,
-        _rhs: MatRef<'_, f64>,
-        _par: Par,
-        _stack: &mut MemStack,
-    ) {
-        unreachable!("DummyOp only sizes scratch")
     }
 }

@@ -128,7 +128,6 @@ pub struct Simulation {
     area_weights: Vec<f64>,
     kappa: f64,
     scratch_q: Vec<f64>,
-    scratch_u: Vec<f64>,
     phi_sq: Vec<f64>,
 }
 
@@ -207,7 +206,6 @@ impl Simulation {
             area_weights,
             kappa,
             scratch_q: vec![0.0; n],
-            scratch_u: vec![0.0; n],
             phi_sq: vec![0.0; n],
         };
         sim.observe_events();
@@ -328,13 +326,7 @@ impl Simulation {
         for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
             *u0 = if phi < thr { 0.0 } else { *u0 + dx };
         }
-        let h0 = self.config.contact.film_thickness_m;
-        let a = params.a_pa;
-        for i in 0..self.state.phi.len() {
-            let eps = (self.state.u0_m[i] - self.state.u3d_m[i]) / h0;
-            self.state.eps[i] = eps;
-            self.state.tau_pa[i] = a * self.state.phi[i] * self.state.phi[i] * eps;
-        }
+        self.update_strain_and_stress();
         // One lagged sweep: the substrate answers the stress just computed, for the next step.
         match &self.contact {
             Contact::Radial { ops, .. } => {
@@ -396,15 +388,22 @@ impl Simulation {
             }
         }
         self.solve_coupling(self.state.step + 1, t0 + dt_s)?;
-        let a = params.a_pa;
-        for i in 0..self.state.phi.len() {
-            let eps = (self.state.u0_m[i] - self.state.u3d_m[i]) / h0;
-            self.state.eps[i] = eps;
-            self.state.tau_pa[i] = a * self.state.phi[i] * self.state.phi[i] * eps;
-        }
+        self.update_strain_and_stress();
         self.state.force_n = self.force_3d();
         self.drive_second_half(dt_s);
         Ok(())
+    }
+
+    /// ε = (u0 − u3D)/h0 (Eq. 11) and τ = aφ²ε (Eq. 12) from the current φ, u0 and u3D.
+    fn update_strain_and_stress(&mut self) {
+        let h0 = self.config.contact.film_thickness_m;
+        let a = self.config.lubricant.a_pa;
+        let s = &mut self.state;
+        for i in 0..s.phi.len() {
+            let eps = (s.u0_m[i] - s.u3d_m[i]) / h0;
+            s.eps[i] = eps;
+            s.tau_pa[i] = a * s.phi[i] * s.phi[i] * eps;
+        }
     }
 
     fn solve_coupling(&mut self, step: u64, t_s: f64) -> Result<(), NumericalFailure> {
@@ -549,11 +548,6 @@ impl Simulation {
             eps_mean,
             melted_fraction: melted,
         }
-    }
-
-    /// Profiles φ, ε, τ, u0, u3D against r (copies of the state vectors).
-    pub fn substrate_displacement_scratch(&mut self) -> &mut [f64] {
-        &mut self.scratch_u
     }
 
     fn observe_events(&mut self) {
