@@ -86,10 +86,28 @@ pub struct ContactConfig {
 pub struct TimeConfig {
     /// End time, s.
     pub end_s: f64,
-    /// Time step Δt, s.
+    /// Time step Δt, s: the fixed step, or the first step tried when adaptive.
     pub dt_s: f64,
     /// Stepping scheme.
     pub scheme: Scheme,
+    /// Error-controlled steps instead of fixed ones (accurate scheme only); `None` = fixed.
+    #[serde(default)]
+    pub adaptive: Option<AdaptiveConfig>,
+}
+
+/// Error control of adaptive stepping (see [`crate::sim::Simulation::step_adaptive`]).
+///
+/// Each step of length h is taken once whole and once as two halves; the halves are kept
+/// when their difference, measured in the scales of [`crate::sim::ErrorScales`], is within
+/// `tolerance`. The next h follows from the first-order error model, err ∝ h².
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AdaptiveConfig {
+    /// Allowed local error per step, relative to the error scales (default 1e-3).
+    pub tolerance: f64,
+    /// Longest step, s.
+    pub dt_max_s: f64,
+    /// Shortest step, s: a step this short is accepted whatever its error (counted as forced).
+    pub dt_min_s: f64,
 }
 
 /// Numerical controls with documented defaults.
@@ -241,6 +259,48 @@ impl SimConfig {
                 &format!("finite, > 0 and <= time.end = {:e}", t.end_s),
             ));
         }
+        if let Some(a) = &t.adaptive {
+            if !(a.tolerance.is_finite() && a.tolerance > 0.0 && a.tolerance < 1.0) {
+                return Err(ConfigError::new(
+                    "time.tolerance",
+                    a.tolerance,
+                    "finite, > 0 and < 1",
+                ));
+            }
+            if !(a.dt_max_s.is_finite() && a.dt_max_s > 0.0 && a.dt_max_s <= t.end_s) {
+                return Err(ConfigError::new(
+                    "time.dt_max",
+                    a.dt_max_s,
+                    &format!("finite, > 0 and <= time.end = {:e} s", t.end_s),
+                ));
+            }
+            if !(a.dt_min_s.is_finite() && a.dt_min_s > 0.0 && a.dt_min_s <= t.dt_s.min(a.dt_max_s))
+            {
+                return Err(ConfigError::new(
+                    "time.dt_min",
+                    a.dt_min_s,
+                    &format!(
+                        "finite, > 0 and <= min(time.dt, time.dt_max) = {:e} s",
+                        t.dt_s.min(a.dt_max_s)
+                    ),
+                ));
+            }
+            if t.scheme == Scheme::Literal {
+                return Err(ConfigError::new(
+                    "time.stepping",
+                    "adaptive",
+                    "\"fixed\" with time.scheme = \"literal\" (the paper's scheme has fixed steps)",
+                ));
+            }
+            if matches!(self.noise, NoiseKind::Gaussian { .. }) {
+                return Err(ConfigError::new(
+                    "time.stepping",
+                    "adaptive",
+                    "\"fixed\" with lubricant.noise.kind = \"gaussian\" (a rejected step would \
+                     redraw the noise; use \"floor\" or \"off\" for adaptive steps)",
+                ));
+            }
+        }
         let n = &self.numerics;
         if !(n.coupling_tol.is_finite() && n.coupling_tol > 0.0 && n.coupling_tol < 1.0) {
             return Err(ConfigError::new(
@@ -300,6 +360,7 @@ impl SimConfig {
                 end_s: 1.3e-3,
                 dt_s: 1e-8,
                 scheme,
+                adaptive: None,
             },
             numerics: NumericsConfig::default(),
         }

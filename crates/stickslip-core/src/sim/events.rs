@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 pub struct MeltingEvent {
     /// Event number, from 1.
     pub k: usize,
-    /// Onset time, s: the melted count rose from zero.
+    /// Onset time, s: the melted count rose from zero (located inside the step by the
+    /// accurate scheme, the step's end for the literal one).
     pub t_onset_s: f64,
     /// Radius of the outermost node melted at the onset, m.
     pub r_first_m: f64,
@@ -34,6 +35,11 @@ pub struct MeltingEvent {
 pub struct StepSample {
     /// Time, s.
     pub t_s: f64,
+    /// When, within the step that ends at `t_s`, the first node fell below the threshold, s
+    /// (located on the node's exact path where the scheme knows it, else `t_s`).
+    pub first_melt_s: f64,
+    /// Stamp velocity, m/s: places X at `first_melt_s`.
+    pub v_m_per_s: f64,
     /// Stamp position, m.
     pub x_m: f64,
     /// Friction force, N.
@@ -83,9 +89,9 @@ impl EventTracker {
             if !continues {
                 self.events.push(MeltingEvent {
                     k: self.events.len() + 1,
-                    t_onset_s: s.t_s,
+                    t_onset_s: s.first_melt_s,
                     r_first_m: s.outermost_melted_m,
-                    x_onset_m: s.x_m,
+                    x_onset_m: s.x_m - (s.t_s - s.first_melt_s) * s.v_m_per_s,
                     f_peak_n: self.f_max_since_onset_n,
                     r_min_m: s.innermost_melted_m,
                     t_center_s: None,

@@ -83,6 +83,40 @@ pub struct SimState {
     pub events: EventTracker,
     /// Coupling-solver iterations summed over all steps (accurate scheme).
     pub coupling_iterations: u64,
+    /// Length of the last step taken, s (0 before the first): scales the extrapolation of u3D.
+    #[serde(default)]
+    pub last_dt_s: f64,
+    /// Adaptive stepping: the step to try next, s (0 = start from `time.dt`).
+    #[serde(default)]
+    pub next_dt_s: f64,
+    /// Adaptive stepping: accepted steps (each taken as two halves).
+    #[serde(default)]
+    pub accepted_steps: u64,
+    /// Adaptive stepping: rejected attempts (error above tolerance, or a failed sub-step).
+    #[serde(default)]
+    pub rejected_steps: u64,
+    /// Adaptive stepping: steps accepted at `time.dt_min` although their error exceeded the
+    /// tolerance.
+    #[serde(default)]
+    pub forced_steps: u64,
+    /// Nodes that melted during the last step (accurate scheme), whatever their φ at its end:
+    /// melting is instantaneous there, so these count as melted for events and observables.
+    #[serde(default)]
+    pub melted_in_step: Vec<bool>,
+}
+
+/// What one unit of local error means for each checked quantity (adaptive stepping).
+///
+/// The error of a step is max(|Δφ|/φ_s, |Δε|/ε_s, |ΔX|/X_s) / tolerance over all nodes, Δ the
+/// difference between one whole step and two half steps.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ErrorScales {
+    /// φ scale: the solid equilibrium √(A/a) at t = 0 (1 when A ≤ 0).
+    pub phi: f64,
+    /// Strain scale: εc at t = 0 (εmax when A ≤ 0).
+    pub eps: f64,
+    /// Stamp-position scale: the film thickness h0, m.
+    pub x_m: f64,
 }
 
 /// Scalar observables at the current time.
@@ -129,6 +163,12 @@ pub struct Simulation {
     kappa: f64,
     scratch_q: Vec<f64>,
     phi_sq: Vec<f64>,
+    error_scales: ErrorScales,
+    /// Adaptive stepping: the state before the attempted step, and the whole step's result.
+    saved: Option<Box<SimState>>,
+    whole_step: Option<Box<SimState>>,
+    /// Fraction of the last step at which the first node melted (1 = at its end).
+    first_melt_fraction: f64,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -196,6 +236,22 @@ impl Simulation {
             noise: noise.state(),
             events: EventTracker::new(merge_gap_s),
             coupling_iterations: 0,
+            last_dt_s: 0.0,
+            next_dt_s: 0.0,
+            accepted_steps: 0,
+            rejected_steps: 0,
+            forced_steps: 0,
+            melted_in_step: vec![false; n],
+        };
+        let eps_c = config.lubricant.critical_strain(a0);
+        let error_scales = ErrorScales {
+            phi: if phi_init > 0.0 { phi_init } else { 1.0 },
+            eps: if eps_c > 0.0 {
+                eps_c
+            } else {
+                config.lubricant.eps_max
+            },
+            x_m: c.film_thickness_m,
         };
         let mut sim = Self {
             config,
@@ -207,6 +263,10 @@ impl Simulation {
             kappa,
             scratch_q: vec![0.0; n],
             phi_sq: vec![0.0; n],
+            error_scales,
+            saved: None,
+            whole_step: None,
+            first_melt_fraction: 1.0,
         };
         sim.observe_events();
         Ok(sim)
@@ -272,6 +332,117 @@ impl Simulation {
         Ok(())
     }
 
+    /// The error scales of adaptive stepping.
+    pub fn error_scales(&self) -> ErrorScales {
+        self.error_scales
+    }
+
+    /// One error-controlled step (scene `time.stepping = "adaptive"`), ending at most at
+    /// `t_stop_s`; returns the length of the accepted step, s.
+    ///
+    /// A step of length h is taken whole and as two halves from the same state; the halves
+    /// are kept if their difference (see [`ErrorScales`]) is within the tolerance, otherwise
+    /// the state is rolled back and h shrinks. A sub-step that fails numerically counts as a
+    /// rejection too, until h reaches `dt_min`. The next h = h·clamp(0.9/√err, 0.2, 2):
+    /// the local difference of the (first-order) scheme scales as h².
+    ///
+    /// # Errors
+    /// [`NumericalFailure`] from a sub-step at `dt_min`.
+    ///
+    /// # Panics
+    /// If the configuration is not adaptive.
+    pub fn step_adaptive(&mut self, t_stop_s: f64) -> Result<f64, NumericalFailure> {
+        let ctl = self
+            .config
+            .time
+            .adaptive
+            .expect("step_adaptive needs time.adaptive");
+        let mut saved = self
+            .saved
+            .take()
+            .unwrap_or_else(|| Box::new(self.state.clone()));
+        let mut whole = self
+            .whole_step
+            .take()
+            .unwrap_or_else(|| Box::new(self.state.clone()));
+        let result = self.adaptive_attempts(&ctl, t_stop_s, &mut saved, &mut whole);
+        self.saved = Some(saved);
+        self.whole_step = Some(whole);
+        result
+    }
+
+    fn adaptive_attempts(
+        &mut self,
+        ctl: &crate::config::AdaptiveConfig,
+        t_stop_s: f64,
+        saved: &mut SimState,
+        whole: &mut SimState,
+    ) -> Result<f64, NumericalFailure> {
+        let mut h_try = if self.state.next_dt_s > 0.0 {
+            self.state.next_dt_s
+        } else {
+            self.config.time.dt_s
+        };
+        loop {
+            let remaining = t_stop_s - self.state.drive.t_s;
+            let mut h = h_try.min(ctl.dt_max_s);
+            // Land on t_stop without leaving a sliver: stretch by up to 10 %, or split evenly.
+            if h >= remaining / 1.1 {
+                h = remaining;
+            } else if h > 0.5 * remaining {
+                h = 0.5 * remaining;
+            }
+            let at_floor = h <= ctl.dt_min_s;
+            saved.clone_from(&self.state);
+            let outcome = self.step(h).and_then(|()| {
+                whole.clone_from(&self.state);
+                self.state.clone_from(saved);
+                self.step(0.5 * h)?;
+                self.step(0.5 * h)
+            });
+            let err = match outcome {
+                Ok(()) => self.step_difference(whole) / ctl.tolerance,
+                Err(failure) if at_floor => return Err(failure),
+                Err(_) => f64::INFINITY,
+            };
+            if err <= 1.0 || at_floor {
+                if err > 1.0 {
+                    self.state.forced_steps += 1;
+                }
+                self.state.accepted_steps += 1;
+                let grow = if err > 0.0 {
+                    (0.9 / err.sqrt()).clamp(0.2, 2.0)
+                } else {
+                    2.0
+                };
+                // A step shortened only to land on t_stop says nothing about the next one.
+                self.state.next_dt_s = (h * grow).max(h_try.min(ctl.dt_max_s) * grow.min(1.0));
+                return Ok(h);
+            }
+            self.state.clone_from(saved);
+            self.state.rejected_steps += 1;
+            let shrink = if err.is_finite() {
+                (0.9 / err.sqrt()).clamp(0.2, 0.9)
+            } else {
+                0.25
+            };
+            h_try = (h * shrink).max(ctl.dt_min_s);
+        }
+    }
+
+    /// Largest scaled difference between the current state and `other` (see [`ErrorScales`]).
+    fn step_difference(&self, other: &SimState) -> f64 {
+        let s = &self.state;
+        let sc = &self.error_scales;
+        let mut worst = ((s.drive.x_m - other.drive.x_m) / sc.x_m).abs();
+        for i in 0..s.phi.len() {
+            let dphi = ((s.phi[i] - other.phi[i]) / sc.phi).abs();
+            let deps = ((s.eps[i] - other.eps[i]) / sc.eps).abs();
+            worst = worst.max(dphi).max(deps);
+        }
+        if worst.is_nan() { f64::INFINITY } else { worst }
+    }
+
     fn drive_first_half(&mut self, dt_s: f64) -> f64 {
         let x0 = self.state.drive.x_m;
         let f = self.state.force_n;
@@ -321,6 +492,7 @@ impl Simulation {
             });
         }
         self.noise.apply(&mut self.state.phi, dt_s);
+        self.first_melt_fraction = 1.0;
         let dx = self.drive_first_half(dt_s);
         let thr = self.config.melt_threshold;
         for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
@@ -356,38 +528,84 @@ impl Simulation {
         let t0 = self.state.drive.t_s;
         let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
         let params = self.config.lubricant;
+        let b = params.b_pa();
+        let two_gamma = 2.0 * params.gamma_per_pa_s;
         let thr = self.config.melt_threshold;
         let h0 = self.config.contact.film_thickness_m;
         let dx = self.drive_first_half(dt_s);
-        let half_deps = 0.5 * dx / h0;
+        // The substrate's change over this step, predicted by linear extrapolation of the last
+        // one (the coupling solve below corrects u3D itself; only the strain seen by φ uses it).
+        let ratio = if self.state.last_dt_s > 0.0 {
+            dt_s / self.state.last_dt_s
+        } else {
+            0.0
+        };
+        let mut first_melt = 1.0_f64;
         for i in 0..self.state.phi.len() {
             let phi0 = self.state.phi[i];
             let solid0 = phi0 >= thr;
+            let du3d = ratio * (self.state.u3d_m[i] - self.state.u3d_prev_m[i]);
             // u0 is held at 0 while melted, so only solid nodes see the stamp's advance.
-            let eps_mid = if solid0 {
-                self.state.eps[i] + half_deps
-            } else {
-                self.state.eps[i]
-            };
-            let phi1 = PhiStepper::Exact.step(phi0, eps_mid, a_mid, &params, dt_s);
-            let u0 = &mut self.state.u0_m[i];
-            *u0 = match (solid0, phi1 >= thr) {
-                (true, true) => *u0 + dx,
+            let du0 = if solid0 { dx } else { 0.0 };
+            let eps0 = self.state.eps[i];
+            let eps1 = eps0 + (du0 - du3d) / h0;
+            // Frozen strain for the exact step: the weight θ(z) makes the step exact for a
+            // linearised φ² relaxing at rate λ towards a target that moves linearly over the
+            // step — ½ (midpoint, second order) for slow relaxation, → 1 (the end-of-step
+            // strain, no lag) for the stiff stick phase where φ is slaved to ε.
+            let y0 = phi0 * phi0;
+            let lambda = two_gamma * (params.bernoulli_c_pa(eps0, a_mid) + 2.0 * b * y0);
+            let eps_eff = eps0 + linear_forcing_weight(lambda * dt_s) * (eps1 - eps0);
+            let phi1 = PhiStepper::Exact.step(phi0, eps_eff, a_mid, &params, dt_s);
+            let u0 = self.state.u0_m[i];
+            let (phi_end, u0_end, melted_at) = match (solid0, phi1 >= thr) {
+                (true, true) => (phi1, u0 + dx, None),
                 (false, true) => {
-                    let theta = crossing_fraction(phi0, phi1, thr, eps_mid, a_mid, &params, dt_s);
-                    (1.0 - theta) * dx
+                    let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
+                    (phi1, (1.0 - theta) * dx, None)
                 }
-                (_, false) => 0.0,
+                (false, false) => (phi1, 0.0, None),
+                (true, false) => {
+                    // The film melts at θ: u0 drops to 0 there, and the node carries on from
+                    // φ = thr under the strain of a melted node, −u3D/h0. Below εc that strain
+                    // makes φ grow at once: melting is instantaneous and u0 accumulates again
+                    // from θ on. Continuing the decay to the step's end instead would leave φ
+                    // far below thr by an amount set by Δt, and the recovery with it.
+                    let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
+                    let rest_s = (1.0 - theta) * dt_s;
+                    let u3d = self.state.u3d_m[i];
+                    let eps_a = -(u3d + theta * du3d) / h0;
+                    let c_a = params.bernoulli_c_pa(eps_a, a_mid);
+                    if c_a < 0.0 {
+                        let eps_b = ((1.0 - theta) * dx - (u3d + du3d)) / h0;
+                        let lambda = two_gamma * (c_a + 2.0 * b * thr * thr);
+                        let eps_rest =
+                            eps_a + linear_forcing_weight(lambda * rest_s) * (eps_b - eps_a);
+                        let phi2 = PhiStepper::Exact.step(thr, eps_rest, a_mid, &params, rest_s);
+                        let u0_end = if phi2 >= thr { (1.0 - theta) * dx } else { 0.0 };
+                        (phi2, u0_end, Some(theta))
+                    } else {
+                        let phi2 = PhiStepper::Exact.step(thr, eps_a, a_mid, &params, rest_s);
+                        (phi2, 0.0, Some(theta))
+                    }
+                }
             };
-            self.state.phi[i] = phi1;
+            if let Some(theta) = melted_at {
+                first_melt = first_melt.min(theta);
+            }
+            self.state.melted_in_step[i] = melted_at.is_some();
+            self.state.u0_m[i] = u0_end;
+            self.state.phi[i] = phi_end;
         }
+        self.first_melt_fraction = first_melt;
         self.noise.apply(&mut self.state.phi, dt_s);
         for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
             if phi < thr {
                 *u0 = 0.0;
             }
         }
-        self.solve_coupling(self.state.step + 1, t0 + dt_s)?;
+        self.solve_coupling(self.state.step + 1, t0 + dt_s, ratio)?;
+        self.state.last_dt_s = dt_s;
         self.update_strain_and_stress();
         self.state.force_n = self.force_3d();
         self.drive_second_half(dt_s);
@@ -406,7 +624,12 @@ impl Simulation {
         }
     }
 
-    fn solve_coupling(&mut self, step: u64, t_s: f64) -> Result<(), NumericalFailure> {
+    fn solve_coupling(
+        &mut self,
+        step: u64,
+        t_s: f64,
+        step_ratio: f64,
+    ) -> Result<(), NumericalFailure> {
         match &mut self.contact {
             Contact::Radial {
                 ops,
@@ -422,7 +645,7 @@ impl Simulation {
                     .zip(self.state.u3d_prev_m.iter_mut())
                 {
                     let current = *u;
-                    *u = 2.0 * current - *prev;
+                    *u = current + step_ratio * (current - *prev);
                     *prev = current;
                 }
                 let report = solver.solve(
@@ -526,7 +749,6 @@ impl Simulation {
             }
             Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.tau_pa[0],
         };
-        let thr = self.config.melt_threshold;
         let mut phi_mean = 0.0;
         let mut eps_mean = 0.0;
         let mut melted = 0.0;
@@ -534,7 +756,7 @@ impl Simulation {
             let w = self.area_weights[i];
             phi_mean += w * self.state.phi[i];
             eps_mean += w * self.state.eps[i];
-            if self.state.phi[i] < thr {
+            if self.is_melted(i) {
                 melted += w;
             }
         }
@@ -550,14 +772,19 @@ impl Simulation {
         }
     }
 
+    /// Node `i` is below the threshold now or melted during the last step.
+    fn is_melted(&self, i: usize) -> bool {
+        self.state.phi[i] < self.config.melt_threshold
+            || self.state.melted_in_step.get(i).copied().unwrap_or(false)
+    }
+
     fn observe_events(&mut self) {
-        let thr = self.config.melt_threshold;
         let mut count = 0;
         let mut outer = 0.0_f64;
         let mut inner = f64::INFINITY;
         let mut fraction = 0.0;
-        for (i, &phi) in self.state.phi.iter().enumerate() {
-            if phi < thr {
+        for i in 0..self.state.phi.len() {
+            if self.is_melted(i) {
                 count += 1;
                 outer = outer.max(self.radii_m[i]);
                 inner = inner.min(self.radii_m[i]);
@@ -566,12 +793,15 @@ impl Simulation {
         }
         let sample = StepSample {
             t_s: self.state.drive.t_s,
+            first_melt_s: self.state.drive.t_s
+                - (1.0 - self.first_melt_fraction) * self.state.last_dt_s,
+            v_m_per_s: self.state.drive.v_m_per_s,
             x_m: self.state.drive.x_m,
             f_n: self.state.force_n,
             melted_nodes: count,
             outermost_melted_m: outer,
             innermost_melted_m: inner,
-            center_melted: self.state.phi[0] < thr,
+            center_melted: self.is_melted(0),
             melted_fraction: fraction,
         };
         self.state.events.observe(&sample);
@@ -643,7 +873,20 @@ fn non_finite_advice(config: &SimConfig) -> String {
     }
 }
 
-/// Fraction θ ∈ [0, 1] of the step at which the exact path from φ0 reaches `thr` (growing).
+/// Weight θ(z) = 1/(1 − e^(−z)) − 1/z with z = λ·Δt: y' = −λ(y − g(t)) with g linear over
+/// the step is solved exactly by freezing g at g(t0) + θ·(g(t1) − g(t0)).
+/// θ → ½ + z/12 for z → 0, → 1 for z → +∞, → 0 for z → −∞.
+fn linear_forcing_weight(z: f64) -> f64 {
+    if z.abs() < 1e-4 {
+        0.5 + z / 12.0
+    } else {
+        1.0 / (1.0 - (-z).exp()) - 1.0 / z
+    }
+}
+
+/// Fraction θ ∈ [0, 1] of the step at which the exact frozen-strain path from φ0 to φ1 meets
+/// `thr` (rising or falling); 1 (the step's end) when the path cannot explain the crossing,
+/// e.g. when noise or the floor moved φ.
 fn crossing_fraction(
     phi0: f64,
     phi1: f64,
@@ -653,7 +896,7 @@ fn crossing_fraction(
     params: &crate::landau::LandauParams,
     dt_s: f64,
 ) -> f64 {
-    if phi1 <= phi0 || phi0 <= 0.0 {
+    if phi0 <= 0.0 || (phi0 - thr) * (phi1 - thr) > 0.0 {
         return 1.0;
     }
     let y0 = phi0 * phi0;
@@ -661,12 +904,17 @@ fn crossing_fraction(
     let b = params.b_pa();
     let c = params.bernoulli_c_pa(eps, a_coeff);
     let two_gamma = 2.0 * params.gamma_per_pa_s;
-    // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct), solved for y(t) = ys.
-    if c >= 0.0 {
-        // With c ≥ 0 the exact path only decays: a rise came from noise, at the step's end.
-        return 1.0;
+    // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct), solved for y(t) = ys; for c = 0,
+    // y = y0/(1 + 2γ·b·y0·t).
+    let t = if c == 0.0 {
+        (y0 / ys - 1.0) / (two_gamma * b * y0)
+    } else {
+        let e = ys * (c + b * y0) / (y0 * (c + b * ys));
+        -e.ln() / (two_gamma * c)
+    };
+    if t.is_finite() {
+        (t / dt_s).clamp(0.0, 1.0)
+    } else {
+        1.0
     }
-    let e = ys * (c + b * y0) / (y0 * (c + b * ys));
-    let t = -e.ln() / (two_gamma * c);
-    (t / dt_s).clamp(0.0, 1.0)
 }

@@ -660,6 +660,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
             } else {
                 Scheme::Accurate
             },
+            adaptive: None,
         },
         numerics,
     };
