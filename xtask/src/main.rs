@@ -12,10 +12,15 @@ Commands:
       --check   rerun and compare verdicts, event counts and the reduced block with the
                 committed reports/summary.json, writing nothing; exits 1 on a mismatch
       --jobs N  scene runs in parallel (default 2)
+      --hard-only  only rerun the hard cases (validation/hard/) and write
+                reports/hard-cases.md; exits 1 if an expected outcome is not met
   convergence   run the full convergence study (crate stickslip-convergence, release build)
                 and write reports/convergence.{md,json} and reports/convergence_*.svg;
                 options are passed on (`cargo xtask convergence --help`)
-  bench         run the headline performance comparisons (not built yet)
+  bench         run the headline performance comparisons T1–T4 on the release binary and
+                write reports/performance.{md,json} and reports/performance_*.svg
+      --quick   smoke run (few, short runs; not for the report)
+      --repeats N, --max-nodes N, --out DIR   (see crates/stickslip-convergence/src/bin/performance.rs)
 ";
 
 fn workspace_root() -> PathBuf {
@@ -30,11 +35,13 @@ fn validate(args: &[String]) -> ExitCode {
         root: workspace_root(),
         check: false,
         jobs: 2,
+        hard_only: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
             "--check" => opts.check = true,
+            "--hard-only" => opts.hard_only = true,
             "--jobs" => match it.next().and_then(|v| v.parse::<usize>().ok()) {
                 Some(n) if n > 0 => opts.jobs = n,
                 _ => {
@@ -88,6 +95,44 @@ fn convergence(args: &[String]) -> ExitCode {
     }
 }
 
+/// Builds the release `stickslip` binary, then runs the benchmarks in their own release binary.
+fn bench(args: &[String]) -> ExitCode {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let run = |extra: &[&str], rest: &[String]| {
+        std::process::Command::new(&cargo)
+            .current_dir(workspace_root())
+            .args(extra)
+            .args(rest)
+            .status()
+    };
+    let built = run(&["build", "--release", "-q", "-p", "stickslip"], &[]);
+    if !matches!(built, Ok(s) if s.success()) {
+        eprintln!("bench: building the release stickslip binary failed");
+        return ExitCode::from(2);
+    }
+    let status = run(
+        &[
+            "run",
+            "--release",
+            "-q",
+            "-p",
+            "stickslip-convergence",
+            "--bin",
+            "performance",
+            "--",
+        ],
+        args,
+    );
+    match status {
+        Ok(s) if s.success() => ExitCode::SUCCESS,
+        Ok(s) => ExitCode::from(u8::try_from(s.code().unwrap_or(1)).unwrap_or(1)),
+        Err(e) => {
+            eprintln!("bench: cannot run cargo: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
@@ -97,6 +142,7 @@ fn main() -> ExitCode {
         }
         Some("validate") => validate(&args[1..]),
         Some("convergence") => convergence(&args[1..]),
+        Some("bench") => bench(&args[1..]),
         Some(other) => {
             eprintln!("unknown xtask command `{other}`\n\n{HELP}");
             ExitCode::from(2)

@@ -681,6 +681,8 @@ impl Simulation {
                 let phi = self.state.phi[0];
                 let k = *compliance_m_per_pa * self.config.lubricant.a_pa * phi * phi
                     / self.config.contact.film_thickness_m;
+                // Kept for the next step's strain prediction, as in the radial solve.
+                self.state.u3d_prev_m[0] = self.state.u3d_m[0];
                 self.state.u3d_m[0] = k * self.state.u0_m[0] / (1.0 + k);
             }
         }

@@ -164,6 +164,18 @@ pub struct TimeSection {
     /// `"accurate"` (default) or `"literal"`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scheme: Option<String>,
+    /// `"adaptive"` (default for the accurate scheme without gaussian noise) or `"fixed"`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stepping: Option<String>,
+    /// Adaptive: allowed local error per step relative to the error scales (default 1e-4).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// Adaptive: longest step, s (default time.end / 1000).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt_max: Option<f64>,
+    /// Adaptive: shortest step, s, accepted whatever its error (default 1e-6·min(dt, dt_max)).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt_min: Option<f64>,
 }
 
 /// `[output]`: what is recorded.

@@ -23,8 +23,8 @@ pub use file::{
 };
 
 use stickslip_core::config::{
-    ContactConfig, ContactModel, Derived, MAX_NODES, NumericsConfig, Scheme, SimConfig, Substrate,
-    TimeConfig,
+    AdaptiveConfig, ContactConfig, ContactModel, Derived, MAX_NODES, NumericsConfig, Scheme,
+    SimConfig, Substrate, TimeConfig,
 };
 use stickslip_core::drive::{Drive, Integrator, RigidDrive, SpringDrive};
 use stickslip_core::landau::{LandauParams, Temperature};
@@ -44,6 +44,13 @@ pub const DEFAULT_NOISE_SEED: i64 = 1;
 pub const DEFAULT_NODES: i64 = 2000;
 /// Default `time.dt`, s.
 pub const DEFAULT_DT_S: f64 = 1e-8;
+/// Default `time.tolerance` (adaptive stepping): fig2 onsets within 0.01 µs of the converged
+/// reference at N = 125 (reports/performance.md).
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+/// Default `time.dt_max` as a fraction of `time.end`.
+pub const DEFAULT_DT_MAX_FRACTION: f64 = 1e-3;
+/// Default `time.dt_min` as a fraction of min(`time.dt`, `time.dt_max`).
+pub const DEFAULT_DT_MIN_FRACTION: f64 = 1e-6;
 /// Default `output.event_merge_gap`, s.
 pub const DEFAULT_EVENT_MERGE_GAP_S: f64 = 1e-5;
 /// Default `output.series_interval`, s.
@@ -77,7 +84,8 @@ pub struct ResolvedScene {
     pub resolved: Scene,
     /// Derived parameters b, A, εc, φ0, ω.
     pub derived: Derived,
-    /// Number of steps: ⌈end/dt − 1e-9⌉, all of length dt except the last, which lands on end.
+    /// Number of steps: ⌈end/dt − 1e-9⌉, all of length dt except the last, which lands on end
+    /// (fixed stepping; with adaptive steps only a scale for the progress bar).
     pub steps: u64,
 }
 
@@ -121,6 +129,7 @@ impl Scene {
         for o in overrides {
             overrides::apply_override(&mut root, o.as_ref())?;
         }
+        error::check_sections(&root)?;
         let scene: Scene = root
             .clone()
             .try_into()
@@ -620,6 +629,34 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         &["accurate", "literal"],
     )?;
 
+    let gaussian = matches!(noise, NoiseKind::Gaussian { .. });
+    let default_stepping = if scheme_name == "accurate" && !gaussian {
+        "adaptive"
+    } else {
+        "fixed"
+    };
+    let stepping_name = choice(
+        t.stepping.as_ref(),
+        "time.stepping",
+        default_stepping,
+        &["adaptive", "fixed"],
+    )?;
+    let adaptive = if stepping_name == "adaptive" {
+        let dt_max = t.dt_max.unwrap_or(DEFAULT_DT_MAX_FRACTION * end);
+        Some(AdaptiveConfig {
+            tolerance: t.tolerance.unwrap_or(DEFAULT_TOLERANCE),
+            dt_max_s: dt_max,
+            dt_min_s: t.dt_min.unwrap_or(DEFAULT_DT_MIN_FRACTION * dt.min(dt_max)),
+        })
+    } else {
+        let other = "time.stepping = \"fixed\"";
+        let allowed = "only with time.stepping = \"adaptive\"";
+        contradiction("time.tolerance", t.tolerance, other, allowed)?;
+        contradiction("time.dt_max", t.dt_max, other, allowed)?;
+        contradiction("time.dt_min", t.dt_min, other, allowed)?;
+        None
+    };
+
     let nm = scene.numerics.clone().unwrap_or_default();
     let defaults = NumericsConfig::default();
     let numerics = NumericsConfig {
@@ -660,12 +697,12 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
             } else {
                 Scheme::Accurate
             },
-            adaptive: None,
+            adaptive,
         },
         numerics,
     };
     config.validate()?;
-    if end / dt > MAX_STEPS {
+    if adaptive.is_none() && end / dt > MAX_STEPS {
         return Err(SceneError::invalid(
             "time.dt",
             error::human(dt),
@@ -738,6 +775,10 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
             end: Some(end),
             dt: Some(dt),
             scheme: Some(scheme_name.to_string()),
+            stepping: Some(stepping_name.to_string()),
+            tolerance: adaptive.map(|a| a.tolerance),
+            dt_max: adaptive.map(|a| a.dt_max_s),
+            dt_min: adaptive.map(|a| a.dt_min_s),
         }),
         output: Some(OutputSection {
             profile_times: Some(profile_times.clone()),

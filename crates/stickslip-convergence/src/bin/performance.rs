@@ -1,0 +1,80 @@
+//! `performance`: the headline benchmarks of `cargo xtask bench` (T1–T4, reports/performance.*).
+//!
+//! Options: `--quick` (smoke run, not for the report), `--repeats N` (default 5),
+//! `--max-nodes N` (largest N of the cost sweep, default 8000), `--out DIR` (default reports),
+//! `--binary PATH` (default target/release/stickslip).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use stickslip_convergence::performance::{BenchSettings, measure, write_report};
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut settings = BenchSettings {
+        binary: root.join("target/release/stickslip"),
+        scene: root.join("validation/scenes/fig2.toml"),
+        work_dir: root.join("target/bench-runs"),
+        repeats: 5,
+        sweep_nodes: vec![125, 250, 500, 1000, 2000, 4000, 8000],
+        sweep_steps: 200,
+        full_run_limit_s: 60.0,
+        reference_nodes: 1000,
+        reference_tolerance: 1e-6,
+        quick: false,
+    };
+    let mut out = root.join("reports");
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let mut value = |name: &str| {
+            it.next()
+                .cloned()
+                .ok_or_else(|| format!("{name} needs a value"))
+        };
+        let parsed: Result<(), String> = match a.as_str() {
+            "--quick" => {
+                settings.quick = true;
+                settings.repeats = 1;
+                settings.sweep_nodes = vec![125, 250, 500];
+                settings.sweep_steps = 50;
+                settings.reference_nodes = 250;
+                settings.reference_tolerance = 1e-5;
+                Ok(())
+            }
+            "--repeats" => value("--repeats").and_then(|v| {
+                settings.repeats = v
+                    .parse()
+                    .map_err(|_| format!("--repeats {v}: allowed: an integer >= 1"))?;
+                Ok(())
+            }),
+            "--max-nodes" => value("--max-nodes").and_then(|v| {
+                let n: usize = v
+                    .parse()
+                    .map_err(|_| format!("--max-nodes {v}: allowed: an integer >= 125"))?;
+                settings.sweep_nodes.retain(|&k| k <= n);
+                Ok(())
+            }),
+            "--out" => value("--out").map(|v| out = PathBuf::from(v)),
+            "--binary" => value("--binary").map(|v| settings.binary = PathBuf::from(v)),
+            other => Err(format!(
+                "unknown option {other}; allowed: --quick, --repeats N, --max-nodes N, --out DIR, --binary PATH"
+            )),
+        };
+        if let Err(e) = parsed {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    match measure(&settings).and_then(|p| write_report(&p, &out)) {
+        Ok(files) => {
+            for f in files {
+                println!("wrote {}", f.display());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
