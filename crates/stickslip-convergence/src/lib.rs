@@ -19,6 +19,7 @@
 pub mod celik;
 pub mod fig2;
 pub mod operators;
+pub mod performance;
 pub mod plot;
 pub mod report;
 pub mod simulation;
