@@ -388,6 +388,10 @@ pub struct ProbeMelt {
 }
 
 /// All probe meltings of `run`, grouped by event window [onset_k, onset_{k+1}).
+///
+/// With `t_melt@` columns (the located time each probe's node last melted), a melting is a
+/// change of that time, dated exactly; its re-solidification is the first sample from then on
+/// with φ ≥ threshold. Without them, a melting is a run of samples with φ below the threshold.
 pub fn probe_melts(run: &RunOutput) -> Vec<ProbeMelt> {
     let Some(p) = &run.probes else {
         return Vec::new();
@@ -400,21 +404,67 @@ pub fn probe_melts(run: &RunOutput) -> Vec<ProbeMelt> {
         let a = p.t_s.partition_point(|&t| t < t0);
         let b = p.t_s.partition_point(|&t| t < t1);
         for (j, phi) in p.phi.iter().enumerate() {
-            let below: Vec<usize> = (a..b).filter(|&i| phi[i] < thr).collect();
-            let (Some(&first), Some(&last)) = (below.first(), below.last()) else {
-                continue;
+            let melt = match p.t_melt_s.get(j) {
+                Some(t_melt) => located_melt(&p.t_s, phi, t_melt, thr, t0, t1),
+                None => sampled_melt(&p.t_s, phi, thr, a, b),
             };
-            let t_solid_s = (last + 1 < b).then(|| p.t_s[last + 1]);
-            out.push(ProbeMelt {
-                event: k,
-                probe: j,
-                t_melt_s: p.t_s[first],
-                t_solid_s,
-                censored_by_end: t_solid_s.is_none() && b == p.t_s.len(),
-            });
+            if let Some((t_melt_s, t_solid_s)) = melt {
+                out.push(ProbeMelt {
+                    event: k,
+                    probe: j,
+                    t_melt_s,
+                    t_solid_s,
+                    censored_by_end: t_solid_s.is_none() && b == p.t_s.len(),
+                });
+            }
         }
     }
     out
+}
+
+/// First located melting in [t0, t1) and the first sample at or after the last one with φ at
+/// or above the threshold.
+fn located_melt(
+    t_s: &[f64],
+    phi: &[f64],
+    t_melt: &[f64],
+    thr: f64,
+    t0: f64,
+    t1: f64,
+) -> Option<(f64, Option<f64>)> {
+    // The onset and the first melting are located by the same formula, up to rounding.
+    let slack = 1e-9 * t0.abs().max(1e-12);
+    let inside: Vec<f64> = t_melt
+        .iter()
+        .copied()
+        .filter(|&t| t >= 0.0 && t >= t0 - slack && t < t1 - slack)
+        .collect();
+    let first = inside.iter().copied().fold(f64::INFINITY, f64::min);
+    let last = inside.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !first.is_finite() {
+        return None;
+    }
+    let from = t_s.partition_point(|&t| t < last);
+    let t_solid = (from..t_s.len())
+        .find(|&i| phi[i] >= thr)
+        .map(|i| t_s[i])
+        .filter(|&t| t < t1);
+    Some((first, t_solid))
+}
+
+/// First sample below the threshold in rows [a, b) and the sample after the last one.
+fn sampled_melt(
+    t_s: &[f64],
+    phi: &[f64],
+    thr: f64,
+    a: usize,
+    b: usize,
+) -> Option<(f64, Option<f64>)> {
+    let below: Vec<usize> = (a..b).filter(|&i| phi[i] < thr).collect();
+    let (Some(&first), Some(&last)) = (below.first(), below.last()) else {
+        return None;
+    };
+    Some((t_s[first], (last + 1 < b).then(|| t_s[last + 1])))
 }
 
 /// C4 from probes: in every event, the probes melt in order from the outermost to the

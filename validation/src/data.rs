@@ -272,6 +272,9 @@ pub struct Probes {
     pub t_s: Vec<f64>,
     /// φ per probe (outer index as `radii_m`).
     pub phi: Vec<Vec<f64>>,
+    /// Per probe, the time its node last melted (`t_melt@<radius>` columns, −1 = never), s;
+    /// empty when the file has no such columns.
+    pub t_melt_s: Vec<Vec<f64>>,
 }
 
 impl Probes {
@@ -285,8 +288,13 @@ impl Probes {
         let t_s = t.column("t", w)?;
         let mut radii_m = Vec::new();
         let mut phi = Vec::new();
+        let mut t_melt_s = Vec::new();
         for (name, col) in t.header.iter().zip(&t.columns) {
             if name == "t" {
+                continue;
+            }
+            if name.starts_with("t_melt@") {
+                t_melt_s.push(col.clone());
                 continue;
             }
             let r = name
@@ -296,7 +304,19 @@ impl Probes {
             radii_m.push(r);
             phi.push(col.clone());
         }
-        Ok(Self { radii_m, t_s, phi })
+        if !t_melt_s.is_empty() && t_melt_s.len() != phi.len() {
+            return Err(err(format!(
+                "{w}: {} t_melt@ columns for {} phi@ columns",
+                t_melt_s.len(),
+                phi.len()
+            )));
+        }
+        Ok(Self {
+            radii_m,
+            t_s,
+            phi,
+            t_melt_s,
+        })
     }
 }
 

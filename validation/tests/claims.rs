@@ -2,8 +2,8 @@
 //! property and fails on data that lacks it; missing runs fail claims instead of panicking.
 
 use stickslip_validation::claims::{
-    Runs, c2_part, c4_events_part, c5_part, c8_part, c9_periodic_part, c10_part, cv, diffs,
-    evaluate, probe_melts,
+    Runs, c2_part, c4_events_part, c4_probes_part, c5_part, c8_part, c9_periodic_part, c10_part,
+    cv, diffs, evaluate, probe_melts,
 };
 use stickslip_validation::data::{Event, Events, Probes, RunInfo, RunOutput, Series, Table};
 use stickslip_validation::plot::decimate;
@@ -134,6 +134,7 @@ fn probe_meltings_are_grouped_by_event_and_timed() {
         radii_m: vec![1e-5],
         t_s: t,
         phi: vec![phi],
+        t_melt_s: vec![],
     });
     let m = probe_melts(&r);
     assert_eq!(m.len(), 2);
@@ -141,6 +142,45 @@ fn probe_meltings_are_grouped_by_event_and_timed() {
     assert!((m[1].t_solid_s.unwrap() - m[1].t_melt_s - 3e-6).abs() < 1e-12);
     let c5 = c5_part(&r);
     assert!(c5.pass, "{}", c5.text);
+}
+
+#[test]
+fn located_meltings_count_although_sampled_phi_never_drops_below_the_threshold() {
+    // Instantaneous melting: φ touches the threshold between samples; the t_melt column
+    // dates it. Probe 0 (outer) melts at 100.2 µs, probe 1 (inner) at 100.4 µs.
+    let mut r = run(&[100.1e-6], &[1e-7]);
+    let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-6).collect();
+    let mut outer = vec![-1.0; t.len()];
+    let mut inner = vec![-1.0; t.len()];
+    for i in 101..t.len() {
+        outer[i] = 100.2e-6;
+        inner[i] = 100.4e-6;
+    }
+    let mut phi_inner = vec![1.0; t.len()];
+    phi_inner[101] = 0.5;
+    r.probes = Some(Probes {
+        radii_m: vec![1.8e-5, 2e-6],
+        t_s: t.clone(),
+        phi: vec![vec![1.0; t.len()], phi_inner],
+        t_melt_s: vec![outer, inner.clone()],
+    });
+    let m = probe_melts(&r);
+    assert_eq!(m.len(), 2);
+    assert!((m[0].t_melt_s - 100.2e-6).abs() < 1e-15);
+    assert_eq!(
+        m[1].t_solid_s,
+        Some(101e-6),
+        "first sample at or above the threshold"
+    );
+    assert!(c4_probes_part(&r).pass);
+    // Swapped: the inner probe first is an order violation.
+    if let Some(p) = r.probes.as_mut() {
+        p.t_melt_s[0] = inner
+            .iter()
+            .map(|&v| if v > 0.0 { 100.6e-6 } else { v })
+            .collect();
+    }
+    assert!(!c4_probes_part(&r).pass);
 }
 
 #[test]
@@ -162,6 +202,7 @@ fn c4_uses_the_innermost_probe_when_events_csv_has_no_front_columns() {
         radii_m: vec![1.8e-5, 2e-6],
         t_s: t.clone(),
         phi: vec![vec![1.0; t.len()], inner],
+        t_melt_s: vec![],
     });
     let part = c4_events_part(&r);
     assert!(part.pass, "{}", part.text);

@@ -103,6 +103,11 @@ pub struct SimState {
     /// melting is instantaneous there, so these count as melted for events and observables.
     #[serde(default)]
     pub melted_in_step: Vec<bool>,
+    /// When each node last melted (went from solid to below the threshold), s; −1 before its
+    /// first melting. The accurate scheme's melting is instantaneous (φ touches the threshold
+    /// and recovers within the step), so sampled φ rarely shows it; this does, located in time.
+    #[serde(default)]
+    pub last_melt_s: Vec<f64>,
 }
 
 /// What one unit of local error means for each checked quantity (adaptive stepping).
@@ -242,6 +247,7 @@ impl Simulation {
             rejected_steps: 0,
             forced_steps: 0,
             melted_in_step: vec![false; n],
+            last_melt_s: vec![-1.0; n],
         };
         let eps_c = config.lubricant.critical_strain(a0);
         let error_scales = ErrorScales {
@@ -297,7 +303,11 @@ impl Simulation {
         self.noise
             .restore(&state.noise)
             .map_err(|e| e.to_string())?;
+        let n = state.phi.len();
         self.state = state;
+        // Per-node fields added later than the checkpoint format default to empty.
+        self.state.melted_in_step.resize(n, false);
+        self.state.last_melt_s.resize(n, -1.0);
         Ok(())
     }
 
@@ -467,6 +477,10 @@ impl Simulation {
         let t0 = self.state.drive.t_s;
         let a_coeff = self.config.temperature.a_coeff_pa(t0);
         let params = self.config.lubricant;
+        let thr = self.config.melt_threshold;
+        for (was_solid, &phi) in self.state.melted_in_step.iter_mut().zip(&self.state.phi) {
+            *was_solid = phi >= thr;
+        }
         for (phi, &eps) in self.state.phi.iter_mut().zip(&self.state.eps) {
             *phi += dt_s * rhs(*phi, eps, a_coeff, &params);
         }
@@ -494,9 +508,15 @@ impl Simulation {
         self.noise.apply(&mut self.state.phi, dt_s);
         self.first_melt_fraction = 1.0;
         let dx = self.drive_first_half(dt_s);
-        let thr = self.config.melt_threshold;
-        for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
-            *u0 = if phi < thr { 0.0 } else { *u0 + dx };
+        for i in 0..self.state.phi.len() {
+            let melted = self.state.phi[i] < thr;
+            let newly = melted && self.state.melted_in_step[i];
+            self.state.melted_in_step[i] = newly;
+            if newly {
+                self.state.last_melt_s[i] = t0 + dt_s;
+            }
+            let u0 = &mut self.state.u0_m[i];
+            *u0 = if melted { 0.0 } else { *u0 + dx };
         }
         self.update_strain_and_stress();
         // One lagged sweep: the substrate answers the stress just computed, for the next step.
@@ -594,6 +614,9 @@ impl Simulation {
                 first_melt = first_melt.min(theta);
             }
             self.state.melted_in_step[i] = melted_at.is_some();
+            if let Some(theta) = melted_at {
+                self.state.last_melt_s[i] = t0 + theta * dt_s;
+            }
             self.state.u0_m[i] = u0_end;
             self.state.phi[i] = phi_end;
         }
