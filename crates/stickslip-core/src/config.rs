@@ -160,6 +160,23 @@ fn positive(key: &str, v: f64) -> Result<(), ConfigError> {
     }
 }
 
+/// Allowed contact radius and film thickness, m.
+pub const LENGTH_RANGE_M: (f64, f64) = (1e-15, 1e15);
+/// Allowed effective modulus, Pa.
+pub const MODULUS_RANGE_PA: (f64, f64) = (1e-15, 1e20);
+
+fn in_range(key: &str, v: f64, (lo, hi): (f64, f64), unit: &str) -> Result<(), ConfigError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(ConfigError::new(
+            key,
+            v,
+            &format!("finite and within [{lo:e}, {hi:e}] {unit}"),
+        ))
+    }
+}
+
 /// Upper bound on N: the dense operators take 8·N² bytes each.
 pub const MAX_NODES: usize = 20_000;
 
@@ -218,9 +235,22 @@ impl SimConfig {
             }
         }
         let c = &self.contact;
-        positive("contact.radius", c.radius_m)?;
-        positive("contact.film_thickness", c.film_thickness_m)?;
-        positive("contact.g_eff", c.g_eff_pa)?;
+        // Far beyond any physical contact, yet inside the range where products such as
+        // a0²·G*/h0 neither overflow nor underflow.
+        in_range("contact.radius", c.radius_m, LENGTH_RANGE_M, "m")?;
+        in_range("contact.film_thickness", c.film_thickness_m, LENGTH_RANGE_M, "m")?;
+        in_range("contact.g_eff", c.g_eff_pa, MODULUS_RANGE_PA, "Pa")?;
+        if self.time.scheme == Scheme::Literal && c.model == ContactModel::Radial && c.nodes < 2
+        {
+            return Err(ConfigError::new(
+                "contact.nodes",
+                c.nodes,
+                &format!(
+                    "2 ..= {MAX_NODES} with time.scheme = \"literal\" (its sums skip the node \
+                     at r = 0, so one node would give F = 0)"
+                ),
+            ));
+        }
         if c.nodes == 0 || c.nodes > MAX_NODES {
             return Err(ConfigError::new(
                 "contact.nodes",

@@ -32,6 +32,10 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use thiserror::Error;
 
+/// Smallest φ the accurate scheme keeps from a positive start: φ² = 1e-300 is still a normal
+/// f64, so a molten node stays able to regrow (Eq. 8 never takes φ > 0 to 0 in finite time).
+pub const PHI_REPRESENTABLE_MIN: f64 = 1e-150;
+
 /// A step produced a non-finite or runaway value.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[error(
@@ -481,6 +485,7 @@ impl Simulation {
         for (was_solid, &phi) in self.state.melted_in_step.iter_mut().zip(&self.state.phi) {
             *was_solid = phi >= thr;
         }
+        self.scratch_q.copy_from_slice(&self.state.phi);
         for (phi, &eps) in self.state.phi.iter_mut().zip(&self.state.eps) {
             *phi += dt_s * rhs(*phi, eps, a_coeff, &params);
         }
@@ -488,7 +493,20 @@ impl Simulation {
         // stability limit. Caught here, before noise or a floor could hide it.
         if let Some(node) = self.state.phi.iter().position(|p| p.is_nan() || *p < 0.0) {
             let b = params.b_pa();
-            let stiffness = 2.0 * params.gamma_per_pa_s * (a_coeff * b / params.a_pa).abs();
+            // |∂rhs/∂φ| = γ·|a·ε² + 3b·φ² − A·b/a| at the node's state before the step (which
+            // noise may have pushed far from equilibrium).
+            let phi_before = self.scratch_q[node];
+            let eps = self.state.eps[node];
+            let stiffness = params.gamma_per_pa_s
+                * (params.a_pa * eps * eps + 3.0 * b * phi_before * phi_before
+                    - a_coeff * b / params.a_pa)
+                    .abs();
+            let noisy = if matches!(self.config.noise, crate::noise::NoiseKind::Gaussian { .. }) {
+                " (phi before the step came from the noise kick of the step before; reduce \
+                 lubricant.noise.sigma or time.dt)"
+            } else {
+                ""
+            };
             return Err(NumericalFailure {
                 t_s: t0 + dt_s,
                 step: self.state.step + 1,
@@ -497,10 +515,11 @@ impl Simulation {
                 quantity: "phi",
                 value: self.state.phi[node],
                 diagnosis: format!(
-                    "explicit Euler overshot below 0 (Eq. 8 keeps phi >= 0): dt x stiffness = \
-                     {:.3} with stiffness 2*gamma*A*b/a = {stiffness:e} 1/s; explicit Euler \
-                     needs it well below 1 (oscillates above 1, unstable above 2). Reduce \
-                     time.dt or use time.scheme = \"accurate\".",
+                    "explicit Euler overshot below 0 (Eq. 8 keeps phi >= 0): phi before the \
+                     step = {phi_before:e}{noisy}; dt x stiffness = {:.3} with stiffness \
+                     gamma*|a*eps^2 + 3*b*phi^2 - A*b/a| = {stiffness:e} 1/s there; explicit \
+                     Euler needs it well below 1 (oscillates above 1, unstable above 2). \
+                     Reduce time.dt or use time.scheme = \"accurate\".",
                     dt_s * stiffness
                 ),
             });
@@ -613,6 +632,13 @@ impl Simulation {
             if let Some(theta) = melted_at {
                 first_melt = first_melt.min(theta);
             }
+            // From φ > 0 Eq. 8 never reaches 0, but a long decay underflows φ² to 0, where
+            // φ = 0 is a fixed point and the node could never re-solidify.
+            let phi_end = if phi0 > 0.0 {
+                phi_end.max(PHI_REPRESENTABLE_MIN)
+            } else {
+                phi_end
+            };
             self.state.melted_in_step[i] = melted_at.is_some();
             if let Some(theta) = melted_at {
                 self.state.last_melt_s[i] = t0 + theta * dt_s;
