@@ -702,7 +702,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         numerics,
     };
     config.validate()?;
-    if adaptive.is_none() && end / dt > MAX_STEPS {
+    if end / dt > MAX_STEPS {
         return Err(SceneError::invalid(
             "time.dt",
             error::human(dt),
