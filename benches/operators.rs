@@ -1,11 +1,20 @@
-//! Criterion bench: build and apply the MDR operators (literal and product) over a sweep of N.
+//! Criterion bench: build and apply the MDR operators (literal and product) over a sweep of N,
+//! and the hierarchical compression of the product operators beside the dense ones.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use stickslip_core::grid::Grid;
-use stickslip_core::mdr::{MdrOperators, Quadrature};
+use stickslip_core::mdr::hodlr::HodlrOperator;
+use stickslip_core::mdr::{MdrOperators, Quadrature, product};
 
 const SIZES: [usize; 5] = [125, 250, 500, 1000, 2000];
+
+/// Sizes of the hierarchical sweep (the cost-vs-N slope is fitted over 125..8000).
+const HODLR_SIZES: [usize; 7] = [125, 250, 500, 1000, 2000, 4000, 8000];
+
+/// Compression tolerances benched: 1e-10 (above the rounding floor of the product weights,
+/// which it nears only at N = 8000) and 1e-8.
+const HODLR_REL_TOLS: [f64; 2] = [1e-10, 1e-8];
 
 fn build(c: &mut Criterion) {
     let mut group = c.benchmark_group("mdr_build");
@@ -51,5 +60,57 @@ fn apply(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, build, apply);
+/// Compression of the product forward and back operators at `HODLR_REL_TOLS[0]`.
+fn hodlr_build(c: &mut Criterion) {
+    let mut group = c.benchmark_group("hodlr_build");
+    group.sample_size(10);
+    for n in HODLR_SIZES {
+        let grid = Grid::new(2e-5, n).expect("valid grid");
+        let forward = product::forward(&grid);
+        let back = product::back(&grid);
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_with_input(BenchmarkId::new("forward", n), &n, |b, _| {
+            b.iter(|| HodlrOperator::compress(black_box(&forward), HODLR_REL_TOLS[0]));
+        });
+        group.bench_with_input(BenchmarkId::new("back", n), &n, |b, _| {
+            b.iter(|| HodlrOperator::compress(black_box(&back), HODLR_REL_TOLS[0]));
+        });
+    }
+    group.finish();
+}
+
+/// Apply of the compressed product operators, and of the dense packed ones single-threaded
+/// (`TriangularOperator::apply`, the like-for-like baseline; `mdr_apply` above shares rows
+/// among threads from N = 512 on).
+fn hodlr_apply(c: &mut Criterion) {
+    let mut group = c.benchmark_group("hodlr_apply");
+    for n in HODLR_SIZES {
+        let grid = Grid::new(2e-5, n).expect("valid grid");
+        let x: Vec<f64> = grid.radii_m().iter().map(|r| 1.0 + r / 2e-5).collect();
+        let mut y = vec![0.0; n];
+        group.throughput(Throughput::Elements(n as u64));
+        for (name, dense) in [
+            ("forward", product::forward(&grid)),
+            ("back", product::back(&grid)),
+        ] {
+            for rel_tol in HODLR_REL_TOLS {
+                let fast = HodlrOperator::compress(&dense, rel_tol);
+                let mut scratch = fast.scratch();
+                group.bench_with_input(
+                    BenchmarkId::new(format!("{name}_{rel_tol:e}"), n),
+                    &n,
+                    |b, _| {
+                        b.iter(|| fast.apply(black_box(&x), &mut y, &mut scratch));
+                    },
+                );
+            }
+            group.bench_with_input(BenchmarkId::new(format!("{name}_dense"), n), &n, |b, _| {
+                b.iter(|| dense.apply(black_box(&x), &mut y));
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, build, apply, hodlr_build, hodlr_apply);
 criterion_main!(benches);

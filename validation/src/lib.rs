@@ -5,6 +5,7 @@
 //! [`claims`] turns parsed outputs into verdicts; [`figures`] (over [`plot`]) draws the SVGs;
 //! [`report`] writes `reports/index.md` and `reports/summary.json`; [`reduced`] is the small
 //! in-process fig2 run whose features the fast test compares with the committed summary;
+//! [`hard`] runs the hard cases of `validation/hard/` and writes `reports/hard-cases.md`;
 //! [`validate`] ties it together.
 //!
 //! Invariant: the claims read output files only; they know nothing of the runner's internals.
@@ -12,6 +13,7 @@
 pub mod claims;
 pub mod data;
 pub mod figures;
+pub mod hard;
 pub mod plot;
 pub mod reduced;
 pub mod report;

@@ -420,6 +420,12 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
         o.wall_seconds,
         o.build_seconds
     );
+    let _ = writeln!(
+        s,
+        "Hard cases (soft substrate, stiff kinetics, huge steps, complete melting, the critical \
+         strain, the edge singularity and extreme sizes, noise extremes, the fast rigid drive): \
+         see [hard-cases.md](hard-cases.md), written by the same `cargo xtask validate`.\n"
+    );
     let _ = writeln!(s, "## Claims\n");
     let _ = writeln!(
         s,

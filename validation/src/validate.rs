@@ -1,7 +1,9 @@
-//! `cargo xtask validate [--check]`: build the binary, run the scenes, check the claims, write
-//! (or, with `--check`, compare against) the reports.
+//! `cargo xtask validate [--check | --hard-only]`: build the binary, run the scenes, check the
+//! claims, write (or, with `--check`, compare against) the reports, then run the hard cases and
+//! write `reports/hard-cases.md` (not with `--check`; `--hard-only` does only that).
 
 use crate::claims::{Runs, evaluate};
+use crate::hard::HardSummary;
 use crate::report::{
     Outcome, Resolution, claims_table_text, compare, index_md, summary_json, write_atomic,
 };
@@ -18,6 +20,8 @@ pub struct Options {
     pub check: bool,
     /// Runs in parallel.
     pub jobs: usize,
+    /// Only run the hard cases and write `reports/hard-cases.md` (`--hard-only`).
+    pub hard_only: bool,
 }
 
 /// Runs the validation. `Ok(true)` when every claim passes (and, with `--check`, the fresh
@@ -31,6 +35,9 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     println!("validate: building the stickslip binary (cargo build --release -p stickslip)");
     let bin = build_binary(root)?;
     let build_seconds = start.elapsed().as_secs_f64();
+    if opts.hard_only {
+        return hard_cases(&bin, root).map(|h| h.passed == h.total);
+    }
     let scenes = root.join("validation").join("scenes");
     let out_root = root.join("target").join("validation");
     std::fs::create_dir_all(&out_root).map_err(|e| format!("{}: {e}", out_root.display()))?;
@@ -101,10 +108,24 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     json.push('\n');
     write_atomic(&reports.join("summary.json"), json.as_bytes())
         .map_err(|e| format!("summary.json: {e}"))?;
+    hard_cases(&bin, root)?;
     println!(
-        "validate: wrote reports/index.md, reports/summary.json and {} figures in {:.0} s",
+        "validate: wrote reports/index.md, reports/summary.json, reports/hard-cases.md and {} \
+         figures in {:.0} s",
         figures.iter().filter(|f| f.svg.is_ok()).count(),
         start.elapsed().as_secs_f64()
     );
     Ok(all_pass)
+}
+
+/// Runs the hard cases of `validation/hard/` and writes `reports/hard-cases.md`.
+fn hard_cases(bin: &std::path::Path, root: &std::path::Path) -> Result<HardSummary, String> {
+    println!("validate: hard cases (validation/hard/, outputs in target/hard/)");
+    let h = crate::hard::generate(bin, root)?;
+    println!(
+        "validate: hard cases: {} of {} expected outcomes met, {} findings, {:.0} s; wrote \
+         reports/hard-cases.md",
+        h.passed, h.total, h.findings, h.wall_seconds
+    );
+    Ok(h)
 }

@@ -238,10 +238,14 @@ impl SimConfig {
         // Far beyond any physical contact, yet inside the range where products such as
         // a0²·G*/h0 neither overflow nor underflow.
         in_range("contact.radius", c.radius_m, LENGTH_RANGE_M, "m")?;
-        in_range("contact.film_thickness", c.film_thickness_m, LENGTH_RANGE_M, "m")?;
+        in_range(
+            "contact.film_thickness",
+            c.film_thickness_m,
+            LENGTH_RANGE_M,
+            "m",
+        )?;
         in_range("contact.g_eff", c.g_eff_pa, MODULUS_RANGE_PA, "Pa")?;
-        if self.time.scheme == Scheme::Literal && c.model == ContactModel::Radial && c.nodes < 2
-        {
+        if self.time.scheme == Scheme::Literal && c.model == ContactModel::Radial && c.nodes < 2 {
             return Err(ConfigError::new(
                 "contact.nodes",
                 c.nodes,

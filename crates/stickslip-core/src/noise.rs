@@ -246,6 +246,23 @@ impl NoiseSource {
         NoiseState { seed, word_pos }
     }
 
+    /// Writes the snapshot of [`NoiseSource::state`] into `out`, reusing its allocation.
+    ///
+    /// # Panics
+    /// If a stream has advanced beyond 2^64 words (unreachable in practice).
+    pub fn write_state(&self, out: &mut NoiseState) {
+        out.seed = match self.kind {
+            NoiseKind::Gaussian { seed, .. } => seed,
+            NoiseKind::Off | NoiseKind::Floor { .. } => 0,
+        };
+        out.word_pos.clear();
+        out.word_pos.extend(
+            self.rngs.iter().map(|rng| {
+                u64::try_from(rng.get_word_pos()).expect("noise stream beyond 2^64 words")
+            }),
+        );
+    }
+
     /// Restores the generators from a snapshot taken by [`NoiseSource::state`] on a source with
     /// the same kind, seed and node count; the following draws are then bit-identical to those
     /// the snapshotted source would have made.

@@ -2,12 +2,17 @@
 //!
 //! Exit status: 0 success, 2 bad scene or arguments (clap usage errors included), 3 numerical
 //! failure, 1 an I/O error while writing output. Messages go to stderr, prefixed `error: `.
+//!
+//! `resume DIR`: 2 when DIR has no checkpoint or an unusable one; for a run that has already
+//! ended, a note and the status that run had (0 finished, 3 failed numerically).
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use stickslip::checkpoint::{CheckpointError, DEFAULT_EVERY_S};
 use stickslip::output::report::DerivedReport;
 use stickslip::scene::{ResolvedScene, Scene};
+use stickslip::{RunError, RunOptions, RunSummary};
 use stickslip_core::config::Scheme;
 use stickslip_core::sim::Simulation;
 
@@ -34,6 +39,10 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Wall-clock seconds between checkpoints in DIR, from which `resume` finishes a killed
+        /// run; 0 = none.
+        #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_EVERY_S, value_parser = parse_interval)]
+        checkpoint_every: f64,
     },
     /// Validate a scene and print its resolved and derived parameters.
     Check {
@@ -43,14 +52,50 @@ enum Command {
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
     },
-    /// Finish an interrupted run from its checkpoint.
+    /// Finish an interrupted run from its checkpoint; the output is bit-identical to that of
+    /// an uninterrupted run (run.json's wall_seconds aside).
     Resume {
         /// Output directory of the interrupted run.
         dir: PathBuf,
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Wall-clock seconds between checkpoints from here on; 0 = none [default: the run's].
+        #[arg(long, value_name = "SECONDS", value_parser = parse_interval)]
+        checkpoint_every: Option<f64>,
     },
+}
+
+/// `--checkpoint-every`: seconds, finite and >= 0.
+fn parse_interval(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!(
+            "{s:?} is not a valid interval; allowed: a finite number of seconds >= 0 \
+             (0 = no checkpoints)"
+        )),
+    }
+}
+
+/// Prints the one-line summary of a run, or its error; the exit status.
+fn report(name: &str, out: &std::path::Path, result: Result<RunSummary, RunError>) -> ExitCode {
+    match result {
+        Ok(summary) => {
+            println!(
+                "{name}: {} steps to t = {:e} s, {} melting events, {:.2} s wall; output in {}",
+                summary.steps,
+                summary.t_final_s,
+                summary.events.len(),
+                summary.wall_seconds,
+                out.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            let code = u8::try_from(e.exit_code()).unwrap_or(1);
+            fail(e, code)
+        }
+    }
 }
 
 fn fail(message: impl std::fmt::Display, code: u8) -> ExitCode {
@@ -99,29 +144,21 @@ fn main() -> ExitCode {
             out,
             set,
             quiet,
+            checkpoint_every,
         } => {
             let resolved = match Scene::from_path(&scene, &set) {
                 Ok(r) => r,
                 Err(e) => return fail(e, 2),
             };
-            match stickslip::run(&resolved, &out, quiet) {
-                Ok(summary) => {
-                    println!(
-                        "{}: {} steps to t = {:e} s, {} melting events, {:.2} s wall; output in {}",
-                        resolved.name,
-                        summary.steps,
-                        summary.t_final_s,
-                        summary.events.len(),
-                        summary.wall_seconds,
-                        out.display()
-                    );
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    let code = u8::try_from(e.exit_code()).unwrap_or(1);
-                    fail(e, code)
-                }
-            }
+            let options = RunOptions {
+                quiet,
+                checkpoint_every_s: checkpoint_every,
+            };
+            report(
+                &resolved.name,
+                &out,
+                stickslip::run(&resolved, &out, &options),
+            )
         }
         Command::Check { scene, set } => match Scene::from_path(&scene, &set) {
             Ok(r) => {
@@ -130,12 +167,19 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(e, 2),
         },
-        Command::Resume { dir, quiet: _ } => fail(
-            format!(
-                "no checkpoint in {} (allowed: the output directory of an interrupted run)",
-                dir.display()
-            ),
-            2,
-        ),
+        Command::Resume {
+            dir,
+            quiet,
+            checkpoint_every,
+        } => match stickslip::resume(&dir, quiet, checkpoint_every) {
+            Ok((scene, summary)) => report(&scene.name, &dir, Ok(summary)),
+            Err(RunError::Checkpoint(e @ CheckpointError::Finished { .. }))
+                if e.exit_code() == 0 =>
+            {
+                println!("{e}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => report("", &dir, Err(e)),
+        },
     }
 }

@@ -8,10 +8,15 @@
 //! recorded time t (t = 0 included) with t ≥ profile_time − h/2, h the length of the step that
 //! follows (dt, the shorter last step, or 0 at the end, where all remaining times are
 //! recorded); times that fall on the same step give one profile.
+//!
+//! Checkpoints (see [`crate::checkpoint`]): the loop hands each completed iteration to a
+//! [`Checkpointer`], which saves state and recorder position every few seconds of wall time;
+//! [`resume`] rebuilds both from the checkpoint and carries on the same loop.
 
+use crate::checkpoint::{self, CheckpointError, Checkpointer, RecorderState};
 use crate::output::report::{DerivedReport, RunReport, seed_of, write_report};
 use crate::output::tables::{ProbeWriter, ProfileWriter, SeriesWriter, write_events};
-use crate::scene::ResolvedScene;
+use crate::scene::{ResolvedScene, Scene};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io;
 use std::path::{Path, PathBuf};
@@ -26,6 +31,24 @@ const PROGRESS_EVERY: u64 = 1024;
 /// Runs shorter than this show no progress bar.
 const PROGRESS_DELAY: Duration = Duration::from_secs(1);
 
+/// How to run, besides the scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunOptions {
+    /// No progress bar.
+    pub quiet: bool,
+    /// Wall-clock interval between checkpoints, s; 0 = no checkpoints.
+    pub checkpoint_every_s: f64,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self {
+            quiet: false,
+            checkpoint_every_s: checkpoint::DEFAULT_EVERY_S,
+        }
+    }
+}
+
 /// What a finished run reports.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunSummary {
@@ -35,7 +58,7 @@ pub struct RunSummary {
     pub t_final_s: f64,
     /// Melting events.
     pub events: Vec<MeltingEvent>,
-    /// Wall-clock time of the time loop, s.
+    /// Wall-clock time of the time loop, s (summed over the processes of a resumed run).
     pub wall_seconds: f64,
     /// Rows written to series.csv.
     pub series_rows: u64,
@@ -73,6 +96,9 @@ pub enum RunError {
         /// The output directory.
         dir: PathBuf,
     },
+    /// A directory that cannot be resumed (see [`CheckpointError::exit_code`]).
+    #[error(transparent)]
+    Checkpoint(#[from] CheckpointError),
 }
 
 impl RunError {
@@ -83,12 +109,21 @@ impl RunError {
             Self::Config(_) | Self::OutDir { .. } => 2,
             Self::Io { .. } => 1,
             Self::Numerical { .. } => 3,
+            Self::Checkpoint(e) => e.exit_code(),
         }
     }
 }
 
+/// The scene's profile times, s, sorted and deduplicated.
+fn sorted_profile_times(scene: &ResolvedScene) -> Vec<f64> {
+    let mut times_s = scene.output.profile_times_s.clone();
+    times_s.sort_by(f64::total_cmp);
+    times_s.dedup();
+    times_s
+}
+
 /// The output files being written and what is still to be recorded.
-struct Recorder {
+pub(crate) struct Recorder {
     series: SeriesWriter,
     probes: ProbeWriter,
     profiles: ProfileWriter,
@@ -104,9 +139,7 @@ struct Recorder {
 
 impl Recorder {
     fn create(dir: &Path, scene: &ResolvedScene, radii_m: &[f64]) -> io::Result<Self> {
-        let mut profile_times_s = scene.output.profile_times_s.clone();
-        profile_times_s.sort_by(f64::total_cmp);
-        profile_times_s.dedup();
+        let profile_times_s = sorted_profile_times(scene);
         let dt_s = scene.config.time.dt_s;
         Ok(Self {
             series: SeriesWriter::create(dir)?,
@@ -118,6 +151,41 @@ impl Recorder {
             next_mark: 0.0,
             last_series_t_s: None,
             tol_s: 1e-6 * dt_s,
+        })
+    }
+
+    /// Continues recording where a checkpoint left it: the streamed files are cut back to
+    /// the recorded lengths (see [`crate::output::AtomicFile::reopen`]).
+    fn reopen(
+        dir: &Path,
+        scene: &ResolvedScene,
+        radii_m: &[f64],
+        at: &RecorderState,
+    ) -> io::Result<Self> {
+        Ok(Self {
+            series: SeriesWriter::reopen(dir, at.series, at.series_rows)?,
+            probes: ProbeWriter::reopen(dir, at.probes, &scene.output.probe_radii_m, radii_m)?,
+            profiles: ProfileWriter::reopen(dir, at.profiles)?,
+            profile_times_s: sorted_profile_times(scene),
+            next_profile: at.next_profile,
+            series_interval_s: scene.output.series_interval_s,
+            next_mark: at.next_mark,
+            last_series_t_s: at.last_series_t_s,
+            tol_s: 1e-6 * scene.config.time.dt_s,
+        })
+    }
+
+    /// Where recording stands, every streamed file flushed and synced first (for a
+    /// checkpoint).
+    pub(crate) fn snapshot(&mut self) -> io::Result<RecorderState> {
+        Ok(RecorderState {
+            next_profile: self.next_profile,
+            next_mark: self.next_mark,
+            last_series_t_s: self.last_series_t_s,
+            series_rows: self.series.rows(),
+            series: self.series.sync_position()?,
+            probes: self.probes.sync_position()?,
+            profiles: self.profiles.sync_position()?,
         })
     }
 
@@ -195,15 +263,55 @@ fn literal_sweep_diverges(scene: &ResolvedScene, rho: f64) -> Option<NumericalFa
 }
 
 /// Runs `scene`, writing series.csv, events.csv, profiles.csv, probes.csv and run.json into
-/// `out_dir` (created if needed). With `quiet`, no progress bar; otherwise one appears on
-/// stderr after about a second when stderr is a terminal.
+/// `out_dir` (created if needed), and a checkpoint every `options.checkpoint_every_s` of wall
+/// time (removed at the end). Without `options.quiet`, a progress bar appears on stderr after
+/// about a second when stderr is a terminal.
 ///
 /// # Errors
 /// [`RunError`]; on a numerical failure everything recorded so far is written first, with
 /// run.json `status = "failed"`.
-pub fn run(scene: &ResolvedScene, out_dir: &Path, quiet: bool) -> Result<RunSummary, RunError> {
+pub fn run(
+    scene: &ResolvedScene,
+    out_dir: &Path,
+    options: &RunOptions,
+) -> Result<RunSummary, RunError> {
+    execute(scene, out_dir, options, None)
+}
+
+/// Finishes the interrupted run in `out_dir` from its checkpoint, with output bit-identical to
+/// an uninterrupted run (run.json's `wall_seconds` aside). `checkpoint_every_s` overrides the
+/// run's checkpoint interval. Returns the scene as resolved from the checkpoint, and the
+/// summary of the whole run.
+///
+/// # Errors
+/// [`RunError::Checkpoint`] when there is nothing to resume or the checkpoint (or the partial
+/// output it refers to) is unusable; otherwise as [`run`].
+pub fn resume(
+    out_dir: &Path,
+    quiet: bool,
+    checkpoint_every_s: Option<f64>,
+) -> Result<(ResolvedScene, RunSummary), RunError> {
+    let checkpoint = checkpoint::load(out_dir)?;
+    let scene = Scene::from_toml_str(&checkpoint.scene_toml, &[] as &[&str]).map_err(|e| {
+        CheckpointError::corrupt(out_dir, format!("its scene does not resolve: {e}"))
+    })?;
+    let options = RunOptions {
+        quiet,
+        checkpoint_every_s: checkpoint_every_s.unwrap_or(checkpoint.checkpoint_every_s),
+    };
+    let summary = execute(&scene, out_dir, &options, Some(checkpoint))?;
+    Ok((scene, summary))
+}
+
+/// The run proper: from the start, or from `resumed`.
+fn execute(
+    scene: &ResolvedScene,
+    out_dir: &Path,
+    options: &RunOptions,
+    resumed: Option<checkpoint::Checkpoint<'static>>,
+) -> Result<RunSummary, RunError> {
+    let quiet = options.quiet;
     let mut sim = Simulation::new(scene.config.clone(), scene.output.event_merge_gap_s)?;
-    let rho = sim.lagged_sweep_contraction();
     let out_dir_err = |source| RunError::OutDir {
         path: out_dir.to_path_buf(),
         source,
@@ -212,9 +320,7 @@ pub fn run(scene: &ResolvedScene, out_dir: &Path, quiet: bool) -> Result<RunSumm
         path: out_dir.to_path_buf(),
         source,
     };
-    std::fs::create_dir_all(out_dir).map_err(out_dir_err)?;
     let radii = sim.radii_m().to_vec();
-    let mut rec = Recorder::create(out_dir, scene, &radii).map_err(out_dir_err)?;
     let steps = scene.steps;
     let end = scene.config.time.end_s;
     let dt = scene.config.time.dt_s;
@@ -228,12 +334,43 @@ pub fn run(scene: &ResolvedScene, out_dir: &Path, quiet: bool) -> Result<RunSumm
             dt
         }
     };
-    rec.observe(&mut sim, step_length(1, 0.0)).map_err(io_err)?;
+    let (rho, mut rec, done, wall_before_s) = match resumed {
+        None => {
+            let rho = sim.lagged_sweep_contraction();
+            std::fs::create_dir_all(out_dir).map_err(out_dir_err)?;
+            // A checkpoint of an earlier run here must not be resumed over this run's files.
+            checkpoint::remove(out_dir).map_err(out_dir_err)?;
+            let mut rec = Recorder::create(out_dir, scene, &radii).map_err(out_dir_err)?;
+            rec.observe(&mut sim, step_length(1, 0.0)).map_err(io_err)?;
+            (rho, rec, 0, 0.0)
+        }
+        Some(c) => {
+            let corrupt = |reason: String| CheckpointError::corrupt(out_dir, reason);
+            sim.restore(c.sim.into_owned())
+                .map_err(|e| corrupt(format!("its state does not fit its scene: {e}")))?;
+            let rec = Recorder::reopen(out_dir, scene, &radii, &c.recorder)
+                .map_err(|e| corrupt(format!("its partial output cannot be continued: {e}")))?;
+            (
+                c.lagged_sweep_contraction,
+                rec,
+                c.loop_index,
+                c.wall_seconds,
+            )
+        }
+    };
+    let mut ckpt = Checkpointer::new(
+        out_dir,
+        options.checkpoint_every_s,
+        scene.resolved.to_toml_string(),
+        rho,
+        wall_before_s,
+    );
     let pb = progress_bar(steps);
+    pb.set_position(done);
     let mut shown = false;
     let start = Instant::now();
     let mut failure = literal_sweep_diverges(scene, rho);
-    for i in (1..=steps).take_while(|_| failure.is_none()) {
+    for i in (done + 1..=steps).take_while(|_| failure.is_none()) {
         let h = step_length(i, sim.time_s());
         if h <= 0.0 {
             break;
@@ -245,6 +382,7 @@ pub fn run(scene: &ResolvedScene, out_dir: &Path, quiet: bool) -> Result<RunSumm
         let t = sim.time_s();
         rec.observe(&mut sim, step_length(i + 1, t))
             .map_err(io_err)?;
+        ckpt.tick(i, &sim, &mut rec).map_err(io_err)?;
         if i % PROGRESS_EVERY == 0 {
             pb.set_position(i);
             pb.set_message(format!("{:.4e}", sim.time_s()));
@@ -254,7 +392,7 @@ pub fn run(scene: &ResolvedScene, out_dir: &Path, quiet: bool) -> Result<RunSumm
             }
         }
     }
-    let wall_seconds = start.elapsed().as_secs_f64();
+    let wall_seconds = ckpt.wall_seconds();
     pb.finish_and_clear();
 
     let series_rows = rec.finish(&mut sim, failure.is_none()).map_err(io_err)?;
@@ -278,6 +416,8 @@ pub fn run(scene: &ResolvedScene, out_dir: &Path, quiet: bool) -> Result<RunSumm
         series_rows,
     };
     write_report(out_dir, &report).map_err(io_err)?;
+    // The run has ended and its output is complete: nothing is left to resume.
+    checkpoint::remove(out_dir).map_err(io_err)?;
     if let Some(failure) = failure {
         return Err(RunError::Numerical {
             failure,

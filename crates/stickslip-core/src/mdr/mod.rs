@@ -16,6 +16,7 @@
 //! Both are stored as packed triangular matrices ([`TriangularOperator`]) and applied
 //! as mat-vecs; [`MdrOperators::compliance_dense`] gives the composite as a faer matrix.
 
+pub mod hodlr;
 pub mod literal;
 pub mod pairs;
 pub mod product;

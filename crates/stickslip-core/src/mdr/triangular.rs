@@ -136,7 +136,7 @@ impl TriangularOperator {
 
 /// Dot product with eight interleaved partial sums (vectorisable; order fixed by length only).
 #[inline]
-fn dot_fixed_order(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn dot_fixed_order(a: &[f64], b: &[f64]) -> f64 {
     const LANES: usize = 8;
     let mut acc = [0.0_f64; LANES];
     let chunks = a.len() / LANES;

@@ -341,6 +341,11 @@ impl Simulation {
             Scheme::Accurate => self.step_accurate(dt_s)?,
         }
         self.state.step += 1;
+        // The state carries the generators' positions so that a checkpoint resumes the same
+        // random numbers (gaussian noise only; the other kinds draw nothing).
+        if !self.state.noise.word_pos.is_empty() {
+            self.noise.write_state(&mut self.state.noise);
+        }
         self.check_state()?;
         self.observe_events();
         Ok(())

@@ -71,7 +71,9 @@ pub struct RunReport<'a> {
     pub rejected_steps: u64,
     /// Time reached, s.
     pub t_final: f64,
-    /// Wall-clock time of the time loop, s.
+    /// Wall-clock time of the time loop, s; for a resumed run, summed over its processes (each
+    /// up to its last checkpoint, the last one to the end). The one field in which a resumed
+    /// run's run.json differs from an uninterrupted one's.
     pub wall_seconds: f64,
     /// Coupling-solver iterations summed over all steps (accurate scheme).
     pub coupling_iterations: u64,

@@ -1,7 +1,7 @@
 //! The CSV tables of a run: series.csv, events.csv, profiles.csv and probes.csv (columns as in
 //! INTERFACE.md, plus additions at the end of a row).
 
-use super::{AtomicFile, write_num};
+use super::{AtomicFile, StreamPosition, write_num};
 use std::io::{self, Write};
 use std::path::Path;
 use stickslip_core::sim::events::MeltingEvent;
@@ -38,6 +38,26 @@ impl SeriesWriter {
         let mut file = AtomicFile::create(dir, "series.csv")?;
         writeln!(file, "{SERIES_HEADER}")?;
         Ok(Self { file, rows: 0 })
+    }
+
+    /// Continues the file of an interrupted run at `at`, after `rows` rows (see
+    /// [`AtomicFile::reopen`]).
+    ///
+    /// # Errors
+    /// Those of [`AtomicFile::reopen`].
+    pub fn reopen(dir: &Path, at: StreamPosition, rows: u64) -> io::Result<Self> {
+        Ok(Self {
+            file: AtomicFile::reopen(dir, "series.csv", at)?,
+            rows,
+        })
+    }
+
+    /// Flushes and syncs the file; how far it has got (see [`AtomicFile::sync_position`]).
+    ///
+    /// # Errors
+    /// Those of the file.
+    pub fn sync_position(&mut self) -> io::Result<StreamPosition> {
+        self.file.sync_position()
     }
 
     /// One row: t (s), X (m), V (m/s), F (N), φ mean, ε mean, melted fraction, F_1d (N).
@@ -136,14 +156,40 @@ impl ProbeWriter {
             write!(file, ",phi@{r:e}")?;
         }
         writeln!(file)?;
-        Ok(Self {
+        Ok(Self::with_file(file, probe_radii_m, node_radii_m))
+    }
+
+    /// Continues the file of an interrupted run at `at` (see [`AtomicFile::reopen`]).
+    ///
+    /// # Errors
+    /// Those of [`AtomicFile::reopen`].
+    pub fn reopen(
+        dir: &Path,
+        at: StreamPosition,
+        probe_radii_m: &[f64],
+        node_radii_m: &[f64],
+    ) -> io::Result<Self> {
+        let file = AtomicFile::reopen(dir, "probes.csv", at)?;
+        Ok(Self::with_file(file, probe_radii_m, node_radii_m))
+    }
+
+    fn with_file(file: AtomicFile, probe_radii_m: &[f64], node_radii_m: &[f64]) -> Self {
+        Self {
             file,
             probes: probe_radii_m
                 .iter()
                 .map(|&r| ProbePoint::new(r, node_radii_m))
                 .collect(),
             row: Vec::with_capacity(probe_radii_m.len() + 1),
-        })
+        }
+    }
+
+    /// Flushes and syncs the file; how far it has got (see [`AtomicFile::sync_position`]).
+    ///
+    /// # Errors
+    /// Those of the file.
+    pub fn sync_position(&mut self) -> io::Result<StreamPosition> {
+        self.file.sync_position()
     }
 
     /// One row at time `t_s` from the node values `phi`.
@@ -181,6 +227,24 @@ impl ProfileWriter {
         let mut file = AtomicFile::create(dir, "profiles.csv")?;
         writeln!(file, "{PROFILES_HEADER}")?;
         Ok(Self { file })
+    }
+
+    /// Continues the file of an interrupted run at `at` (see [`AtomicFile::reopen`]).
+    ///
+    /// # Errors
+    /// Those of [`AtomicFile::reopen`].
+    pub fn reopen(dir: &Path, at: StreamPosition) -> io::Result<Self> {
+        Ok(Self {
+            file: AtomicFile::reopen(dir, "profiles.csv", at)?,
+        })
+    }
+
+    /// Flushes and syncs the file; how far it has got (see [`AtomicFile::sync_position`]).
+    ///
+    /// # Errors
+    /// Those of the file.
+    pub fn sync_position(&mut self) -> io::Result<StreamPosition> {
+        self.file.sync_position()
     }
 
     /// One row per node: t (s), r (m), φ, ε, τ (Pa), u0 (m), u3D (m).

@@ -240,6 +240,51 @@ pub(crate) fn lookup<'a>(root: &'a toml::Table, path: &[String]) -> Option<&'a t
     Some(v)
 }
 
+/// Key paths of the scene's sections. serde reads a struct from an array too (field by field,
+/// in order), so `numerics = [1e-10, 10]` would pass as a section; scenes have tables there.
+const SECTIONS: &[&str] = &[
+    "lubricant",
+    "lubricant.noise",
+    "temperature",
+    "contact",
+    "drive",
+    "time",
+    "output",
+    "numerics",
+];
+
+/// Rejects a section that is not a table (see [`SECTIONS`]).
+pub(crate) fn check_sections(root: &toml::Table) -> Result<(), SceneError> {
+    for section in SECTIONS {
+        let keys: Vec<String> = section.split('.').map(str::to_string).collect();
+        if let Some(v) = lookup(root, &keys)
+            && !v.is_table()
+        {
+            return Err(SceneError::WrongType {
+                key: (*section).to_string(),
+                value: show_value(v),
+                allowed: format!("a table ([{section}])"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Whether the scene key at `path` takes an array: probed on the scene type itself, with an
+/// empty array at `path` and nothing else (every key is optional there).
+fn takes_array(path: &[String]) -> bool {
+    let mut v = toml::Value::Array(Vec::new());
+    for k in path.iter().rev() {
+        let mut t = toml::Table::new();
+        t.insert(k.clone(), v);
+        v = toml::Value::Table(t);
+    }
+    match v {
+        toml::Value::Table(t) => t.try_into::<super::Scene>().is_ok(),
+        _ => false,
+    }
+}
+
 /// Turns the error of deserializing `root` (a parsed scene) into a [`SceneError`] naming the
 /// key path.
 ///
@@ -302,9 +347,11 @@ pub(crate) fn from_de_error(root: &toml::Table, e: &toml::de::Error) -> SceneErr
     if let Some(rest) = message.strip_prefix("invalid type: ")
         && let Some((_, expected)) = rest.rsplit_once(", expected ")
     {
+        // An array where a number belongs reads `invalid type: sequence, expected f64`, as does
+        // a nested array in an array of numbers: the key's own type decides.
         let is_array = matches!(lookup(root, &path_keys), Some(toml::Value::Array(_)));
         let allowed = match expected {
-            "f64" if is_array => "an array of numbers".to_string(),
+            "f64" if is_array && takes_array(&path_keys) => "an array of numbers".to_string(),
             "f64" => "a number (float or integer)".to_string(),
             "i64" => "an integer".to_string(),
             "a string" => "a string".to_string(),

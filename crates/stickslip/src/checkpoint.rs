@@ -1,0 +1,462 @@
+//! Checkpoints: a run in progress is saved every few seconds of wall time, so that
+//! `stickslip resume DIR` can finish it after the process was killed (SIGKILL, power loss)
+//! with output files bit-identical to those of an uninterrupted run.
+//!
+//! ## What is saved
+//! `DIR/checkpoint.cbor`, written atomically (temporary file, fsync, rename): the header line
+//! `stickslip checkpoint 1\n`, the payload length and its FNV-1a checksum (two little-endian
+//! u64), then the payload, a [`Checkpoint`] in CBOR. CBOR stores every f64 with its exact bits
+//! (±inf included, which the event tracker holds), which JSON or TOML would not guarantee. The
+//! payload holds the resolved scene as TOML (so resume needs no scene file), the engine's
+//! [`SimState`] (noise generator positions included), the recorder's position
+//! ([`RecorderState`]: next series mark, next profile, last series time, rows written, and
+//! length and checksum of each streamed file) and the loop index.
+//!
+//! ## Why the resumed output is bit-identical
+//! The streamed CSV files grow as `DIR/.<name>.tmp` and are renamed into place at the end.
+//! Before each checkpoint they are flushed and synced, and their length and checksum are
+//! recorded; so the checkpoint refers only to bytes that are on disk. A resumed run cuts each
+//! file back to the recorded length (dropping rows written after the checkpoint), checks the
+//! checksum, restores the simulation state into a simulation built from the same scene and
+//! continues the same loop from the next index. Every step and every row then repeats what the
+//! uninterrupted run computed, from the same bits. events.csv and run.json are written only at
+//! the end, from the state. run.json differs only in `wall_seconds` (the sum over the
+//! processes of the time spent in the loop up to their last checkpoint, plus the final one's).
+//!
+//! ## Life cycle
+//! `run` removes a checkpoint left in DIR by an earlier run before it creates its files; the
+//! checkpoint is removed again when the run has ended (finished or failed numerically) and all
+//! its output is written. If the process is killed while committing its output, the files
+//! already renamed into place serve as the source of the recorded bytes on resume.
+
+use crate::output::{FNV1A64_INIT, StreamPosition, fnv1a64, write_atomic};
+use crate::runner::Recorder;
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
+use std::io;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use stickslip_core::sim::{SimState, Simulation};
+use thiserror::Error;
+
+/// Name of the checkpoint file in the output directory.
+pub const FILE_NAME: &str = "checkpoint.cbor";
+/// Default wall-clock interval between checkpoints, s: a killed run loses at most about this
+/// much work, and the checkpoint's cost (a few fsyncs) stays far below it.
+pub const DEFAULT_EVERY_S: f64 = 2.0;
+/// First bytes of a checkpoint file; the trailing digit is the format version.
+const MAGIC: &[u8] = b"stickslip checkpoint 1\n";
+/// Loop iterations between looks at the clock: a look costs about as much as a step of the
+/// one-node model, and even slow steps keep the delay well below a second.
+const CLOCK_EVERY: u64 = 8;
+
+/// Where the recorder stands: what `runner`'s recorder needs to carry on exactly as it would
+/// have.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecorderState {
+    /// Index into the sorted, deduplicated profile times of the next profile to write.
+    pub next_profile: usize,
+    /// k of the next multiple k·series_interval at which a series row is due.
+    pub next_mark: f64,
+    /// Time of the last series row, s (none before the first).
+    pub last_series_t_s: Option<f64>,
+    /// Rows written to series.csv (and probes.csv).
+    pub series_rows: u64,
+    /// series.csv so far.
+    pub series: StreamPosition,
+    /// probes.csv so far.
+    pub probes: StreamPosition,
+    /// profiles.csv so far.
+    pub profiles: StreamPosition,
+}
+
+/// Everything a resumed run needs (the payload of `checkpoint.cbor`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint<'a> {
+    /// Version of the program that wrote it: another version may step differently, so resume
+    /// refuses it.
+    pub version: Cow<'a, str>,
+    /// The resolved scene as TOML (`Scene::to_toml_string`; resolves back to the same scene).
+    pub scene_toml: Cow<'a, str>,
+    /// Wall-clock interval between checkpoints of the run, s (0 = none); a resume keeps it
+    /// unless told otherwise.
+    pub checkpoint_every_s: f64,
+    /// The lagged-sweep contraction factor at t = 0 reported in run.json (computed once, from
+    /// the initial state).
+    pub lagged_sweep_contraction: f64,
+    /// Index of the last loop iteration completed (the loop goes on at the next one).
+    pub loop_index: u64,
+    /// Wall-clock time spent in the time loop so far, s (over all processes of the run).
+    pub wall_seconds: f64,
+    /// The recorder's position.
+    pub recorder: RecorderState,
+    /// The engine's state after iteration `loop_index`.
+    pub sim: Cow<'a, SimState>,
+}
+
+impl Checkpoint<'_> {
+    /// The file contents: header, payload length, payload checksum, CBOR payload.
+    ///
+    /// # Errors
+    /// If the payload cannot be encoded.
+    pub fn encode(&self) -> io::Result<Vec<u8>> {
+        let mut payload = Vec::new();
+        ciborium::into_writer(self, &mut payload).map_err(io::Error::other)?;
+        let mut bytes = Vec::with_capacity(MAGIC.len() + 16 + payload.len());
+        bytes.extend_from_slice(MAGIC);
+        bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(&fnv1a64(FNV1A64_INIT, &payload).to_le_bytes());
+        bytes.extend_from_slice(&payload);
+        Ok(bytes)
+    }
+
+    /// Reads the file contents written by [`Checkpoint::encode`].
+    ///
+    /// # Errors
+    /// What is wrong with `bytes`: wrong header, truncated, checksum mismatch, undecodable.
+    pub fn decode(bytes: &[u8]) -> Result<Checkpoint<'static>, String> {
+        let rest = bytes
+            .strip_prefix(MAGIC)
+            .ok_or("not a stickslip checkpoint (wrong header)")?;
+        let word = |i: usize| -> Option<u64> {
+            let b = rest.get(8 * i..8 * i + 8)?;
+            Some(u64::from_le_bytes(b.try_into().ok()?))
+        };
+        let (Some(len), Some(sum)) = (word(0), word(1)) else {
+            return Err("truncated header".to_string());
+        };
+        let payload = &rest[16..];
+        if payload.len() as u64 != len {
+            return Err(format!(
+                "payload has {} bytes, the header says {len} (truncated or extended)",
+                payload.len()
+            ));
+        }
+        let found = fnv1a64(FNV1A64_INIT, payload);
+        if found != sum {
+            return Err(format!(
+                "payload checksum {found:016x} differs from the recorded {sum:016x} (damaged)"
+            ));
+        }
+        ciborium::from_reader(payload).map_err(|e| format!("cannot decode the payload: {e}"))
+    }
+}
+
+/// Why a directory cannot be resumed.
+#[derive(Debug, Error)]
+pub enum CheckpointError {
+    /// No checkpoint (exit 2).
+    #[error(
+        "no checkpoint in {dir} ({why}); allowed: the output directory of a run interrupted \
+         after its first checkpoint"
+    )]
+    Missing {
+        /// The directory.
+        dir: PathBuf,
+        /// What is there instead.
+        why: &'static str,
+    },
+    /// The run in the directory has ended; nothing to resume (exit 0 if it finished, 3 if it
+    /// failed numerically).
+    #[error(
+        "nothing to resume: the run in {dir} has already ended with status {status:?}{}",
+        failure.as_ref().map(|f| format!(": {f}")).unwrap_or_default()
+    )]
+    Finished {
+        /// The directory.
+        dir: PathBuf,
+        /// `status` of its run.json (`"ok"` or `"failed"`).
+        status: String,
+        /// `failure` of its run.json.
+        failure: Option<String>,
+    },
+    /// A checkpoint that cannot be used (exit 2).
+    #[error(
+        "corrupt checkpoint {path}: {reason}; allowed: a checkpoint written by `stickslip run` \
+         with its output files (start over with `stickslip run`)"
+    )]
+    Corrupt {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+impl CheckpointError {
+    /// Exit status of the command line: 0 for a run that finished, 3 for one that failed
+    /// numerically, 2 otherwise.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Self::Finished { status, .. } if status == "ok" => 0,
+            Self::Finished { .. } => 3,
+            Self::Missing { .. } | Self::Corrupt { .. } => 2,
+        }
+    }
+
+    /// A [`CheckpointError::Corrupt`] for the checkpoint in `dir`.
+    pub fn corrupt(dir: &Path, reason: impl std::fmt::Display) -> Self {
+        Self::Corrupt {
+            path: path(dir),
+            reason: reason.to_string(),
+        }
+    }
+}
+
+/// Path of the checkpoint in `dir`.
+pub fn path(dir: &Path) -> PathBuf {
+    dir.join(FILE_NAME)
+}
+
+/// Writes `checkpoint` into `dir` atomically.
+///
+/// # Errors
+/// If it cannot be encoded or written.
+pub fn save(dir: &Path, checkpoint: &Checkpoint<'_>) -> io::Result<()> {
+    write_atomic(dir, FILE_NAME, &checkpoint.encode()?)
+}
+
+/// Removes the checkpoint in `dir`, if there is one, and the temporary file of a checkpoint
+/// whose writing was interrupted.
+///
+/// # Errors
+/// If one exists and cannot be removed.
+pub fn remove(dir: &Path) -> io::Result<()> {
+    for file in [path(dir), dir.join(format!(".{FILE_NAME}.tmp"))] {
+        match std::fs::remove_file(file) {
+            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Reads and checks the checkpoint in `dir` (its version included).
+///
+/// # Errors
+/// [`CheckpointError::Finished`] when there is no checkpoint but the run.json of an ended run
+/// and no partial output; [`CheckpointError::Missing`] when there is no checkpoint otherwise;
+/// [`CheckpointError::Corrupt`] when it cannot be read, decoded or is of another version.
+pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
+    let file = path(dir);
+    let bytes = match std::fs::read(&file) {
+        Ok(b) => b,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Err(no_checkpoint(dir)),
+        Err(e) => {
+            return Err(CheckpointError::corrupt(
+                dir,
+                format!("cannot read it: {e}"),
+            ));
+        }
+    };
+    let checkpoint = Checkpoint::decode(&bytes).map_err(|r| CheckpointError::corrupt(dir, r))?;
+    let version = env!("CARGO_PKG_VERSION");
+    if checkpoint.version != version {
+        return Err(CheckpointError::corrupt(
+            dir,
+            format!(
+                "written by stickslip {}, this is {version}, whose numerics may differ",
+                checkpoint.version
+            ),
+        ));
+    }
+    Ok(checkpoint)
+}
+
+/// The error for a directory without a checkpoint: an ended run, or nothing to resume.
+fn no_checkpoint(dir: &Path) -> CheckpointError {
+    let missing = |why| CheckpointError::Missing {
+        dir: dir.to_path_buf(),
+        why,
+    };
+    if !dir.is_dir() {
+        return missing("no such directory");
+    }
+    if dir.join(".series.csv.tmp").exists() {
+        return missing(
+            "the run there was killed before its first checkpoint, or ran with \
+             --checkpoint-every 0; rerun it with `stickslip run`",
+        );
+    }
+    let report = std::fs::read(dir.join("run.json"))
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok());
+    match report
+        .as_ref()
+        .and_then(|r| Some((r.get("status")?.as_str()?, r.get("failure"))))
+    {
+        Some((status, failure)) => CheckpointError::Finished {
+            dir: dir.to_path_buf(),
+            status: status.to_string(),
+            failure: failure.and_then(|f| f.as_str()).map(str::to_string),
+        },
+        None => missing("no interrupted run there"),
+    }
+}
+
+/// The interval `every_s` (s) as a duration; `None` for 0 (never) and for intervals too long
+/// to come due.
+fn interval(every_s: f64) -> Option<Duration> {
+    Duration::try_from_secs_f64(every_s)
+        .ok()
+        .filter(|d| !d.is_zero())
+}
+
+/// Writes checkpoints from inside the time loop, every `every_s` of wall time; also keeps the
+/// loop's wall-clock account across resumes.
+#[derive(Debug)]
+pub(crate) struct Checkpointer<'a> {
+    dir: &'a Path,
+    every_s: f64,
+    every: Option<Duration>,
+    scene_toml: String,
+    lagged_sweep_contraction: f64,
+    wall_before_s: f64,
+    started: Instant,
+    due: Instant,
+    calls: u64,
+}
+
+impl<'a> Checkpointer<'a> {
+    /// Starts the clock. `wall_before_s`: loop time already spent by earlier processes of the
+    /// run, s.
+    pub(crate) fn new(
+        dir: &'a Path,
+        every_s: f64,
+        scene_toml: String,
+        lagged_sweep_contraction: f64,
+        wall_before_s: f64,
+    ) -> Self {
+        let every = interval(every_s);
+        let started = Instant::now();
+        Self {
+            dir,
+            every_s,
+            every,
+            scene_toml,
+            lagged_sweep_contraction,
+            wall_before_s,
+            started,
+            due: every
+                .and_then(|d| started.checked_add(d))
+                .unwrap_or(started),
+            calls: 0,
+        }
+    }
+
+    /// Wall-clock time spent in the loop, s, over all processes of the run.
+    pub(crate) fn wall_seconds(&self) -> f64 {
+        self.wall_before_s + self.started.elapsed().as_secs_f64()
+    }
+
+    /// Called once per loop iteration, after iteration `loop_index` has been recorded: writes
+    /// a checkpoint when one is due.
+    ///
+    /// # Errors
+    /// If the streamed files cannot be synced or the checkpoint cannot be written.
+    pub(crate) fn tick(
+        &mut self,
+        loop_index: u64,
+        sim: &Simulation,
+        rec: &mut Recorder,
+    ) -> io::Result<()> {
+        let Some(every) = self.every else {
+            return Ok(());
+        };
+        self.calls += 1;
+        if !self.calls.is_multiple_of(CLOCK_EVERY) || Instant::now() < self.due {
+            return Ok(());
+        }
+        let checkpoint = Checkpoint {
+            version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
+            scene_toml: Cow::Borrowed(&self.scene_toml),
+            checkpoint_every_s: self.every_s,
+            lagged_sweep_contraction: self.lagged_sweep_contraction,
+            loop_index,
+            wall_seconds: self.wall_seconds(),
+            // Syncs the streamed files first: the checkpoint must not refer to bytes that a
+            // crash could lose.
+            recorder: rec.snapshot()?,
+            sim: Cow::Borrowed(sim.state()),
+        };
+        save(self.dir, &checkpoint)?;
+        let now = Instant::now();
+        self.due = now.checked_add(every).unwrap_or(now);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use stickslip_core::config::{Scheme, SimConfig};
+
+    fn sample() -> Checkpoint<'static> {
+        let mut config = SimConfig::fig2(Scheme::Accurate);
+        config.contact.nodes = 8;
+        let sim = Simulation::new(config, 1e-5).unwrap();
+        Checkpoint {
+            version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
+            scene_toml: Cow::Borrowed("name = \"x\"\n"),
+            checkpoint_every_s: 0.5,
+            lagged_sweep_contraction: 0.25,
+            loop_index: 7,
+            wall_seconds: 1.5,
+            recorder: RecorderState {
+                next_profile: 1,
+                next_mark: 3.0,
+                last_series_t_s: Some(-0.0),
+                series_rows: 2,
+                series: StreamPosition::START,
+                probes: StreamPosition {
+                    bytes: 10,
+                    fnv1a64: u64::MAX,
+                },
+                profiles: StreamPosition::START,
+            },
+            sim: Cow::Owned(sim.state().clone()),
+        }
+    }
+
+    #[test]
+    fn round_trip_keeps_every_bit() {
+        let mut c = sample();
+        let state = c.sim.to_mut();
+        // Values JSON could not carry, and ones that need all 64 bits.
+        state.force_n = f64::NEG_INFINITY;
+        state.phi[0] = 0.1 + 0.2;
+        state.phi[1] = f64::MIN_POSITIVE / 3.0;
+        state.u0_m[2] = -0.0;
+        let back = Checkpoint::decode(&c.encode().unwrap()).unwrap();
+        assert_eq!(back, c);
+        assert_eq!(back.sim.u0_m[2].to_bits(), (-0.0f64).to_bits());
+        assert_eq!(
+            back.recorder.last_series_t_s.map(f64::to_bits),
+            Some(1 << 63)
+        );
+    }
+
+    #[test]
+    fn damage_is_detected() {
+        let bytes = sample().encode().unwrap();
+        let mut flipped = bytes.clone();
+        let mid = MAGIC.len() + 16 + (bytes.len() - MAGIC.len() - 16) / 2;
+        flipped[mid] ^= 0x10;
+        assert!(
+            Checkpoint::decode(&flipped)
+                .unwrap_err()
+                .contains("checksum")
+        );
+        let cut = &bytes[..bytes.len() - 1];
+        assert!(Checkpoint::decode(cut).unwrap_err().contains("truncated"));
+        assert!(Checkpoint::decode(b"{}").unwrap_err().contains("header"));
+        assert!(Checkpoint::decode(&bytes[..MAGIC.len() + 3]).is_err());
+    }
+
+    #[test]
+    fn zero_and_unreachable_intervals_never_come_due() {
+        assert_eq!(interval(0.0), None);
+        assert_eq!(interval(1e300), None);
+        assert_eq!(interval(0.5), Some(Duration::from_millis(500)));
+    }
+}

@@ -1,0 +1,369 @@
+//! Checkpoint and resume through the binary: a run killed with SIGKILL (several times, at
+//! unplanned moments) and resumed ends with output bit-identical to an uninterrupted run,
+//! gaussian noise included; a kill before the first checkpoint, a finished or failed run, and a
+//! damaged checkpoint or partial output are refused with a message naming the directory.
+
+mod common;
+
+use common::{bin, run, scene, texts};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Stdio};
+use std::time::{Duration, Instant, SystemTime};
+use stickslip::scene::Scene;
+use stickslip_core::sim::Simulation;
+
+/// fig2 at N = 100 to 1 ms (four melting events, about 2 s in the dev profile, several times
+/// the span of the kills below) with thermal noise, so the checkpoint must carry the noise
+/// generators' positions.
+const SHORT_NOISY: &[&str] = &[
+    "--set",
+    "contact.nodes=100",
+    "--set",
+    "time.end=1e-3",
+    "--set",
+    "output.profile_times=[3e-4, 1e-3]",
+    "--set",
+    "lubricant.noise.kind=gaussian",
+    "--quiet",
+];
+
+const OUTPUTS: [&str; 4] = ["series.csv", "events.csv", "profiles.csv", "probes.csv"];
+
+/// Longest wait for a file to appear or change.
+const PATIENCE: Duration = Duration::from_secs(30);
+
+fn run_args(out: &Path, extra: &[&str]) -> Vec<String> {
+    let mut args: Vec<String> = vec![
+        "run".into(),
+        scene("fig2").display().to_string(),
+        "--out".into(),
+        out.display().to_string(),
+    ];
+    args.extend(extra.iter().map(|s| (*s).to_string()));
+    args
+}
+
+fn spawn(args: &[String]) -> Child {
+    bin()
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the binary starts")
+}
+
+fn checkpoint(dir: &Path) -> PathBuf {
+    dir.join("checkpoint.cbor")
+}
+
+/// Waits until `ready` holds; panics with `what` after [`PATIENCE`].
+fn wait_until(what: &str, mut ready: impl FnMut() -> bool) {
+    let start = Instant::now();
+    while !ready() {
+        assert!(start.elapsed() < PATIENCE, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// A delay of 0–250 ms that differs from call to call, so kills land at unplanned points of
+/// the loop (between checkpoints, inside one, while rows are written).
+fn unplanned_delay() -> Duration {
+    let nanos = SystemTime::now()
+        .duration_since(SystemTime::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
+    Duration::from_millis(u64::from(nanos % 251))
+}
+
+/// Sends SIGKILL (what `Child::kill` does on unix) and reaps the process; asserts it was still
+/// running, i.e. the kill interrupted the run.
+fn kill(mut child: Child, dir: &Path) {
+    child.kill().unwrap();
+    let status = child.wait().unwrap();
+    assert!(
+        !status.success(),
+        "the run finished before it was killed; make the test scene longer"
+    );
+    assert!(
+        checkpoint(dir).exists(),
+        "a killed run keeps its checkpoint in {}",
+        dir.display()
+    );
+}
+
+/// run.json without its wall-clock line, the only one allowed to differ.
+fn report_without_wall_time(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("run.json"))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.contains("\"wall_seconds\""))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn assert_bit_identical(reference: &Path, resumed: &Path) {
+    for f in OUTPUTS {
+        let (a, b) = (
+            std::fs::read(reference.join(f)).unwrap(),
+            std::fs::read(resumed.join(f)).unwrap(),
+        );
+        assert!(
+            a == b,
+            "{f} of the resumed run differs from the uninterrupted one ({} against {} bytes)",
+            b.len(),
+            a.len()
+        );
+    }
+    assert_eq!(
+        report_without_wall_time(reference),
+        report_without_wall_time(resumed),
+        "run.json differs beyond wall_seconds"
+    );
+}
+
+fn leftovers(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.') || n.starts_with("checkpoint"))
+        .collect()
+}
+
+/// A killed run with a checkpoint in `dir` (checkpoints every 50 ms).
+fn killed_run(dir: &Path) {
+    let child = spawn(&run_args(
+        dir,
+        &[SHORT_NOISY, &["--checkpoint-every", "0.05"]].concat(),
+    ));
+    wait_until("the first checkpoint", || checkpoint(dir).exists());
+    kill(child, dir);
+}
+
+#[test]
+fn simulation_state_carries_the_noise_generators() {
+    // The precondition of resuming gaussian runs: the state a checkpoint saves must follow the
+    // noise generators, or a resumed run replays the noise from its start.
+    let scene = Scene::from_path(
+        &scene("fig2"),
+        &[
+            "contact.nodes=10",
+            "lubricant.noise.kind=gaussian",
+            "time.end=1e-6",
+            "output.profile_times=[1e-6]",
+        ],
+    )
+    .unwrap();
+    let mut sim = Simulation::new(scene.config.clone(), scene.output.event_merge_gap_s).unwrap();
+    let before = sim.state().noise.clone();
+    sim.step(scene.config.time.dt_s).unwrap();
+    assert_ne!(
+        sim.state().noise,
+        before,
+        "Simulation::state().noise still holds the initial generator positions after a step: \
+         stickslip-core must keep SimState::noise up to date for checkpoints"
+    );
+}
+
+#[test]
+fn killed_run_resumes_bit_identical_to_an_uninterrupted_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (reference, dir) = (tmp.path().join("reference"), tmp.path().join("killed"));
+    // The reference runs meanwhile, without checkpoints: they must not change the output.
+    let mut uninterrupted = spawn(&run_args(
+        &reference,
+        &[SHORT_NOISY, &["--checkpoint-every", "0"]].concat(),
+    ));
+
+    // Killed during `run`, then twice during `resume`, each time after a fresh checkpoint.
+    let mut child = spawn(&run_args(
+        &dir,
+        &[SHORT_NOISY, &["--checkpoint-every", "0.05"]].concat(),
+    ));
+    wait_until("the first checkpoint", || checkpoint(&dir).exists());
+    for _ in 0..2 {
+        std::thread::sleep(unplanned_delay());
+        kill(child, &dir);
+        let seen = std::fs::read(checkpoint(&dir)).unwrap();
+        child = spawn(&[
+            "resume".to_string(),
+            dir.display().to_string(),
+            "--quiet".to_string(),
+        ]);
+        wait_until("a checkpoint of the resumed run", || {
+            std::fs::read(checkpoint(&dir)).is_ok_and(|now| now != seen)
+        });
+    }
+    std::thread::sleep(unplanned_delay());
+    kill(child, &dir);
+    // As if the kill had come while the run committed its output: the renamed file is used.
+    std::fs::rename(dir.join(".probes.csv.tmp"), dir.join("probes.csv")).unwrap();
+
+    let out = run(&["resume", &dir.display().to_string(), "--quiet"]);
+    let (stdout, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(0), "stderr: {stderr}");
+    assert!(stdout.contains("steps to t = 1e-3 s"), "{stdout}");
+
+    assert!(uninterrupted.wait().unwrap().success());
+    assert_bit_identical(&reference, &dir);
+    assert!(
+        leftovers(&dir).is_empty(),
+        "left behind: {:?}",
+        leftovers(&dir)
+    );
+}
+
+#[test]
+fn kill_before_the_first_checkpoint_leaves_nothing_to_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("early");
+    let child = spawn(&run_args(
+        &dir,
+        &[SHORT_NOISY, &["--checkpoint-every", "1000"]].concat(),
+    ));
+    wait_until("the partial series", || {
+        dir.join(".series.csv.tmp").exists()
+    });
+    let mut child = child;
+    child.kill().unwrap();
+    assert!(!child.wait().unwrap().success());
+
+    let dir_text = dir.display().to_string();
+    let out = run(&["resume", &dir_text]);
+    let (_, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with(&format!("error: no checkpoint in {dir_text} ")),
+        "{stderr}"
+    );
+    assert!(stderr.contains("before its first checkpoint"), "{stderr}");
+}
+
+#[test]
+fn resuming_an_ended_run_changes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("done");
+    let short = [
+        "--set",
+        "contact.nodes=20",
+        "--set",
+        "time.end=1e-5",
+        "--set",
+        "output.profile_times=[1e-5]",
+        "--quiet",
+    ];
+    assert_eq!(
+        run(&run_args(&dir, &short)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>())
+        .status
+        .code(),
+        Some(0)
+    );
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+    let before: Vec<Vec<u8>> = OUTPUTS
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect();
+
+    let dir_text = dir.display().to_string();
+    let out = run(&["resume", &dir_text]);
+    let (stdout, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(
+        stdout.contains(&format!(
+            "nothing to resume: the run in {dir_text} has already ended"
+        )) && stdout.contains("\"ok\""),
+        "{stdout}"
+    );
+    for (f, bytes) in OUTPUTS.iter().zip(&before) {
+        assert_eq!(&std::fs::read(dir.join(f)).unwrap(), bytes, "{f} changed");
+    }
+
+    // A run that failed numerically has ended too; resume repeats its exit status 3.
+    let failed = tmp.path().join("failed");
+    let blowup = [
+        "--set",
+        "contact.nodes=40",
+        "--set",
+        "time.scheme=literal",
+        "--set",
+        "lubricant.gamma=1e5",
+        "--set",
+        "lubricant.noise.kind=off",
+        "--set",
+        "time.end=1e-4",
+        "--set",
+        "output.profile_times=[0.0]",
+        "--quiet",
+    ];
+    let args = run_args(&failed, &blowup);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    assert_eq!(run(&args).status.code(), Some(3));
+    let out = run(&["resume", &failed.display().to_string()]);
+    let (_, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("nothing to resume") && stderr.contains("numerical failure"),
+        "{stderr}"
+    );
+}
+
+/// Copies the files of `from` into a new directory `to`.
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
+fn assert_refused(dir: &Path, expected: &str) {
+    let out = run(&["resume", &dir.display().to_string(), "--quiet"]);
+    let (_, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    assert!(
+        stderr.contains(expected),
+        "expected {expected:?} in: {stderr}"
+    );
+}
+
+#[test]
+fn damaged_checkpoint_or_partial_output_exits_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let killed = tmp.path().join("killed");
+    killed_run(&killed);
+    let bytes = std::fs::read(checkpoint(&killed)).unwrap();
+    let corrupt = format!(
+        "corrupt checkpoint {}",
+        checkpoint(&tmp.path().join("flipped")).display()
+    );
+
+    let flipped = tmp.path().join("flipped");
+    copy_dir(&killed, &flipped);
+    let mut b = bytes.clone();
+    let mid = b.len() / 2;
+    b[mid] ^= 0x01;
+    std::fs::write(checkpoint(&flipped), &b).unwrap();
+    assert_refused(&flipped, &corrupt);
+    assert_refused(&flipped, "checksum");
+
+    let cut = tmp.path().join("cut");
+    copy_dir(&killed, &cut);
+    std::fs::write(checkpoint(&cut), &bytes[..bytes.len() - 100]).unwrap();
+    assert_refused(&cut, "truncated");
+
+    let garbage = tmp.path().join("garbage");
+    std::fs::create_dir_all(&garbage).unwrap();
+    std::fs::write(checkpoint(&garbage), b"{\"not\": \"a checkpoint\"}").unwrap();
+    assert_refused(&garbage, "not a stickslip checkpoint");
+
+    // An intact checkpoint whose partial output lost bytes it recorded.
+    let shortened = tmp.path().join("shortened");
+    copy_dir(&killed, &shortened);
+    std::fs::write(shortened.join(".series.csv.tmp"), b"t,X\n").unwrap();
+    assert_refused(&shortened, "partial output cannot be continued");
+    std::fs::remove_file(shortened.join(".series.csv.tmp")).unwrap();
+    assert_refused(&shortened, "neither");
+}
