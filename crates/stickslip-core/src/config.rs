@@ -118,6 +118,10 @@ pub struct NumericsConfig {
     /// A step fails as a runaway when |τ| exceeds this multiple of τmax (default 10): the
     /// stationary curve never exceeds τmax and transients stay within a few τmax.
     pub runaway_stress_factor: f64,
+    /// Form of the MDR transforms; `None` = automatic: fast for the accurate scheme, dense
+    /// (the paper's direct sums) for the literal one.
+    #[serde(default)]
+    pub operator: Option<crate::mdr::OperatorForm>,
 }
 
 impl Default for NumericsConfig {
@@ -125,6 +129,7 @@ impl Default for NumericsConfig {
         Self {
             coupling_tol: 1e-10,
             runaway_stress_factor: 10.0,
+            operator: None,
         }
     }
 }
@@ -351,6 +356,14 @@ impl SimConfig {
             ));
         }
         Ok(())
+    }
+
+    /// The operator form actually used (resolves `numerics.operator = None`).
+    pub fn operator_form(&self) -> crate::mdr::OperatorForm {
+        self.numerics.operator.unwrap_or(match self.time.scheme {
+            Scheme::Accurate => crate::mdr::OperatorForm::Fast,
+            Scheme::Literal => crate::mdr::OperatorForm::Dense,
+        })
     }
 
     /// Number of nodes actually simulated: N for the radial model, 1 for the homogeneous one.

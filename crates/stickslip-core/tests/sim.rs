@@ -192,3 +192,55 @@ fn literal_euler_overshoot_is_caught_even_under_a_floor() {
             .all(|p| p.is_finite() && *p >= 0.0 && *p < 1.3)
     );
 }
+
+fn first_onset_adaptive(tol: f64) -> (f64, u64, u64) {
+    let mut c = small_fig2(Scheme::Accurate, 30);
+    c.time.end_s = 6.5e-4;
+    c.time.adaptive = Some(stickslip_core::config::AdaptiveConfig {
+        tolerance: tol,
+        dt_max_s: 1e-6,
+        dt_min_s: 1e-14,
+    });
+    let mut sim = Simulation::new(c, 1e-5).unwrap();
+    while sim.time_s() < 6.5e-4 {
+        sim.step_adaptive(6.5e-4).unwrap();
+    }
+    let st = sim.state();
+    (
+        sim.events()[0].t_onset_s,
+        st.accepted_steps,
+        st.rejected_steps,
+    )
+}
+
+#[test]
+fn adaptive_steps_converge_to_the_fine_fixed_step_onset_with_far_fewer_steps() {
+    let mut fine = Simulation::new(small_fig2(Scheme::Accurate, 30), 1e-5).unwrap();
+    run_until(&mut fine, 6.5e-4, 2.5e-9);
+    let reference = fine.events()[0].t_onset_s;
+    let (loose, acc_loose, _) = first_onset_adaptive(1e-3);
+    let (tight, acc_tight, rej_tight) = first_onset_adaptive(1e-5);
+    let (e_loose, e_tight) = ((loose - reference).abs(), (tight - reference).abs());
+    eprintln!(
+        "onset error {e_loose:e} s at tol 1e-3 ({acc_loose} steps), {e_tight:e} s at 1e-5 \
+         ({acc_tight} steps, {rej_tight} rejected)"
+    );
+    // The fixed reference took 260 000 steps; its own error is ~1e-9 s.
+    assert!(e_tight < 5e-9, "tight tolerance: {e_tight:e} s");
+    assert!(e_loose < 1e-7, "loose tolerance: {e_loose:e} s");
+    assert!(acc_tight < 10_000 && acc_loose < acc_tight);
+}
+
+#[test]
+fn melting_is_located_inside_the_step() {
+    // With steps of 40 ns the onset still falls between step ends, not on them.
+    let mut sim = Simulation::new(small_fig2(Scheme::Accurate, 30), 1e-5).unwrap();
+    run_until(&mut sim, 6.5e-4, 4e-8);
+    let onset = sim.events()[0].t_onset_s;
+    let steps = onset / 4e-8;
+    assert!(
+        (steps - steps.round()).abs() > 1e-6,
+        "onset {onset:e} on a step end"
+    );
+    assert!(sim.state().last_melt_s.iter().any(|&t| t > 0.0));
+}

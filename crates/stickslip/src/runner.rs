@@ -189,10 +189,19 @@ impl Recorder {
         })
     }
 
+    /// The first requested profile time still to record that lies after `t_s`.
+    fn next_profile_time_after(&self, t_s: f64) -> Option<f64> {
+        self.profile_times_s[self.next_profile.min(self.profile_times_s.len())..]
+            .iter()
+            .copied()
+            .find(|&p| p > t_s)
+    }
+
     fn series_row(&mut self, sim: &mut Simulation) -> io::Result<()> {
         let o = sim.observables();
         self.series.row(&o)?;
-        self.probes.row(o.t_s, &sim.state().phi)?;
+        self.probes
+            .row(o.t_s, &sim.state().phi, &sim.state().last_melt_s)?;
         self.last_series_t_s = Some(o.t_s);
         self.next_mark = ((o.t_s + self.tol_s) / self.series_interval_s).floor() + 1.0;
         Ok(())
@@ -370,22 +379,42 @@ fn execute(
     let mut shown = false;
     let start = Instant::now();
     let mut failure = literal_sweep_diverges(scene, rho);
-    for i in (done + 1..=steps).take_while(|_| failure.is_none()) {
-        let h = step_length(i, sim.time_s());
-        if h <= 0.0 {
-            break;
-        }
-        if let Err(f) = sim.step(h) {
+    let adaptive = scene.config.time.adaptive.is_some();
+    let mut i = done;
+    while failure.is_none() {
+        i += 1;
+        let stepped = if adaptive {
+            let t = sim.time_s();
+            if t >= end {
+                break;
+            }
+            // Land exactly on profile times and on the end; series rows come at the first
+            // step at or after each mark.
+            let stop = rec.next_profile_time_after(t).unwrap_or(end).min(end);
+            sim.step_adaptive(stop).map(|_| ())
+        } else {
+            let h = step_length(i, sim.time_s());
+            if i > steps || h <= 0.0 {
+                break;
+            }
+            sim.step(h)
+        };
+        if let Err(f) = stepped {
             failure = Some(f);
             break;
         }
         let t = sim.time_s();
-        rec.observe(&mut sim, step_length(i + 1, t))
-            .map_err(io_err)?;
+        let h_next = if adaptive { 0.0 } else { step_length(i + 1, t) };
+        rec.observe(&mut sim, h_next).map_err(io_err)?;
         ckpt.tick(i, &sim, &mut rec).map_err(io_err)?;
-        if i % PROGRESS_EVERY == 0 {
-            pb.set_position(i);
-            pb.set_message(format!("{:.4e}", sim.time_s()));
+        if i % PROGRESS_EVERY == 0 || adaptive {
+            let position = if adaptive {
+                (t / end * steps as f64) as u64
+            } else {
+                i
+            };
+            pb.set_position(position);
+            pb.set_message(format!("{t:.4e}"));
             if !shown && !quiet && start.elapsed() >= PROGRESS_DELAY {
                 pb.set_draw_target(ProgressDrawTarget::stderr());
                 shown = true;
@@ -407,7 +436,9 @@ fn execute(
         scene: &scene.resolved,
         derived: DerivedReport::of(scene, rho),
         steps: state.step,
-        rejected_steps: 0,
+        accepted_steps: state.accepted_steps,
+        rejected_steps: state.rejected_steps,
+        forced_steps: state.forced_steps,
         t_final: sim.time_s(),
         wall_seconds,
         coupling_iterations: state.coupling_iterations,

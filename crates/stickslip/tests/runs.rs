@@ -93,14 +93,23 @@ fn fig2_short_run_shows_shrinking_intervals_edge_onset_and_consistent_forces() {
     let probes = Csv::read(&dir.join("probes.csv"));
     assert_eq!(probes.header[0], "t");
     assert_eq!(probes.header[1], "phi@2e-6");
-    assert_eq!(probes.header.len(), 10);
+    assert_eq!(probes.header.len(), 19, "t, 9 × phi@r, 9 × t_melt@r");
+    assert_eq!(probes.header[10], "t_melt@2e-6");
     assert_eq!(probes.rows.len(), series.rows.len());
 
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("run.json")).unwrap()).unwrap();
     assert_eq!(report["status"], "ok");
-    assert_eq!(report["steps"], 50_000);
-    assert_eq!(report["rejected_steps"], 0);
+    // Adaptive by default: two kept half steps per accepted step, far fewer than end/dt.
+    assert_eq!(report["scene"]["time"]["stepping"], "adaptive");
+    let accepted = report["accepted_steps"].as_u64().unwrap();
+    assert_eq!(report["steps"].as_u64().unwrap(), 2 * accepted);
+    assert!(
+        (100..10_000).contains(&accepted),
+        "{accepted} accepted steps"
+    );
+    assert!(report["rejected_steps"].as_u64().unwrap() < accepted);
+    assert_eq!(report["forced_steps"], 0);
     assert_eq!(report["seed"], serde_json::Value::Null);
     assert_eq!(report["scene"]["contact"]["nodes"], 50);
     assert_eq!(report["scene"]["lubricant"]["noise"]["kind"], "floor");
@@ -248,6 +257,8 @@ fn steps_land_on_end_and_rows_follow_the_series_interval() {
             "time.end=1e-6",
             "--set",
             "time.dt=3e-8",
+            "--set",
+            "time.stepping=fixed",
             "--set",
             "output.series_interval=1e-7",
             "--set",

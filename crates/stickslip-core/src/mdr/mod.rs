@@ -37,6 +37,29 @@ pub enum Quadrature {
     Product,
 }
 
+/// How the transforms are applied.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OperatorForm {
+    /// Packed triangular mat-vec, O(N²) per apply (row-parallel from 512 nodes).
+    Dense,
+    /// Hierarchical low-rank form ([`hodlr`]) compressed to [`FAST_REL_TOL`], O(N) per apply.
+    Fast,
+}
+
+/// Relative tolerance of the fast form: ‖A·x − Ã·x‖ ≤ C·tol·‖A‖·‖x‖ with C ≈ 25 at N = 2000
+/// (see [`hodlr::HodlrOperator::error_bound_factor`]), far below the quadrature's own error.
+pub const FAST_REL_TOL: f64 = 1e-10;
+
+/// The compressed operators and their work space.
+#[derive(Debug)]
+struct FastForms {
+    forward: hodlr::HodlrOperator,
+    back: hodlr::HodlrOperator,
+    forward_scratch: std::sync::Mutex<hodlr::HodlrScratch>,
+    back_scratch: std::sync::Mutex<hodlr::HodlrScratch>,
+}
+
 /// The MDR operators for one grid and one quadrature, built once and applied per step.
 #[derive(Debug, Clone)]
 pub struct MdrOperators {
@@ -44,6 +67,7 @@ pub struct MdrOperators {
     quadrature: Quadrature,
     forward: TriangularOperator,
     back: TriangularOperator,
+    fast: Option<Box<FastForms>>,
     force_3d_m2: Vec<f64>,
     force_1d_m: Vec<f64>,
 }
@@ -70,8 +94,49 @@ impl MdrOperators {
             quadrature,
             forward,
             back,
+            fast: None,
             force_3d_m2,
             force_1d_m,
+        }
+    }
+
+    /// As [`MdrOperators::new`], applied in `form`; the fast form also keeps the dense one
+    /// (for [`MdrOperators::forward_operator`] and analysis).
+    pub fn with_form(grid: Grid, quadrature: Quadrature, form: OperatorForm) -> Self {
+        let mut ops = Self::new(grid, quadrature);
+        if form == OperatorForm::Fast {
+            let forward = hodlr::HodlrOperator::compress(&ops.forward, FAST_REL_TOL);
+            let back = hodlr::HodlrOperator::compress(&ops.back, FAST_REL_TOL);
+            ops.fast = Some(Box::new(FastForms {
+                forward_scratch: std::sync::Mutex::new(forward.scratch()),
+                back_scratch: std::sync::Mutex::new(back.scratch()),
+                forward,
+                back,
+            }));
+        }
+        ops
+    }
+
+    /// The form the transforms are applied in.
+    pub fn form(&self) -> OperatorForm {
+        if self.fast.is_some() {
+            OperatorForm::Fast
+        } else {
+            OperatorForm::Dense
+        }
+    }
+
+    fn apply_forward(&self, x: &[f64], y: &mut [f64]) {
+        match &self.fast {
+            Some(f) => f.forward.apply(x, y, &mut lock(&f.forward_scratch)),
+            None => apply_sized(&self.forward, x, y),
+        }
+    }
+
+    fn apply_back(&self, x: &[f64], y: &mut [f64]) {
+        match &self.fast {
+            Some(f) => f.back.apply(x, y, &mut lock(&f.back_scratch)),
+            None => apply_sized(&self.back, x, y),
         }
     }
 
@@ -91,7 +156,7 @@ impl MdrOperators {
     /// If `tau_pa.len()` or `q_out_n_per_m.len()` differs from N.
     #[track_caller]
     pub fn forward(&self, tau_pa: &[f64], q_out_n_per_m: &mut [f64]) {
-        apply_sized(&self.forward, tau_pa, q_out_n_per_m);
+        self.apply_forward(tau_pa, q_out_n_per_m);
     }
 
     /// Back transform (Eq. 15): `u3d_out[i] ≈ (2/π)∫_0^{r_i} u1D(x)/√(r_i² − x²) dx`
@@ -101,7 +166,7 @@ impl MdrOperators {
     /// If `u1d_m.len()` or `u3d_out_m.len()` differs from N.
     #[track_caller]
     pub fn back(&self, u1d_m: &[f64], u3d_out_m: &mut [f64]) {
-        apply_sized(&self.back, u1d_m, u3d_out_m);
+        self.apply_back(u1d_m, u3d_out_m);
     }
 
     /// Composite compliance without the modulus: `out = back(forward(τ))` in Pa·m,
@@ -111,8 +176,8 @@ impl MdrOperators {
     /// If any slice length differs from N.
     #[track_caller]
     pub fn compliance(&self, tau_pa: &[f64], scratch_q: &mut [f64], out_pa_m: &mut [f64]) {
-        apply_sized(&self.forward, tau_pa, scratch_q);
-        apply_sized(&self.back, scratch_q, out_pa_m);
+        self.apply_forward(tau_pa, scratch_q);
+        self.apply_back(scratch_q, out_pa_m);
     }
 
     /// F = 2π∫τ r dr as Σ w_i τ_i (Eq. 16, 3D form), in N.
@@ -188,4 +253,23 @@ fn apply_sized(op: &TriangularOperator, x: &[f64], y: &mut [f64]) {
 fn dot(w: &[f64], v: &[f64]) -> f64 {
     assert_eq!(w.len(), v.len(), "vector length must equal the node count");
     w.iter().zip(v).map(|(a, b)| a * b).sum()
+}
+
+impl Clone for FastForms {
+    fn clone(&self) -> Self {
+        Self {
+            forward_scratch: std::sync::Mutex::new(self.forward.scratch()),
+            back_scratch: std::sync::Mutex::new(self.back.scratch()),
+            forward: self.forward.clone(),
+            back: self.back.clone(),
+        }
+    }
+}
+
+/// The scratch of a fast operator; a poisoned lock still holds usable work space (it is
+/// overwritten by every apply).
+fn lock(
+    m: &std::sync::Mutex<hodlr::HodlrScratch>,
+) -> std::sync::MutexGuard<'_, hodlr::HodlrScratch> {
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }

@@ -210,7 +210,11 @@ impl Simulation {
                 let solver = (elastic && config.time.scheme == Scheme::Accurate)
                     .then(|| Box::new(CouplingSolver::new(n)));
                 Contact::Radial {
-                    ops: Box::new(MdrOperators::new(grid, quadrature)),
+                    ops: Box::new(MdrOperators::with_form(
+                        grid,
+                        quadrature,
+                        config.operator_form(),
+                    )),
                     solver,
                 }
             }
@@ -411,6 +415,7 @@ impl Simulation {
             } else if h > 0.5 * remaining {
                 h = 0.5 * remaining;
             }
+            let landing = h == remaining;
             let at_floor = h <= ctl.dt_min_s;
             saved.clone_from(&self.state);
             let outcome = self.step(h).and_then(|()| {
@@ -429,6 +434,10 @@ impl Simulation {
                     self.state.forced_steps += 1;
                 }
                 self.state.accepted_steps += 1;
+                if landing {
+                    // Two half steps may miss t_stop by an ulp; outputs due there need it exact.
+                    self.state.drive.t_s = t_stop_s;
+                }
                 let grow = if err > 0.0 {
                     (0.9 / err.sqrt()).clamp(0.2, 2.0)
                 } else {

@@ -65,10 +65,14 @@ pub struct RunReport<'a> {
     pub scene: &'a Scene,
     /// Derived parameters.
     pub derived: DerivedReport,
-    /// Steps taken.
+    /// Steps taken (with adaptive stepping: the half steps kept, two per accepted step).
     pub steps: u64,
-    /// Rejected steps (always 0: steps are fixed).
+    /// Adaptive stepping: accepted steps (0 with fixed steps).
+    pub accepted_steps: u64,
+    /// Adaptive stepping: rejected attempts (0 with fixed steps).
     pub rejected_steps: u64,
+    /// Adaptive stepping: steps accepted at time.dt_min above the tolerance.
+    pub forced_steps: u64,
     /// Time reached, s.
     pub t_final: f64,
     /// Wall-clock time of the time loop, s; for a resumed run, summed over its processes (each

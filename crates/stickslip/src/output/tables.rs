@@ -125,6 +125,15 @@ impl ProbePoint {
         }
     }
 
+    /// The node nearest to the probe.
+    pub fn nearest(&self) -> usize {
+        if self.weight_upper > 0.5 {
+            self.lower + 1
+        } else {
+            self.lower
+        }
+    }
+
     /// φ at the probe.
     pub fn value(&self, phi: &[f64]) -> f64 {
         let p0 = phi.get(self.lower).copied().unwrap_or(f64::NAN);
@@ -136,7 +145,10 @@ impl ProbePoint {
     }
 }
 
-/// probes.csv, streamed row by row: `t` then `phi@<radius>` per probe.
+/// probes.csv, streamed row by row: `t`, then `phi@<radius>` per probe (interpolated between
+/// nodes), then `t_melt@<radius>` per probe: when the probe's nearest node last melted, s (−1
+/// before its first melting). The accurate scheme's melting is instantaneous — φ touches the
+/// threshold and recovers within a step — so sampled φ rarely shows it; `t_melt` dates it.
 #[derive(Debug)]
 pub struct ProbeWriter {
     file: AtomicFile,
@@ -145,7 +157,7 @@ pub struct ProbeWriter {
 }
 
 impl ProbeWriter {
-    /// Creates the file and writes the header `t,phi@<r1>,phi@<r2>,…` (radii in `{:e}`).
+    /// Creates the file and writes the header `t,phi@<r1>,…,t_melt@<r1>,…` (radii in `{:e}`).
     ///
     /// # Errors
     /// If the file cannot be created or written.
@@ -154,6 +166,9 @@ impl ProbeWriter {
         write!(file, "t")?;
         for r in probe_radii_m {
             write!(file, ",phi@{r:e}")?;
+        }
+        for r in probe_radii_m {
+            write!(file, ",t_melt@{r:e}")?;
         }
         writeln!(file)?;
         Ok(Self::with_file(file, probe_radii_m, node_radii_m))
@@ -180,7 +195,7 @@ impl ProbeWriter {
                 .iter()
                 .map(|&r| ProbePoint::new(r, node_radii_m))
                 .collect(),
-            row: Vec::with_capacity(probe_radii_m.len() + 1),
+            row: Vec::with_capacity(2 * probe_radii_m.len() + 1),
         }
     }
 
@@ -192,14 +207,19 @@ impl ProbeWriter {
         self.file.sync_position()
     }
 
-    /// One row at time `t_s` from the node values `phi`.
+    /// One row at time `t_s` from the node values `phi` and last melting times `last_melt_s`.
     ///
     /// # Errors
     /// Those of the file.
-    pub fn row(&mut self, t_s: f64, phi: &[f64]) -> io::Result<()> {
+    pub fn row(&mut self, t_s: f64, phi: &[f64], last_melt_s: &[f64]) -> io::Result<()> {
         self.row.clear();
         self.row.push(t_s);
         self.row.extend(self.probes.iter().map(|p| p.value(phi)));
+        self.row.extend(
+            self.probes
+                .iter()
+                .map(|p| last_melt_s.get(p.nearest()).copied().unwrap_or(-1.0)),
+        );
         write_row(&mut self.file, &self.row)
     }
 

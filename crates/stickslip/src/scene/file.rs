@@ -206,4 +206,8 @@ pub struct NumericsSection {
     /// Runaway limit on |τ| in units of τmax (default 10).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub runaway_stress_factor: Option<f64>,
+    /// `"auto"` (default: fast for the accurate scheme, dense for the literal one), `"fast"`
+    /// (hierarchical low-rank, O(N) per apply) or `"dense"` (O(N²) mat-vec).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub operator: Option<String>,
 }

@@ -28,6 +28,7 @@ use stickslip_core::config::{
 };
 use stickslip_core::drive::{Drive, Integrator, RigidDrive, SpringDrive};
 use stickslip_core::landau::{LandauParams, Temperature};
+use stickslip_core::mdr::OperatorForm;
 use stickslip_core::noise::NoiseKind;
 
 /// Default `lubricant.melt_threshold`.
@@ -659,11 +660,22 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
 
     let nm = scene.numerics.clone().unwrap_or_default();
     let defaults = NumericsConfig::default();
+    let operator_name = choice(
+        nm.operator.as_ref(),
+        "numerics.operator",
+        "auto",
+        &["auto", "fast", "dense"],
+    )?;
     let numerics = NumericsConfig {
         coupling_tol: nm.coupling_tol.unwrap_or(defaults.coupling_tol),
         runaway_stress_factor: nm
             .runaway_stress_factor
             .unwrap_or(defaults.runaway_stress_factor),
+        operator: match operator_name {
+            "fast" => Some(OperatorForm::Fast),
+            "dense" => Some(OperatorForm::Dense),
+            _ => None,
+        },
     };
 
     let config = SimConfig {
@@ -789,6 +801,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         numerics: Some(NumericsSection {
             coupling_tol: Some(numerics.coupling_tol),
             runaway_stress_factor: Some(numerics.runaway_stress_factor),
+            operator: Some(operator_name.to_string()),
         }),
     };
     let derived = Derived::of(&config);
