@@ -1890,9 +1890,19 @@ impl Case for EdgeScaling {
                     opt(force_agreement(a))
                 ),
             ));
+            // N = 1 is refused up front (exit 2 naming contact.nodes): the paper's sums give
+            // F = 0 there.
+            let refused = *n == 1 && l.exit_code == Some(2);
             c.push(check(
-                format!("N = {n}, literal: exit 0 and finite, or exit 3 naming the failure"),
-                (l.ok() && health(l).is_some_and(|h| h.finite)) || l.failed_loudly(),
+                format!(
+                    "N = {n}, literal: exit 0 and finite, exit 3 naming the failure{}",
+                    if *n == 1 {
+                        ", or exit 2 refusing contact.nodes"
+                    } else {
+                        ""
+                    }
+                ),
+                (l.ok() && health(l).is_some_and(|h| h.finite)) || l.failed_loudly() || refused,
                 l.outcome(),
             ));
         }

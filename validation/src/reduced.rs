@@ -32,6 +32,7 @@ pub fn cli_overrides() -> Vec<String> {
         format!("time.dt={DT_S:e}"),
         format!("time.end={END_S:e}"),
         "time.scheme=accurate".into(),
+        "time.stepping=fixed".into(),
         "lubricant.noise.kind=floor".into(),
         "lubricant.noise.floor=1e-6".into(),
         format!("output.event_merge_gap={MERGE_GAP_S:e}"),
