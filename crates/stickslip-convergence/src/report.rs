@@ -665,7 +665,7 @@ fn answers(md: &mut String, r: &Results) {
             md,
             "At the paper's Δt = 1e-8 s every N gives a max onset error of {}–{} µs: inside \
              0.1 µs, but not by a margin larger than the reference's own uncertainty, so we do \
-             not count it. Halving Δt halves the error (first order); N hardly matters.\n",
+             not count it. The Δt part dominates; N hardly matters.\n",
             sig(lo * 1e6, 2),
             sig(hi * 1e6, 2)
         );
@@ -1254,9 +1254,9 @@ fn simulation_section(md: &mut String, r: &Results) {
         md,
         "![against the reference](convergence_vs_reference.svg)\n\n*Figure 4. The same runs \
          measured against the reference of §4 (accurate scheme, N = {}, extrapolated in Δt). \
-         What to see: refining N alone (top) leaves the accurate onset error at its Δt part \
-         (≈ 0.08 µs at Δt = 1e-8 s), and refining Δt (bottom) drives it down at first order \
-         through the 0.1 µs line (dashed). The literal onset error sits at ≈ 3.4 µs whatever N \
+         What to see: refining N alone (top) leaves the accurate onset error at its Δt part, \
+         and refining Δt (bottom) drives it down (orders in §3) below the 0.1 µs line \
+         (dashed). The literal onset error sits at ≈ 3.4 µs whatever N \
          and Δt — a different limit (the axis melts first) — while its f_peak and F(t) errors \
          do fall with N towards the reference; along Δt they are flat (N = {} dominates) and \
          jump at Δt = 4e-8 s, beyond explicit Euler's stability limit (the two larger steps \
@@ -1280,12 +1280,13 @@ fn findings(md: &mut String, r: &Results) {
         .map(|&(_, e)| e);
     let _ = writeln!(
         md,
-        "1. **The accurate scheme is first order in Δt** (onset p ≈ {}), not second: the film \
-         step sees the substrate displacement of the previous step, and the error is made at \
-         the melting bifurcation (§3). At Δt = 1e-8 s this is {} µs per onset, nearly the whole \
-         0.1 µs budget, whatever N. Re-solving the film step with the mid-step strain from the \
-         new u3D (a predictor–corrector, or Strang splitting) is the natural next step; this \
-         study would show its order directly.",
+        "1. **The accurate scheme's onsets converge at p ≈ {} in Δt.** The film step uses the \
+         exact Landau solution under a strain weighted by θ(λΔt) between the start of the step \
+         and the end predicted from the extrapolated substrate (½ for slow relaxation, → 1 \
+         when φ is slaved to ε), melting is located inside the step and is instantaneous \
+         (φ touches the threshold and recovers), and event onsets are located on the node's \
+         exact path. At Δt = 1e-8 s the largest onset error is {} µs. Adaptive steps do better \
+         still (reports/performance.md, T4).",
         acc_p.map_or("–".into(), |p| format!("{p:.2}")),
         at_1e8.map_or("–".into(), |e| sig(e, 2))
     );
@@ -1305,10 +1306,10 @@ fn findings(md: &mut String, r: &Results) {
     );
     let _ = writeln!(
         md,
-        "3. **Event onsets in `events.csv` are quantised to the step** (the end of the first step \
-         with a melted node). At Δt = 1e-8 s that is ≤ 0.01 µs, below the scheme's own Δt error, \
-         but it hides every N-effect; this study locates the crossing inside the step from the \
-         public state (ln φ interpolated in time).",
+        "3. **Event onsets in `events.csv` are located inside the step** by the accurate \
+         scheme (on the first melting node's exact path; the literal scheme reports the end of \
+         the step). This study also locates them from the public state (ln φ interpolated in \
+         time) and reports both.",
     );
     let n_top = r.settings.sim_nodes.last().copied().unwrap_or(0);
     let top = runs(r, "N", "accurate")
@@ -1368,18 +1369,17 @@ fn why_section(md: &mut String, r: &Results) {
     };
     let _ = writeln!(
         md,
-        "- **Accurate, Δt — onsets p ≈ {on} (theory 1), f_peak p ≈ {fp}, F(t) p ≈ {fo}.** The \
-         pieces are each second order or exact (Verlet, exact Landau step at the mid-step \
-         strain, located re-solidification), but within a step the film is advanced with ε \
-         frozen at (u0 + ½ΔX − u3D_old)/h0 and the substrate is solved afterwards: a \
-         sequential splitting of the film–substrate feedback, which is first order. The error \
-         is made in the approach to each melting, not in the stick phase: half-way to the \
+        "- **Accurate, Δt — onsets p ≈ {on} (theory 2), f_peak p ≈ {fp}, F(t) p ≈ {fo}.** The \
+         pieces are each second order or exact (Verlet, the exact Landau step under the \
+         θ-weighted strain with the substrate predicted by extrapolation, melting and \
+         re-solidification located inside the step). Where the error is made: in the approach \
+         to each melting, not in the stick phase: half-way to the \
          first onset F(t) of all Δt levels ({c0:e} … {f0:e} s) agrees to {early} relative, and \
          switching the step {lead} µs before the first onset locates it — Δt = {c:e} s \
          throughout gives the first \
          onset at {o0} µs, {f:e} s throughout {o1} µs, {c:e} s switched to {f:e} s at \
          t = {ts} µs gives {o2} µs, and the reverse switch {o3} µs. Near the bifurcation ε → εc \
-         the φ–u3D feedback is strong, so the lag matters there. f_peak converges at second \
+         the φ–u3D feedback is strong, so the step matters most there. f_peak converges at second \
          order: F(t) peaks when the strain passes εmax and then falls by about half before the \
          edge reaches εc, so the peak lies in the accurately integrated part of the stick phase, \
          and shifting the previous event in time does not change a maximum. The finest f_peak \

@@ -88,8 +88,9 @@ pub fn theory(scheme: Scheme, refined: Refined, observable: &str) -> (Option<f64
             "1: explicit Euler, lagged coupling, one reset per step",
         ),
         (Scheme::Accurate, Refined::Dt, _) => (
-            Some(1.0),
-            "1: film step and elastic solve applied one after the other within a step",
+            Some(2.0),
+            "2: exact Landau step under the θ-weighted strain, substrate predicted by \
+             extrapolation, melting located inside the step",
         ),
     }
 }
