@@ -1538,12 +1538,14 @@ fn work_precision_section(md: &mut String, r: &Results) {
         "\n![work-precision](convergence_work_precision.svg)\n\n*Figure 5. Error against wall \
          time, log–log, one curve per method along (N, Δt) = {:?} (N doubles while Δt halves); \
          each point is labelled N, Δt. What to see: the accurate onset error keeps falling, \
-         like (wall time)^{} here — each halving of the error costs about {}× the time (first \
-         order in Δt; the cost per step grows less than N² at these small N); the literal \
+         like (wall time)^{} here — each halving of the error costs about {}× the time (fixed \
+         steps; the cost per step grows less than N² at these small N); the literal \
          onset error stays at the µs level however much time it gets, and its first point \
          (Δt = 4e-8 s) is beyond explicit Euler's stability limit. Refining Δt alone at small N \
-         is cheaper than this diagonal (answer 2). The fast methods of the performance issue \
-         will be added as further curves.*\n",
+         is cheaper than this diagonal (answer 2). Adaptive, error-controlled steps against \
+         fixed ones at N = 125 — the work–precision curve of the fast methods — are in \
+         [performance.md](performance.md) (T4, `performance_work_precision.svg`, from \
+         `cargo xtask bench`): the cheapest run within 0.1 µs is several times cheaper there.*\n",
         r.settings.wp_points,
         wp_slope.map_or("–".into(), |s| format!("{s:.2}")),
         wp_slope.map_or("–".into(), |s| sig(0.5f64.powf(1.0 / s), 2)),
