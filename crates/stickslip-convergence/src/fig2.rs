@@ -66,10 +66,13 @@ impl RunSpec {
 /// One melting event as recorded.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct EventRecord {
-    /// The core's onset: end of the first step with a melted node, s (quantised to Δt).
+    /// The core's onset, s: located inside the step on the node's exact path by the accurate
+    /// scheme, the end of the first step with a melted node for the literal one.
     pub onset_step_s: f64,
-    /// Onset located inside that step: per newly melted node, ln φ interpolated linearly in
-    /// time between the two step ends to the threshold; the earliest node counts, s.
+    /// The onset this study uses, s: the core's for the accurate scheme (its melting is
+    /// instantaneous, so φ at step ends never shows it); for the literal scheme located inside
+    /// the step from the public state — per newly melted node, ln φ interpolated linearly in
+    /// time between the two step ends to the threshold, the earliest node counting.
     pub onset_s: f64,
     /// The core's `f_peak`: largest step-end F since the previous event began, N.
     pub f_peak_n: f64,
@@ -115,7 +118,8 @@ pub fn run(spec: &RunSpec) -> RunRecord {
     let mut prev_phi = sim.state().phi.clone();
     let mut prev_t = sim.time_s();
     let mut prev_f = sim.state().force_n;
-    let mut onsets: Vec<f64> = Vec::new();
+    let mut onsets: Vec<Option<f64>> = Vec::new();
+    let located_by_core = spec.scheme == stickslip_core::config::Scheme::Accurate;
     let mut failure = None;
     loop {
         let dt = spec.dt_at(sim.time_s());
@@ -138,7 +142,7 @@ pub fn run(spec: &RunSpec) -> RunRecord {
             force.push(prev_f + w * (f - prev_f));
         }
         if sim.events().len() > onsets.len() {
-            let mut theta_min: f64 = 1.0;
+            let mut theta_min: Option<f64> = None;
             for (&p0, &p1) in prev_phi.iter().zip(&state.phi) {
                 if p1 < thr && p0 >= thr {
                     let theta = if p1 > 0.0 {
@@ -146,10 +150,14 @@ pub fn run(spec: &RunSpec) -> RunRecord {
                     } else {
                         1.0
                     };
-                    theta_min = theta_min.min(theta);
+                    theta_min = Some(theta_min.map_or(theta, |m: f64| m.min(theta)));
                 }
             }
-            onsets.push(prev_t + theta_min * (t - prev_t));
+            onsets.push(if located_by_core {
+                None
+            } else {
+                theta_min.map(|th| prev_t + th * (t - prev_t))
+            });
         }
         prev_phi.copy_from_slice(&state.phi);
         prev_t = t;
@@ -160,9 +168,9 @@ pub fn run(spec: &RunSpec) -> RunRecord {
         .events()
         .iter()
         .zip(&onsets)
-        .map(|(e, &onset_s)| EventRecord {
+        .map(|(e, onset_s)| EventRecord {
             onset_step_s: e.t_onset_s,
-            onset_s,
+            onset_s: onset_s.unwrap_or(e.t_onset_s),
             f_peak_n: e.f_peak_n,
             r_first_m: e.r_first_m,
         })
