@@ -166,7 +166,9 @@ fn explicit_euler_beyond_its_limit_exits_3_with_partial_output() {
     );
     let (_, stderr) = texts(&out);
     assert_eq!(out.status.code(), Some(3), "stderr: {stderr}");
-    assert!(stderr.starts_with("error: "), "{stderr}");
+    // Warned before the run (Δt·2γAb/a = 600 > 2), then the failure itself.
+    assert!(stderr.starts_with("warning: time.dt x 2*gamma*A*b/a"), "{stderr}");
+    assert!(stderr.lines().any(|l| l.starts_with("error: ")), "{stderr}");
     for word in ["t = ", "step ", "node "] {
         assert!(stderr.contains(word), "message lacks {word:?}: {stderr}");
     }
@@ -349,4 +351,40 @@ fn check_prints_derived_parameters() {
             "check output lacks {line:?}:\n{stdout}"
         );
     }
+}
+
+#[test]
+fn literal_scheme_beyond_eulers_limit_is_warned_about() {
+    let tmp = tempfile::tempdir().unwrap();
+    let args = |dt: &'static str| {
+        vec![
+            "--set",
+            "contact.nodes=20",
+            "--set",
+            "time.scheme=literal",
+            "--set",
+            dt,
+            "--set",
+            "time.end=1e-6",
+            "--set",
+            "output.profile_times=[1e-6]",
+            "--quiet",
+        ]
+    };
+    let beyond = run_scene("fig2", &tmp.path().join("a"), &args("time.dt=4e-8"));
+    assert_ok(&beyond);
+    assert!(
+        texts(&beyond)
+            .1
+            .contains("warning: time.dt x 2*gamma*A*b/a = 2.400 > 2"),
+        "{}",
+        texts(&beyond).1
+    );
+    let within = run_scene("fig2", &tmp.path().join("b"), &args("time.dt=1e-8"));
+    assert_ok(&within);
+    assert!(
+        !texts(&within).1.contains("warning"),
+        "{}",
+        texts(&within).1
+    );
 }
