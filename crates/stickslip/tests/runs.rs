@@ -167,7 +167,10 @@ fn explicit_euler_beyond_its_limit_exits_3_with_partial_output() {
     let (_, stderr) = texts(&out);
     assert_eq!(out.status.code(), Some(3), "stderr: {stderr}");
     // Warned before the run (Δt·2γAb/a = 600 > 2), then the failure itself.
-    assert!(stderr.starts_with("warning: time.dt x 2*gamma*A*b/a"), "{stderr}");
+    assert!(
+        stderr.starts_with("warning: time.dt x 2*gamma*A*b/a"),
+        "{stderr}"
+    );
     assert!(stderr.lines().any(|l| l.starts_with("error: ")), "{stderr}");
     for word in ["t = ", "step ", "node "] {
         assert!(stderr.contains(word), "message lacks {word:?}: {stderr}");
