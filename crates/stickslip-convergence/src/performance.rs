@@ -747,11 +747,7 @@ pub fn write_report(p: &Performance, dir: &Path) -> Result<Vec<PathBuf>, String>
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut files = Vec::new();
     let mut put = |name: &str, text: String| -> Result<(), String> {
-        let path = dir.join(name);
-        let tmp = dir.join(format!(".{name}.tmp"));
-        std::fs::write(&tmp, text).map_err(|e| format!("{}: {e}", tmp.display()))?;
-        std::fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
-        files.push(path);
+        files.push(crate::report::write_atomic(dir, name, &text)?);
         Ok(())
     };
     let json = serde_json::to_string_pretty(p).map_err(|e| e.to_string())?;

@@ -98,6 +98,19 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
     Some(v[v.len() / 2])
 }
 
+/// Writes `text` to `dir/name` through a temporary file and a rename, so a reader never sees
+/// a half-written report; returns the path.
+///
+/// # Errors
+/// An I/O error, as text naming the file.
+pub fn write_atomic(dir: &Path, name: &str, text: &str) -> Result<PathBuf, String> {
+    let path = dir.join(name);
+    let tmp = dir.join(format!(".{name}.tmp"));
+    std::fs::write(&tmp, text).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    std::fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path)
+}
+
 /// Writes the three kinds of output into `dir`; returns the files written.
 ///
 /// # Errors
@@ -106,11 +119,7 @@ pub fn write_all(r: &Results, dir: &Path) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut files = Vec::new();
     let mut put = |name: &str, text: String| -> Result<(), String> {
-        let path = dir.join(name);
-        let tmp = dir.join(format!(".{name}.tmp"));
-        std::fs::write(&tmp, text).map_err(|e| format!("{}: {e}", tmp.display()))?;
-        std::fs::rename(&tmp, &path).map_err(|e| format!("{}: {e}", path.display()))?;
-        files.push(path);
+        files.push(write_atomic(dir, name, &text)?);
         Ok(())
     };
     let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;

@@ -79,16 +79,6 @@ pub struct WorkPrecision {
     pub repeats: usize,
 }
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 /// Computes the reference from three accurate runs at `nodes` with `dts_s` (coarse to fine,
 /// ratio 2). Returns it with the runs.
 ///
@@ -187,12 +177,11 @@ pub fn point(run: &RunRecord, reference: &Reference, walls_s: Vec<f64>) -> WpPoi
         ((run.events[k].f_peak_n - reference.f_peaks_n[k]) / reference.f_peaks_n[k]).abs()
     });
     let force_error_rel = force_error(run, &reference.force_n, &reference.onsets_s);
-    let mut w = walls_s.clone();
     WpPoint {
         method: scheme_name(run.spec.scheme).to_string(),
         nodes: run.spec.nodes,
         dt_s: run.spec.dt_s,
-        wall_s: median(&mut w),
+        wall_s: crate::performance::median(&walls_s),
         walls_s,
         onset_error_s,
         f_peak_error_rel,

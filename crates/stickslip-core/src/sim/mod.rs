@@ -499,17 +499,21 @@ impl Simulation {
         for (was_solid, &phi) in self.state.melted_in_step.iter_mut().zip(&self.state.phi) {
             *was_solid = phi >= thr;
         }
-        self.scratch_q.copy_from_slice(&self.state.phi);
-        for (phi, &eps) in self.state.phi.iter_mut().zip(&self.state.eps) {
-            *phi += dt_s * rhs(*phi, eps, a_coeff, &params);
-        }
         // Eq. 8 keeps φ ≥ 0 exactly; a negative φ is explicit Euler overshooting its
-        // stability limit. Caught here, before noise or a floor could hide it.
-        if let Some(node) = self.state.phi.iter().position(|p| p.is_nan() || *p < 0.0) {
+        // stability limit. Caught here, before noise or a floor could hide it; the first such
+        // node and its φ before the step are kept for the diagnosis.
+        let mut overshoot: Option<(usize, f64)> = None;
+        for (i, (phi, &eps)) in self.state.phi.iter_mut().zip(&self.state.eps).enumerate() {
+            let before = *phi;
+            *phi += dt_s * rhs(before, eps, a_coeff, &params);
+            if overshoot.is_none() && (phi.is_nan() || *phi < 0.0) {
+                overshoot = Some((i, before));
+            }
+        }
+        if let Some((node, phi_before)) = overshoot {
             let b = params.b_pa();
             // |∂rhs/∂φ| = γ·|a·ε² + 3b·φ² − A·b/a| at the node's state before the step (which
             // noise may have pushed far from equilibrium).
-            let phi_before = self.scratch_q[node];
             let eps = self.state.eps[node];
             let stiffness = params.gamma_per_pa_s
                 * (params.a_pa * eps * eps + 3.0 * b * phi_before * phi_before
