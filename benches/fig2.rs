@@ -1,45 +1,32 @@
-//! Criterion bench: the whole fig2 run (1.3 ms) in-process, per scheme, at N = 200.
+//! Criterion bench: the whole fig2 run (1.3 ms) in-process through the driver, per scheme, at
+//! N = 200.
 //!
-//! accurate: adaptive steps at the default tolerance 1e-4 and the fast operators (the CLI's
-//! defaults); literal: the paper's scheme at Δt = 1e-8 s with direct sums. The end-to-end
-//! process timings of `cargo xtask bench` (reports/performance.md) add start-up and output.
+//! accurate: the scene's defaults (adaptive steps at tolerance 1e-4, fast operators); literal:
+//! the paper's scheme at Δt = 1e-8 s with direct sums. Nothing is recorded (a null sink); the
+//! end-to-end process timings of `cargo xtask bench` (reports/performance.md) add start-up and
+//! output.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stickslip_core::config::{AdaptiveConfig, Scheme, SimConfig};
-use stickslip_core::sim::Simulation;
+use stickslip_benches::scene;
+use stickslip_run::{Control, NullSink};
 
-const END_S: f64 = 1.3e-3;
-
-fn fig2_accurate() -> usize {
-    let mut c = SimConfig::fig2(Scheme::Accurate);
-    c.contact.nodes = 200;
-    c.time.adaptive = Some(AdaptiveConfig {
-        tolerance: 1e-4,
-        dt_max_s: END_S / 1000.0,
-        dt_min_s: 1e-14,
-    });
-    let mut sim = Simulation::new(c, 1e-5).expect("valid scene");
-    while sim.time_s() < END_S {
-        sim.step_adaptive(END_S).expect("stable");
-    }
-    sim.events().len()
-}
-
-fn fig2_literal() -> usize {
-    let mut c = SimConfig::fig2(Scheme::Literal);
-    c.contact.nodes = 200;
-    let mut sim = Simulation::new(c, 1e-5).expect("valid scene");
-    while sim.time_s() < END_S - 0.5e-8 {
-        sim.step(1e-8).expect("stable");
-    }
-    sim.events().len()
+fn run(sets: &[&str]) -> usize {
+    let scene = scene("fig2", sets);
+    stickslip_run::run(&scene, &mut NullSink, &mut Control::default())
+        .expect("valid scene")
+        .events
+        .len()
 }
 
 fn fig2(c: &mut Criterion) {
     let mut group = c.benchmark_group("fig2_n200");
     group.sample_size(10);
-    group.bench_function("accurate_adaptive", |b| b.iter(fig2_accurate));
-    group.bench_function("literal_dt1e-8", |b| b.iter(fig2_literal));
+    group.bench_function("accurate_adaptive", |b| {
+        b.iter(|| run(&["contact.nodes=200"]))
+    });
+    group.bench_function("literal_dt1e-8", |b| {
+        b.iter(|| run(&["contact.nodes=200", "time.scheme=literal"]))
+    });
     group.finish();
 }
 

@@ -28,7 +28,7 @@ fn config() -> SimConfig {
 fn run() -> RunOutput {
     let config = config();
     let steps = (END_S / DT_S).round() as u64;
-    let mut sim = Simulation::new(config.clone(), MERGE_GAP_S).expect("valid reduced config");
+    let mut sim = Simulation::new(config.clone()).expect("valid reduced config");
     let mut series = Series::default();
     let mut record = |sim: &mut Simulation| {
         let o = sim.observables();

@@ -1,15 +1,19 @@
 //! One fig2 run recorded for convergence studies: event onsets, peak forces, F(t) samples, time.
 //!
-//! The run is the core's `SimConfig::fig2` (floor noise φ ≥ 1e-6, deterministic) with the
-//! scheme, N, Δt and end time given. Only the core's public API is used: the loop calls
-//! `Simulation::step` and reads `state()` and `events()` after every step.
+//! The run is the shipped fig2 scene (floor noise φ ≥ 1e-6, deterministic) with the scheme, N,
+//! fixed Δt and end time given, driven by the run library's driver; an observer reads the
+//! simulation after every step (F between step ends for the samples, φ for the literal
+//! scheme's located onsets). Events that begin within [`MERGE_GAP_S`] of the previous one's
+//! end are merged: the literal scheme's axis node melts alone 1–3 µs before each front (its
+//! u3D(0) = 0), and the study compares one onset per front across both schemes.
 
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
-use stickslip_core::config::{Scheme, SimConfig};
-use stickslip_core::sim::Simulation;
+use stickslip_core::config::Scheme;
+use stickslip_run::driver::{Control, Driver, Limit, NullSink};
+use stickslip_run::{ResolvedScene, Scene, StopReason};
 
-/// Gap below which the core merges melting rises into one event, s (the CLI's default).
+/// Gap within which a new melting continues the previous event, s.
 pub const MERGE_GAP_S: f64 = 1e-5;
 
 /// End time of fig2, s.
@@ -17,6 +21,9 @@ pub const FIG2_END_S: f64 = 1.3e-3;
 
 /// Spacing of the common time grid on which F(t) is sampled, s.
 pub const SAMPLE_DT_S: f64 = 1e-7;
+
+/// The shipped fig2 scene.
+const FIG2_SCENE: &str = include_str!("../../../validation/scenes/fig2.toml");
 
 /// What to run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,21 +52,32 @@ impl RunSpec {
         }
     }
 
-    /// The core configuration of this run.
-    pub fn config(&self) -> SimConfig {
-        let mut c = SimConfig::fig2(self.scheme);
-        c.contact.nodes = self.nodes;
-        c.time.dt_s = self.dt_s;
-        c.time.end_s = self.end_s;
-        c
-    }
-
-    /// The step to take from time `t_s`.
-    pub fn dt_at(&self, t_s: f64) -> f64 {
-        match self.switch {
-            Some((t_switch, dt)) if t_s >= t_switch - 1e-3 * self.dt_s.min(dt) => dt,
-            _ => self.dt_s,
-        }
+    /// The scene of this run: fig2 with fixed steps of `dt_s` to `end_s`.
+    ///
+    /// # Panics
+    /// If the overrides do not resolve (N ≥ 1 and 0 < Δt ≤ end always do).
+    #[must_use]
+    #[track_caller]
+    pub fn scene(&self) -> ResolvedScene {
+        let scheme = match self.scheme {
+            Scheme::Accurate => "accurate",
+            Scheme::Literal => "literal",
+        };
+        Scene::from_toml_str(
+            FIG2_SCENE,
+            &[
+                format!("time.scheme={scheme}"),
+                "time.stepping=fixed".to_string(),
+                format!("contact.nodes={}", self.nodes),
+                format!("time.dt={:e}", self.dt_s),
+                format!("time.end={:e}", self.end_s),
+                format!("output.profile_times=[{:e}]", self.end_s),
+                format!("output.event_merge_gap={MERGE_GAP_S:e}"),
+                // Nothing but the observer records: one row at the end.
+                format!("output.series_interval={:e}", self.end_s),
+            ],
+        )
+        .unwrap_or_else(|e| panic!("fig2 run {self:?}: {e}"))
     }
 }
 
@@ -105,37 +123,30 @@ impl RunRecord {
 /// Runs `spec` once and records it.
 ///
 /// # Panics
-/// If the configuration is invalid (fig2 with N ≥ 1 and 0 < Δt ≤ end is always valid).
+/// If the scene does not resolve or a null sink fails (neither can happen for fig2).
 #[track_caller]
 pub fn run(spec: &RunSpec) -> RunRecord {
     let start = Instant::now();
-    let config = spec.config();
-    let thr = config.melt_threshold;
-    let mut sim = Simulation::new(config, MERGE_GAP_S).expect("valid fig2 configuration");
+    let scene = spec.scene();
+    let thr = scene.config.melt_threshold;
+    let mut sink = NullSink;
+    let mut driver = Driver::start(&scene, &mut sink).expect("valid fig2 configuration");
     let samples = (spec.end_s / SAMPLE_DT_S).floor() as usize + 1;
     let mut force = Vec::with_capacity(samples);
-    force.push(sim.state().force_n);
-    let mut prev_phi = sim.state().phi.clone();
-    let mut prev_t = sim.time_s();
-    let mut prev_f = sim.state().force_n;
+    let sim0 = driver.simulation();
+    force.push(sim0.state().force_n);
+    let mut prev_phi = sim0.state().phi.clone();
+    let mut prev_t = sim0.time_s();
+    let mut prev_f = sim0.state().force_n;
     let mut onsets: Vec<Option<f64>> = Vec::new();
-    let located_by_core = spec.scheme == stickslip_core::config::Scheme::Accurate;
-    let mut failure = None;
-    loop {
-        let dt = spec.dt_at(sim.time_s());
-        if sim.time_s() > spec.end_s - 0.5 * dt {
-            break;
-        }
-        if let Err(e) = sim.step(dt) {
-            failure = Some(e.to_string());
-            break;
-        }
+    let located_by_core = spec.scheme == Scheme::Accurate;
+    let mut observe = |sim: &stickslip_core::sim::Simulation| {
         let t = sim.time_s();
         let state = sim.state();
         let f = state.force_n;
         while force.len() < samples {
             let ts = RunRecord::sample_time_s(force.len());
-            if ts > t + 1e-3 * dt {
+            if ts > t + 1e-3 * (t - prev_t) {
                 break;
             }
             let w = ((ts - prev_t) / (t - prev_t)).clamp(0.0, 1.0);
@@ -162,10 +173,31 @@ pub fn run(spec: &RunSpec) -> RunRecord {
         prev_phi.copy_from_slice(&state.phi);
         prev_t = t;
         prev_f = f;
+    };
+    let mut control = Control {
+        observer: Some(&mut observe),
+        ..Control::default()
+    };
+    let mut stop = None;
+    if let Some((t_switch, dt)) = spec.switch {
+        let until = t_switch - 1e-3 * spec.dt_s.min(dt);
+        stop = driver
+            .advance(&mut sink, &mut control, Limit::Time(until))
+            .expect("null sink");
+        driver.set_fixed_dt(dt);
     }
+    let stop = match stop {
+        Some(s) => s,
+        None => driver
+            .advance(&mut sink, &mut control, Limit::None)
+            .expect("null sink")
+            .unwrap_or(StopReason::End),
+    };
+    drop(control);
+    let outcome = driver.outcome(stop, &Default::default());
     let wall_s = start.elapsed().as_secs_f64();
-    let events = sim
-        .events()
+    let events = outcome
+        .events
         .iter()
         .zip(&onsets)
         .map(|(e, onset_s)| EventRecord {
@@ -180,6 +212,6 @@ pub fn run(spec: &RunSpec) -> RunRecord {
         events,
         force_samples_n: force,
         wall_s,
-        failure,
+        failure: outcome.failure.as_ref().map(ToString::to_string),
     }
 }

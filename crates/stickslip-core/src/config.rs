@@ -7,6 +7,7 @@
 use crate::drive::{Drive, Integrator};
 use crate::landau::{LandauParams, Temperature};
 use crate::noise::NoiseKind;
+pub use crate::sim::events::EventConfig;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -155,6 +156,9 @@ pub struct SimConfig {
     pub time: TimeConfig,
     /// Numerical controls.
     pub numerics: NumericsConfig,
+    /// How melting events are delimited.
+    #[serde(default)]
+    pub events: EventConfig,
 }
 
 fn positive(key: &str, v: f64) -> Result<(), ConfigError> {
@@ -340,6 +344,21 @@ impl SimConfig {
                 ));
             }
         }
+        let e = &self.events;
+        if !(e.merge_gap_s.is_finite() && e.merge_gap_s >= 0.0) {
+            return Err(ConfigError::new(
+                "output.event_merge_gap",
+                e.merge_gap_s,
+                "finite and >= 0 s",
+            ));
+        }
+        if !(e.recovery_factor.is_finite() && e.recovery_factor > 1.0) {
+            return Err(ConfigError::new(
+                "output.event_recovery",
+                e.recovery_factor,
+                "finite and > 1 (a multiple of lubricant.melt_threshold)",
+            ));
+        }
         let n = &self.numerics;
         if !(n.coupling_tol.is_finite() && n.coupling_tol > 0.0 && n.coupling_tol < 1.0) {
             return Err(ConfigError::new(
@@ -410,6 +429,7 @@ impl SimConfig {
                 adaptive: None,
             },
             numerics: NumericsConfig::default(),
+            events: EventConfig::default(),
         }
     }
 }

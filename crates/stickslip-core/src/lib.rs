@@ -6,7 +6,9 @@
 //!   paper's plain sums and as product integration;
 //! - [`landau`]: Landau kinetics of the film order parameter (Eq. 1–8, 17, 18);
 //! - [`noise`]: reproducible thermal noise ξ(t) from seeded ChaCha streams;
-//! - [`drive`]: the spring-driven stamp (Eq. 10) and the rigid coupler.
+//! - [`drive`]: the spring-driven stamp (Eq. 10) and the rigid coupler;
+//! - [`sim`]: one step of either scheme, melting events, adaptive steps;
+//! - [`preflight`]: derived and stability numbers, estimates and the run-or-refuse verdict.
 //!
 //! Invariant: this crate does no file I/O and knows nothing of TOML, CSV or SVG.
 
@@ -16,4 +18,5 @@ pub mod grid;
 pub mod landau;
 pub mod mdr;
 pub mod noise;
+pub mod preflight;
 pub mod sim;

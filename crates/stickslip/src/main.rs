@@ -1,20 +1,30 @@
-//! The `stickslip` command line: `run`, `check` and `resume` (see INTERFACE.md).
+//! The `stickslip` command line: `run`, `check`, `resume` and `keys` (see
+//! INTERFACE.md and `docs/reference.md`).
 //!
-//! Exit status: 0 success, 2 bad scene or arguments (clap usage errors included), 3 numerical
-//! failure, 1 an I/O error while writing output. Messages go to stderr, prefixed `error: `.
+//! This crate holds arguments, progress, signals, printing and exit codes only; scenes, the
+//! time loop and the output files are the run library's (`stickslip-run`).
 //!
-//! `resume DIR`: 2 when DIR has no checkpoint or an unusable one; for a run that has already
-//! ended, a note and the status that run had (0 finished, 3 failed numerically).
+//! Exit status: 0 success, 1 an I/O error while writing output, 2 bad scene or arguments
+//! (clap usage errors included) or an output directory holding an earlier run without
+//! `--force`, 3 numerical failure (or a refused configuration), 130 interrupted (SIGINT/SIGTERM; a checkpoint is written, `resume` finishes the run).
+//! Messages go to stderr, prefixed `error: `.
+
+mod check;
+mod progress;
+mod reference;
 
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use stickslip::checkpoint::{CheckpointError, DEFAULT_EVERY_S};
-use stickslip::output::report::DerivedReport;
-use stickslip::scene::{ResolvedScene, Scene};
-use stickslip::{RunError, RunOptions, RunSummary};
-use stickslip_core::config::Scheme;
-use stickslip_core::sim::Simulation;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use stickslip_core::preflight::{Finding, Severity};
+use stickslip_run::checkpoint::CheckpointError;
+use stickslip_run::sink::dir::DEFAULT_CHECKPOINT_EVERY_S;
+use stickslip_run::{DirOptions, RunError, RunOutcome, Scene, StopReason};
+
+/// Exit status of an interrupted run (128 + SIGINT).
+pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Stick–slip friction of a lubricant film under a flat stamp.
 #[derive(Debug, Parser)]
@@ -30,7 +40,8 @@ enum Command {
     Run {
         /// Scene file (TOML).
         scene: PathBuf,
-        /// Output directory (created if needed).
+        /// Output directory (created if needed; refused if it holds an earlier run's results,
+        /// unless --force).
         #[arg(long)]
         out: PathBuf,
         /// Override a scene value, e.g. `--set contact.nodes=200` (repeatable).
@@ -39,12 +50,16 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Replace the results of an earlier run in the output directory.
+        #[arg(long)]
+        force: bool,
         /// Wall-clock seconds between checkpoints in DIR, from which `resume` finishes a killed
-        /// run; 0 = none.
-        #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_EVERY_S, value_parser = parse_interval)]
+        /// run; 0 = none (Ctrl-C still writes one).
+        #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_CHECKPOINT_EVERY_S, value_parser = parse_interval)]
         checkpoint_every: f64,
     },
-    /// Validate a scene and print its resolved and derived parameters.
+    /// Validate a scene and print its resolved, derived and stability numbers, estimates of
+    /// the first melting and the cost, and warnings.
     Check {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -64,6 +79,12 @@ enum Command {
         #[arg(long, value_name = "SECONDS", value_parser = parse_interval)]
         checkpoint_every: Option<f64>,
     },
+    /// Every scene key with its unit, default, allowed range and meaning.
+    Keys {
+        /// Print the reference as Markdown (docs/reference.md is generated from it).
+        #[arg(long)]
+        markdown: bool,
+    },
 }
 
 /// `--checkpoint-every`: seconds, finite and >= 0.
@@ -77,83 +98,132 @@ fn parse_interval(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Prints the one-line summary of a run, or its error; the exit status.
-fn report(name: &str, out: &std::path::Path, result: Result<RunSummary, RunError>) -> ExitCode {
-    match result {
-        Ok(summary) => {
-            println!(
-                "{name}: {} steps to t = {:e} s, {} melting events, {:.2} s wall; output in {}",
-                summary.steps,
-                summary.t_final_s,
-                summary.events.len(),
-                summary.wall_seconds,
-                out.display()
-            );
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            let code = u8::try_from(e.exit_code()).unwrap_or(1);
-            fail(e, code)
-        }
-    }
-}
-
-fn fail(message: impl std::fmt::Display, code: u8) -> ExitCode {
+/// Prints `message` as an error and returns `code`.
+pub fn fail(message: impl std::fmt::Display, code: u8) -> ExitCode {
     eprintln!("error: {message}");
     ExitCode::from(code)
 }
 
-fn print_check(scene: &ResolvedScene) {
-    println!("# resolved scene (defaults filled in)");
-    print!("{}", scene.resolved.to_toml_string());
-    let rho = Simulation::new(scene.config.clone(), scene.output.event_merge_gap_s)
-        .map(|mut sim| sim.lagged_sweep_contraction())
-        .unwrap_or(f64::NAN);
-    let d = DerivedReport::of(scene, rho);
-    let c = &scene.config;
-    println!();
-    println!("# derived parameters");
-    println!("b = {:e} Pa", d.b);
-    println!("A = {:e} Pa", d.a);
-    println!("eps_c = {}", d.eps_c);
-    println!("phi0 = {}", d.phi0);
-    println!("omega = {} rad/s", d.omega);
-    println!("g_eff = {:e} Pa", d.g_eff);
-    println!("nodes = {}", d.nodes);
-    println!("steps = {}", d.steps_planned);
-    println!(
-        "lagged_sweep_contraction = {:.4} (rho of the paper's lagged elastic sweep at t = 0; \
-         the literal scheme needs < 1)",
-        d.lagged_sweep_contraction
-    );
-    if c.time.scheme == Scheme::Literal {
-        // Explicit Euler on Eq. 8 at the solid equilibrium (ε = 0): |∂rhs/∂φ| = 2γ·A·b/a.
-        let stiffness = 2.0 * c.lubricant.gamma_per_pa_s * d.a.max(0.0) * d.b / c.lubricant.a_pa;
-        println!(
-            "euler_number = {} (literal scheme: gamma*dt*2*A*b/a, stable below 2)",
-            stiffness * c.time.dt_s
-        );
+/// A flag set by SIGINT and SIGTERM.
+///
+/// # Errors
+/// If the handlers cannot be installed.
+pub fn interrupt_flag() -> std::io::Result<Arc<AtomicBool>> {
+    let flag = Arc::new(AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(signal, Arc::clone(&flag))?;
+    }
+    Ok(flag)
+}
+
+/// Prints findings of at least warning severity (and notes when `notes`) to stderr.
+pub fn print_findings(findings: &[Finding], notes: bool) {
+    for f in findings {
+        match f.severity {
+            Severity::Warning => eprintln!("warning: {}", f.message),
+            Severity::Note if notes => eprintln!("note: {}", f.message),
+            _ => {}
+        }
     }
 }
 
-/// The literal scheme's explicit Euler is unstable for Δt·2γAb/a > 2 at the solid equilibrium;
-/// just beyond that a run can finish with plausible-looking but wrong numbers (the convergence
-/// report measured f_peak 40 % off at 2.4), so say so before running.
-fn warn_unstable_euler(scene: &ResolvedScene) {
-    let c = &scene.config;
-    if c.time.scheme != Scheme::Literal {
-        return;
+/// Reports the end of a run; the exit status.
+fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
+    match outcome.stop {
+        StopReason::Interrupted => {
+            eprintln!(
+                "interrupted at t = {:e} s (step {}, {} events so far); checkpoint written to {}\n\
+                 resume with: stickslip resume {}",
+                outcome.t_final_s,
+                outcome.counts.steps,
+                outcome.events.len(),
+                stickslip_run::checkpoint::path(dir).display(),
+                dir.display()
+            );
+            ExitCode::from(EXIT_INTERRUPTED)
+        }
+        StopReason::Failure => {
+            let failure = outcome
+                .failure
+                .as_ref()
+                .map_or_else(String::new, ToString::to_string);
+            fail(
+                format!(
+                    "{failure} (output up to the failure written to {})",
+                    dir.display()
+                ),
+                3,
+            )
+        }
+        StopReason::End | StopReason::MaxEvents => {
+            println!(
+                "{name}: {} steps to t = {:e} s, {} melting events, {:.2} s wall; output in {}",
+                outcome.counts.steps,
+                outcome.t_final_s,
+                outcome.events.len(),
+                outcome.wall_seconds,
+                dir.display()
+            );
+            println!("summary: {}", outcome.summary_line());
+            ExitCode::SUCCESS
+        }
     }
-    let a_coeff = scene.derived.a_coeff_pa.max(0.0);
-    let number = c.time.dt_s * 2.0 * c.lubricant.gamma_per_pa_s * a_coeff * scene.derived.b_pa
-        / c.lubricant.a_pa;
-    if number > 2.0 {
-        eprintln!(
-            "warning: time.dt x 2*gamma*A*b/a = {number:.3} > 2: the literal scheme's explicit \
-             Euler is beyond its stability limit; the run may fail (exit 3) or finish with wrong \
-             numbers. Use time.dt < {:e} s or time.scheme = \"accurate\".",
-            2.0 * c.time.dt_s / number
-        );
+}
+
+fn run_error(e: &RunError) -> ExitCode {
+    let code = u8::try_from(e.exit_code()).unwrap_or(1);
+    fail(e, code)
+}
+
+fn run(scene: &Path, out: &Path, set: &[String], quiet: bool, options: &DirOptions) -> ExitCode {
+    let resolved = match Scene::from_path(scene, set) {
+        Ok(r) => r,
+        Err(e) => return fail(e, 2),
+    };
+    let flag = match interrupt_flag() {
+        Ok(f) => f,
+        Err(e) => return fail(format!("cannot install signal handlers: {e}"), 1),
+    };
+    let mut bar = progress::Bar::new(quiet);
+    let mut poll = |p: &stickslip_run::driver::Progress| bar.update(p);
+    let mut control = stickslip_run::Control {
+        interrupt: Some(&flag),
+        poll: Some(&mut poll),
+        ..Default::default()
+    };
+    let mut warn = |findings: &[Finding]| print_findings(findings, false);
+    control.on_start = Some(&mut warn);
+    let result = stickslip_run::run_to_dir(&resolved, out, options, &mut control);
+    drop(control);
+    bar.finish();
+    match result {
+        Ok(outcome) => report(&resolved.name, out, &outcome),
+        Err(e) => run_error(&e),
+    }
+}
+
+fn resume(dir: &Path, quiet: bool, checkpoint_every: Option<f64>) -> ExitCode {
+    let flag = match interrupt_flag() {
+        Ok(f) => f,
+        Err(e) => return fail(format!("cannot install signal handlers: {e}"), 1),
+    };
+    let mut bar = progress::Bar::new(quiet);
+    let mut poll = |p: &stickslip_run::driver::Progress| bar.update(p);
+    let mut control = stickslip_run::Control {
+        interrupt: Some(&flag),
+        poll: Some(&mut poll),
+        ..Default::default()
+    };
+    let result = stickslip_run::resume(dir, checkpoint_every, &mut control);
+    drop(control);
+    bar.finish();
+    match result {
+        Ok((scene, outcome)) => report(&scene.name, dir, &outcome),
+        Err(RunError::Checkpoint(e @ CheckpointError::Finished { .. })) if e.exit_code() == 0 => {
+            println!("{e}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => run_error(&e),
     }
 }
 
@@ -165,43 +235,34 @@ fn main() -> ExitCode {
             out,
             set,
             quiet,
+            force,
             checkpoint_every,
-        } => {
-            let resolved = match Scene::from_path(&scene, &set) {
-                Ok(r) => r,
-                Err(e) => return fail(e, 2),
-            };
-            let options = RunOptions {
-                quiet,
+        } => run(
+            &scene,
+            &out,
+            &set,
+            quiet,
+            &DirOptions {
+                force,
                 checkpoint_every_s: checkpoint_every,
-            };
-            warn_unstable_euler(&resolved);
-            report(
-                &resolved.name,
-                &out,
-                stickslip::run(&resolved, &out, &options),
-            )
-        }
+            },
+        ),
         Command::Check { scene, set } => match Scene::from_path(&scene, &set) {
-            Ok(r) => {
-                print_check(&r);
-                ExitCode::SUCCESS
-            }
+            Ok(r) => check::print(&r),
             Err(e) => fail(e, 2),
         },
         Command::Resume {
             dir,
             quiet,
             checkpoint_every,
-        } => match stickslip::resume(&dir, quiet, checkpoint_every) {
-            Ok((scene, summary)) => report(&scene.name, &dir, Ok(summary)),
-            Err(RunError::Checkpoint(e @ CheckpointError::Finished { .. }))
-                if e.exit_code() == 0 =>
-            {
-                println!("{e}");
-                ExitCode::SUCCESS
+        } => resume(&dir, quiet, checkpoint_every),
+        Command::Keys { markdown } => {
+            if markdown {
+                print!("{}", reference::markdown());
+            } else {
+                print!("{}", stickslip_run::keys::table_text());
             }
-            Err(e) => report("", &dir, Err(e)),
-        },
+            ExitCode::SUCCESS
+        }
     }
 }

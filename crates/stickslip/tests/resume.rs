@@ -9,8 +9,6 @@ use common::{bin, run, scene, texts};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Stdio};
 use std::time::{Duration, Instant, SystemTime};
-use stickslip::scene::Scene;
-use stickslip_core::sim::Simulation;
 
 /// fig2 at N = 100 to 1 ms (four melting events, about 2 s in the dev profile, several times
 /// the span of the kills below) with thermal noise, so the checkpoint must carry the noise
@@ -137,31 +135,6 @@ fn killed_run(dir: &Path) {
     ));
     wait_until("the first checkpoint", || checkpoint(dir).exists());
     kill(child, dir);
-}
-
-#[test]
-fn simulation_state_carries_the_noise_generators() {
-    // The precondition of resuming gaussian runs: the state a checkpoint saves must follow the
-    // noise generators, or a resumed run replays the noise from its start.
-    let scene = Scene::from_path(
-        &scene("fig2"),
-        &[
-            "contact.nodes=10",
-            "lubricant.noise.kind=gaussian",
-            "time.end=1e-6",
-            "output.profile_times=[1e-6]",
-        ],
-    )
-    .unwrap();
-    let mut sim = Simulation::new(scene.config.clone(), scene.output.event_merge_gap_s).unwrap();
-    let before = sim.state().noise.clone();
-    sim.step(scene.config.time.dt_s).unwrap();
-    assert_ne!(
-        sim.state().noise,
-        before,
-        "Simulation::state().noise still holds the initial generator positions after a step: \
-         stickslip-core must keep SimState::noise up to date for checkpoints"
-    );
 }
 
 #[test]

@@ -1,18 +1,78 @@
-//! Merged melting events: onset, first-melting radius, peak force, front arrival at the centre.
+//! Melting events, one per melt–recover cycle of the film, and the statistics of each cycle.
 //!
-//! An event begins when the number of melted nodes (φ < threshold) rises from zero. While a
-//! melting front passes, nodes flicker around the threshold, so a rise that comes less than
-//! `merge_gap_s` after the contact was last fully solid continues the current event.
+//! ## The rule
+//! An event **begins** when a node melts (φ < threshold, or melting located inside the step)
+//! while no event is open. It stays open until the film has **recovered**: every node is back
+//! at or above the recovery level
+//!
+//! φ_rec(t) = min(k·threshold, ½·(threshold + φ_eq(t))),  φ_eq(t) = √(A(t)/a),
+//!
+//! k = `events.recovery_factor` (scene key `output.event_recovery`, default 2). That time is
+//! the event's `t_end`. A melting that begins less than `merge_gap_s` after the previous event
+//! ended continues that event (scene key `output.event_merge_gap`, default 0: off).
+//!
+//! ## Why a hysteresis and not a time gap
+//! While a melting front passes, nodes cross the threshold one after another, and in the
+//! accurate scheme each melting is instantaneous (a node touches the threshold and regrows
+//! within the step), so the number of melted nodes drops to zero between two nodes of the
+//! same front; with gaussian noise a node next to the front can also dip below the threshold
+//! a few ns early. None of these returns the *film* above φ_rec, so none ends the event. A
+//! fixed time gap, the earlier rule, merged whole cycles once the stick–slip period was
+//! shorter than the gap (the rigid drive at 0.1–1 m/s has periods of 2.2–0.3 µs). The
+//! hysteresis has no time scale: it separates cycles at any period as long as the film
+//! regrows above φ_rec between them; k = 2 keeps cycles apart down to a recovery of a few
+//! percent of φ_eq, where SPEC §6 calls the regime `smooth`.
+//!
+//! ## Cycle statistics
+//! Each event also carries what happened from its onset to the next onset (or to the end of
+//! the run): the largest area-weighted ⟨φ⟩ relative to φ_eq(t) (`recovery`) and the time-mean
+//! friction force (`f_mean_n`), integrated over every step, not over sampled rows. The
+//! tracker also counts the time during which no node was solid after the first onset, for
+//! the `sliding` regime.
 
 use serde::{Deserialize, Serialize};
 
-/// One merged melting event.
+/// How events are delimited (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EventConfig {
+    /// A melting that begins less than this after the previous event ended continues that
+    /// event, s (0 = never).
+    pub merge_gap_s: f64,
+    /// k of the recovery level φ_rec = min(k·threshold, ½·(threshold + φ_eq)); > 1.
+    pub recovery_factor: f64,
+}
+
+impl Default for EventConfig {
+    fn default() -> Self {
+        Self {
+            merge_gap_s: 0.0,
+            recovery_factor: 2.0,
+        }
+    }
+}
+
+impl EventConfig {
+    /// The recovery level φ_rec for melting threshold `threshold` and the solid equilibrium
+    /// `phi_eq` = √(A/a) now. When φ_eq ≤ threshold no solid film exists, and φ_rec is
+    /// k·threshold (out of reach: the event stays open).
+    #[must_use]
+    pub fn recovery_phi(&self, threshold: f64, phi_eq: f64) -> f64 {
+        let level = self.recovery_factor * threshold;
+        if phi_eq > threshold {
+            level.min(0.5 * (threshold + phi_eq))
+        } else {
+            level
+        }
+    }
+}
+
+/// One melting event and the cycle that follows it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MeltingEvent {
     /// Event number, from 1.
     pub k: usize,
-    /// Onset time, s: the melted count rose from zero (located inside the step by the
-    /// accurate scheme, the step's end for the literal one).
+    /// Onset time, s: the first node melted (located inside the step by the accurate scheme,
+    /// the step's end for the literal one).
     pub t_onset_s: f64,
     /// Radius of the outermost node melted at the onset, m.
     pub r_first_m: f64,
@@ -26,8 +86,16 @@ pub struct MeltingEvent {
     pub t_center_s: Option<f64>,
     /// Largest melted area fraction during the event.
     pub max_melted_fraction: f64,
-    /// Last time the contact became fully solid again during the event, s.
+    /// When the film had recovered (every node at or above the recovery level), s; `None`
+    /// while the event is open.
     pub t_end_s: Option<f64>,
+    /// Largest area-weighted ⟨φ⟩/φ_eq(t) from this onset to the next one (or the end of the
+    /// run): 1 when the film re-solidifies fully between events.
+    #[serde(default)]
+    pub recovery: f64,
+    /// Time-mean friction force from this onset to the next one (or the end of the run), N.
+    #[serde(default)]
+    pub f_mean_n: f64,
 }
 
 /// What the tracker needs from one step.
@@ -46,6 +114,10 @@ pub struct StepSample {
     pub f_n: f64,
     /// Number of melted nodes.
     pub melted_nodes: usize,
+    /// Number of nodes melted or below the recovery level.
+    pub unrecovered_nodes: usize,
+    /// Number of solid nodes (φ ≥ threshold and not melted during the step).
+    pub solid_nodes: usize,
     /// Radius of the outermost melted node, m (meaningless when none is melted).
     pub outermost_melted_m: f64,
     /// Radius of the innermost melted node, m (meaningless when none is melted).
@@ -54,39 +126,88 @@ pub struct StepSample {
     pub center_melted: bool,
     /// Melted area fraction.
     pub melted_fraction: f64,
+    /// Area-weighted mean of φ.
+    pub phi_mean: f64,
+    /// Solid equilibrium φ_eq = √(A(t)/a) now (0 when A ≤ 0).
+    pub phi_eq: f64,
 }
 
-/// Detects and merges melting events step by step; its state is checkpointable.
+/// Running sums of the open cycle (from the last onset on).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+struct CycleSums {
+    /// ∫F dt since the onset, N·s.
+    force_integral_ns: f64,
+    /// Time since the onset, s.
+    duration_s: f64,
+    /// Largest ⟨φ⟩/φ_eq since the onset.
+    recovery: f64,
+}
+
+/// Detects events step by step; its state is checkpointable.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EventTracker {
-    merge_gap_s: f64,
+    config: EventConfig,
     events: Vec<MeltingEvent>,
-    melted_before: usize,
-    last_solid_s: Option<f64>,
+    open: bool,
+    last_end_s: Option<f64>,
     f_max_since_onset_n: f64,
+    /// Time and force of the previous step (for the trapezoidal ∫F dt).
+    last_t_s: f64,
+    last_f_n: f64,
+    cycle: CycleSums,
+    /// Time after the first onset during which no node was solid, s.
+    no_solid_s: f64,
 }
 
 impl EventTracker {
-    /// A tracker merging rises closer than `merge_gap_s` to the last return to fully solid.
-    pub fn new(merge_gap_s: f64) -> Self {
+    /// A tracker with the given rules.
+    #[must_use]
+    pub fn new(config: EventConfig) -> Self {
         Self {
-            merge_gap_s,
+            config,
             events: Vec::new(),
-            melted_before: 0,
-            last_solid_s: None,
+            open: false,
+            last_end_s: None,
             f_max_since_onset_n: f64::NEG_INFINITY,
+            last_t_s: 0.0,
+            last_f_n: 0.0,
+            cycle: CycleSums::default(),
+            no_solid_s: 0.0,
         }
     }
 
-    /// Feeds one step.
+    /// The rules.
+    #[must_use]
+    pub fn config(&self) -> EventConfig {
+        self.config
+    }
+
+    /// Feeds one step (or the initial state, with `t_s` = 0).
     pub fn observe(&mut self, s: &StepSample) {
+        let dt = s.t_s - self.last_t_s;
+        if !self.events.is_empty() && dt > 0.0 {
+            self.cycle.force_integral_ns += 0.5 * (self.last_f_n + s.f_n) * dt;
+            self.cycle.duration_s += dt;
+            if s.solid_nodes == 0 {
+                self.no_solid_s += dt;
+            }
+        }
+        self.last_t_s = s.t_s;
+        self.last_f_n = s.f_n;
         self.f_max_since_onset_n = self.f_max_since_onset_n.max(s.f_n);
-        if self.melted_before == 0 && s.melted_nodes > 0 {
+        if !self.open && s.melted_nodes > 0 {
+            self.open = true;
             let continues = matches!(
-                (self.events.last(), self.last_solid_s),
-                (Some(_), Some(t_solid)) if s.t_s - t_solid < self.merge_gap_s
+                (self.events.last(), self.last_end_s),
+                (Some(_), Some(t_end)) if s.t_s - t_end < self.config.merge_gap_s
             );
-            if !continues {
+            if continues {
+                if let Some(ev) = self.events.last_mut() {
+                    ev.t_end_s = None;
+                }
+            } else {
+                // The step up to here belongs to the cycle that this onset closes.
+                self.write_cycle();
                 self.events.push(MeltingEvent {
                     k: self.events.len() + 1,
                     t_onset_s: s.first_melt_s,
@@ -97,9 +218,15 @@ impl EventTracker {
                     t_center_s: None,
                     max_melted_fraction: 0.0,
                     t_end_s: None,
+                    recovery: 0.0,
+                    f_mean_n: 0.0,
                 });
                 self.f_max_since_onset_n = s.f_n;
+                self.cycle = CycleSums::default();
             }
+        }
+        if !self.events.is_empty() && s.phi_eq > 0.0 {
+            self.cycle.recovery = self.cycle.recovery.max(s.phi_mean / s.phi_eq);
         }
         if s.melted_nodes > 0
             && let Some(ev) = self.events.last_mut()
@@ -110,17 +237,135 @@ impl EventTracker {
                 ev.t_center_s = Some(s.t_s);
             }
         }
-        if self.melted_before > 0 && s.melted_nodes == 0 {
-            self.last_solid_s = Some(s.t_s);
+        if self.open && s.unrecovered_nodes == 0 {
+            self.open = false;
+            self.last_end_s = Some(s.t_s);
             if let Some(ev) = self.events.last_mut() {
                 ev.t_end_s = Some(s.t_s);
             }
         }
-        self.melted_before = s.melted_nodes;
+        self.write_cycle();
     }
 
-    /// Events so far.
+    /// Copies the open cycle's statistics into the last event.
+    fn write_cycle(&mut self) {
+        let cycle = self.cycle;
+        if let Some(ev) = self.events.last_mut() {
+            ev.recovery = cycle.recovery;
+            ev.f_mean_n = if cycle.duration_s > 0.0 {
+                cycle.force_integral_ns / cycle.duration_s
+            } else {
+                self.last_f_n
+            };
+        }
+    }
+
+    /// Events so far (the last one's cycle statistics run to the current step).
+    #[must_use]
     pub fn events(&self) -> &[MeltingEvent] {
         &self.events
+    }
+
+    /// Events that have ended (the film recovered after them).
+    #[must_use]
+    pub fn ended(&self) -> usize {
+        self.events.len() - usize::from(self.open)
+    }
+
+    /// Whether an event is open now.
+    #[must_use]
+    pub fn is_open(&self) -> bool {
+        self.open
+    }
+
+    /// Time after the first onset during which no node was solid, s.
+    #[must_use]
+    pub fn no_solid_time_s(&self) -> f64 {
+        self.no_solid_s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(t_s: f64, melted: usize, unrecovered: usize) -> StepSample {
+        StepSample {
+            t_s,
+            first_melt_s: t_s,
+            v_m_per_s: 1.0,
+            x_m: t_s,
+            f_n: 1.0,
+            melted_nodes: melted,
+            unrecovered_nodes: unrecovered,
+            solid_nodes: 10 - melted,
+            outermost_melted_m: 1.0,
+            innermost_melted_m: 0.5,
+            center_melted: false,
+            melted_fraction: melted as f64 / 10.0,
+            phi_mean: 1.0,
+            phi_eq: 1.0,
+        }
+    }
+
+    #[test]
+    fn flicker_inside_an_unrecovered_film_is_one_event() {
+        let mut tr = EventTracker::new(EventConfig::default());
+        for (t, m, u) in [
+            (0.0, 0, 0),
+            (1.0, 2, 3),
+            (2.0, 0, 3),
+            (3.0, 1, 2),
+            (4.0, 0, 0),
+        ] {
+            tr.observe(&sample(t, m, u));
+        }
+        assert_eq!(tr.events().len(), 1);
+        assert_eq!(tr.events()[0].t_end_s, Some(4.0));
+        assert_eq!(tr.ended(), 1);
+    }
+
+    #[test]
+    fn a_recovered_film_starts_a_new_event_unless_within_the_merge_gap() {
+        for (gap, expected) in [(0.0, 2), (0.5, 2), (2.0, 1)] {
+            let mut tr = EventTracker::new(EventConfig {
+                merge_gap_s: gap,
+                recovery_factor: 2.0,
+            });
+            for (t, m, u) in [
+                (0.0, 0, 0),
+                (1.0, 1, 1),
+                (2.0, 0, 0),
+                (3.0, 1, 1),
+                (4.0, 0, 1),
+            ] {
+                tr.observe(&sample(t, m, u));
+            }
+            assert_eq!(tr.events().len(), expected, "gap {gap}");
+            assert_eq!(tr.ended(), expected - 1, "gap {gap}");
+            assert!(tr.is_open());
+        }
+    }
+
+    #[test]
+    fn recovery_level_stays_between_threshold_and_equilibrium() {
+        let c = EventConfig::default();
+        assert_eq!(c.recovery_phi(0.01, 1.2), 0.02);
+        assert_eq!(c.recovery_phi(0.01, 0.02), 0.015);
+        assert_eq!(c.recovery_phi(0.01, 0.005), 0.02);
+    }
+
+    #[test]
+    fn cycle_mean_force_is_the_trapezoidal_time_mean() {
+        let mut tr = EventTracker::new(EventConfig::default());
+        let mut s = sample(0.0, 0, 0);
+        tr.observe(&s);
+        s = sample(1.0, 1, 1);
+        s.f_n = 2.0;
+        tr.observe(&s);
+        s = sample(3.0, 0, 0);
+        s.f_n = 4.0;
+        tr.observe(&s);
+        assert_eq!(tr.events()[0].f_mean_n, 3.0);
     }
 }

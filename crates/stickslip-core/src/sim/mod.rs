@@ -194,7 +194,7 @@ impl Simulation {
     ///
     /// # Errors
     /// The first invalid configuration value.
-    pub fn new(config: SimConfig, merge_gap_s: f64) -> Result<Self, crate::config::ConfigError> {
+    pub fn new(config: SimConfig) -> Result<Self, crate::config::ConfigError> {
         config.validate()?;
         let n = config.simulated_nodes();
         let c = config.contact;
@@ -247,7 +247,7 @@ impl Simulation {
             tau_pa: vec![0.0; n],
             force_n: 0.0,
             noise: noise.state(),
-            events: EventTracker::new(merge_gap_s),
+            events: EventTracker::new(config.events),
             coupling_iterations: 0,
             last_dt_s: 0.0,
             next_dt_s: 0.0,
@@ -809,6 +809,13 @@ impl Simulation {
         }
     }
 
+    /// The physics of this configuration before it runs (derived and stability numbers,
+    /// estimates, the verdict); computes the lagged-sweep contraction factor from the state now.
+    pub fn preflight(&mut self) -> crate::preflight::Preflight {
+        let rho = self.lagged_sweep_contraction();
+        crate::preflight::Preflight::of(&self.config, rho)
+    }
+
     /// Scalar observables now (computes F from 2∫q dx with one forward transform).
     pub fn observables(&mut self) -> Observables {
         let f_1d_n = match &self.contact {
@@ -848,16 +855,31 @@ impl Simulation {
     }
 
     fn observe_events(&mut self) {
-        let mut count = 0;
+        let thr = self.config.melt_threshold;
+        let a_coeff = self.config.temperature.a_coeff_pa(self.state.drive.t_s);
+        let phi_eq = self.config.lubricant.equilibrium_phi(0.0, a_coeff);
+        let recovery_phi = self.config.events.recovery_phi(thr, phi_eq);
+        let mut melted_nodes = 0;
+        let mut unrecovered_nodes = 0;
+        let mut solid_nodes = 0;
         let mut outer = 0.0_f64;
         let mut inner = f64::INFINITY;
         let mut fraction = 0.0;
+        let mut phi_mean = 0.0;
         for i in 0..self.state.phi.len() {
+            let phi = self.state.phi[i];
+            phi_mean += self.area_weights[i] * phi;
             if self.is_melted(i) {
-                count += 1;
+                melted_nodes += 1;
+                unrecovered_nodes += 1;
                 outer = outer.max(self.radii_m[i]);
                 inner = inner.min(self.radii_m[i]);
                 fraction += self.area_weights[i];
+            } else {
+                solid_nodes += 1;
+                if phi < recovery_phi {
+                    unrecovered_nodes += 1;
+                }
             }
         }
         let sample = StepSample {
@@ -867,11 +889,15 @@ impl Simulation {
             v_m_per_s: self.state.drive.v_m_per_s,
             x_m: self.state.drive.x_m,
             f_n: self.state.force_n,
-            melted_nodes: count,
+            melted_nodes,
+            unrecovered_nodes,
+            solid_nodes,
             outermost_melted_m: outer,
             innermost_melted_m: inner,
             center_melted: self.is_melted(0),
             melted_fraction: fraction,
+            phi_mean,
+            phi_eq,
         };
         self.state.events.observe(&sample);
     }

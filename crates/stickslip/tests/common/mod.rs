@@ -29,7 +29,7 @@ pub fn texts(out: &Output) -> (String, String) {
     )
 }
 
-/// A CSV file: header names and rows of numbers (empty fields as NaN).
+/// A CSV output file, read with the run library's parser (empty fields as NaN).
 pub struct Csv {
     /// Column names.
     pub header: Vec<String>,
@@ -38,32 +38,16 @@ pub struct Csv {
 }
 
 impl Csv {
-    /// Reads and parses `path`; panics with the offending line if a field is not a number.
+    /// Reads and parses `path`; panics with the parser's message.
     pub fn read(path: &Path) -> Self {
         let text = std::fs::read_to_string(path)
             .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-        let mut lines = text.lines();
-        let header = lines
-            .next()
-            .unwrap_or_else(|| panic!("{} is empty", path.display()))
-            .split(',')
-            .map(str::to_string)
-            .collect();
-        let rows = lines
-            .map(|l| {
-                l.split(',')
-                    .map(|f| {
-                        if f.is_empty() {
-                            f64::NAN
-                        } else {
-                            f.parse()
-                                .unwrap_or_else(|_| panic!("bad number {f:?} in {l:?}"))
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
-        Self { header, rows }
+        let csv = stickslip_run::schema::csv::NumericCsv::parse(&text, &path.display().to_string())
+            .unwrap_or_else(|e| panic!("{e}"));
+        Self {
+            header: csv.header,
+            rows: csv.rows,
+        }
     }
 
     /// The column called `name`.

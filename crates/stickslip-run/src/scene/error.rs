@@ -344,6 +344,19 @@ pub(crate) fn from_de_error(root: &toml::Table, e: &toml::de::Error) -> SceneErr
         return SceneError::missing(&join(field), "see INTERFACE.md");
     }
     let value = lookup(root, &path_keys).map_or_else(|| "?".to_string(), show_value);
+    if message.starts_with("unknown variant `") {
+        // A misspelt word: the allowed words are the key table's.
+        let key = path.clone();
+        let words = crate::keys::KEYS
+            .iter()
+            .find(|k| k.path == key)
+            .map_or_else(|| shorten(message), crate::keys::Key::allowed);
+        return SceneError::Invalid {
+            key: shorten(&key),
+            value,
+            allowed: words,
+        };
+    }
     if let Some(rest) = message.strip_prefix("invalid type: ")
         && let Some((_, expected)) = rest.rsplit_once(", expected ")
     {

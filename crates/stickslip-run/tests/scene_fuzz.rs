@@ -15,7 +15,7 @@ use proptest::test_runner::Config;
 use std::collections::BTreeSet;
 use std::io::Write;
 use std::sync::OnceLock;
-use stickslip::scene::{Scene, SceneError};
+use stickslip_run::scene::{Scene, SceneError};
 use toml::Value;
 
 const NONE: &[&str] = &[];

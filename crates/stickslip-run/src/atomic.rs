@@ -1,15 +1,10 @@
-//! Output files of a run: atomic writing (`DIR/.<name>.tmp`, fsync, rename), the CSV tables
-//! ([`tables`]) and `run.json` ([`report`]).
-//!
-//! Numbers are written with Rust's `{:e}` formatting, the shortest text that parses back to
-//! the same f64 (e.g. `1e-8`, `1.2540123e-3`, `0e0`), so identical runs give identical bytes.
+//! The one atomic writer of the project: a file is written as `DIR/.<name>.tmp`, synced,
+//! renamed into place and its directory synced, so a reader never sees a half-written file and
+//! a crash leaves either the old file or the new one.
 //!
 //! A streamed [`AtomicFile`] knows its [`StreamPosition`] (length and checksum of what it has
 //! written), so a checkpoint can record how far each file got and a resumed run can
 //! [`reopen`](AtomicFile::reopen) it at exactly that point.
-
-pub mod report;
-pub mod tables;
 
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
@@ -169,6 +164,17 @@ impl AtomicFile {
         Ok(self.position)
     }
 
+    /// Flushes and syncs the file and leaves it under its temporary name, for a resumed run
+    /// to continue ([`AtomicFile::reopen`]); dropping it would remove it.
+    ///
+    /// # Errors
+    /// If flushing or syncing fails.
+    pub fn keep_for_resume(mut self) -> io::Result<()> {
+        self.sync_position()?;
+        self.writer = None;
+        Ok(())
+    }
+
     /// Final path of the file.
     pub fn path(&self) -> &Path {
         &self.target
@@ -237,10 +243,18 @@ pub fn write_atomic(dir: &Path, name: &str, bytes: &[u8]) -> io::Result<()> {
     f.commit()
 }
 
-/// Writes `x` in shortest round-trip scientific notation (`{:e}`).
+/// Writes `bytes` to `path` atomically, creating its directory if needed.
 ///
 /// # Errors
-/// Those of the writer.
-pub fn write_num(w: &mut impl Write, x: f64) -> io::Result<()> {
-    write!(w, "{x:e}")
+/// If the directory cannot be created or the file cannot be written, synced or renamed.
+pub fn write_atomic_path(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    std::fs::create_dir_all(dir)?;
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::other(format!("{} has no file name", path.display())))?;
+    write_atomic(dir, &name.to_string_lossy(), bytes)
 }

@@ -1,11 +1,11 @@
 //! Scene resolution through the library: documented defaults, Eq. 9, `--set` value parsing,
 //! the printed resolved scene reading back the same, and no panic on garbage input.
 
-use stickslip::scene::{Scene, SceneError};
 use stickslip_core::config::{ContactModel, Scheme, Substrate};
 use stickslip_core::drive::{Drive, Integrator};
 use stickslip_core::landau::Temperature;
 use stickslip_core::noise::NoiseKind;
+use stickslip_run::scene::{Scene, SceneError};
 
 const MINIMAL: &str = r#"
 name = "minimal"
@@ -46,7 +46,9 @@ fn defaults_are_filled_in() {
     assert_eq!(c.numerics.runaway_stress_factor, 10.0);
     assert_eq!(r.output.profile_times_s, vec![1e-3]);
     assert!(r.output.probe_radii_m.is_empty());
-    assert_eq!(r.output.event_merge_gap_s, 1e-5);
+    assert_eq!(c.events.merge_gap_s, 0.0);
+    assert_eq!(c.events.recovery_factor, 2.0);
+    assert_eq!(r.max_events, None);
     assert_eq!(r.output.series_interval_s, 1e-7);
     assert_eq!(r.steps, 100_000);
     assert!((r.derived.eps_c - 3f64.sqrt()).abs() < 1e-15);

@@ -7,10 +7,10 @@
 //! `stickslip checkpoint 1\n`, the payload length and its FNV-1a checksum (two little-endian
 //! u64), then the payload, a [`Checkpoint`] in CBOR. CBOR stores every f64 with its exact bits
 //! (±inf included, which the event tracker holds), which JSON or TOML would not guarantee. The
-//! payload holds the resolved scene as TOML (so resume needs no scene file), the engine's
-//! [`SimState`] (noise generator positions included), the recorder's position
-//! ([`RecorderState`]: next series mark, next profile, last series time, rows written, and
-//! length and checksum of each streamed file) and the loop index.
+//! payload holds the resolved scene, typed (so resume needs no scene file and resolves
+//! nothing again), the preflight at t = 0, the engine's [`SimState`] (noise generator
+//! positions included), the driver's [`DriverState`] (loop index, recording marks, step
+//! schedule, wall time so far) and the length and checksum of each streamed file.
 //!
 //! ## Why the resumed output is bit-identical
 //! The streamed CSV files grow as `DIR/.<name>.tmp` and are renamed into place at the end.
@@ -19,49 +19,43 @@
 //! file back to the recorded length (dropping rows written after the checkpoint), checks the
 //! checksum, restores the simulation state into a simulation built from the same scene and
 //! continues the same loop from the next index. Every step and every row then repeats what the
-//! uninterrupted run computed, from the same bits. events.csv and run.json are written only at
-//! the end, from the state. run.json differs only in `wall_seconds` (the sum over the
-//! processes of the time spent in the loop up to their last checkpoint, plus the final one's).
+//! uninterrupted run computed, from the same bits. events.csv is written only at the end, from
+//! the state; run.json is rewritten at the end. run.json differs only in `wall_seconds` (the
+//! sum over the processes of the time spent in the loop up to their last checkpoint, plus the
+//! final one's).
 //!
 //! ## Life cycle
-//! `run` removes a checkpoint left in DIR by an earlier run before it creates its files; the
-//! checkpoint is removed again when the run has ended (finished or failed numerically) and all
-//! its output is written. If the process is killed while committing its output, the files
-//! already renamed into place serve as the source of the recorded bytes on resume.
+//! A run interrupted by a signal writes a checkpoint at once (whatever the interval). The
+//! checkpoint is removed when the run has ended (finished or failed numerically) and all its
+//! output is written. If the process is killed while committing its output, the files already
+//! renamed into place serve as the source of the recorded bytes on resume.
+//!
+//! This module knows the file and its payload; the output directory's sink
+//! ([`crate::sink::dir`]) decides when to write one. It does not depend on that sink.
 
-use crate::output::{FNV1A64_INIT, StreamPosition, fnv1a64, write_atomic};
-use crate::runner::Recorder;
+use crate::atomic::{FNV1A64_INIT, StreamPosition, fnv1a64, write_atomic};
+use crate::driver::DriverState;
+use crate::scene::ResolvedScene;
+use crate::schema::run_info::{RunInfo, RunStatus};
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
-use stickslip_core::sim::{SimState, Simulation};
+use std::time::Duration;
+use stickslip_core::preflight::Preflight;
+use stickslip_core::sim::SimState;
 use thiserror::Error;
 
-/// Name of the checkpoint file in the output directory.
+/// File name of the checkpoint in the output directory.
 pub const FILE_NAME: &str = "checkpoint.cbor";
 /// Default wall-clock interval between checkpoints, s: a killed run loses at most about this
 /// much work, and the checkpoint's cost (a few fsyncs) stays far below it.
 pub const DEFAULT_EVERY_S: f64 = 2.0;
 /// First bytes of a checkpoint file; the trailing digit is the format version.
 const MAGIC: &[u8] = b"stickslip checkpoint 1\n";
-/// Loop iterations between looks at the clock: a look costs about as much as a step of the
-/// one-node model, and even slow steps keep the delay well below a second.
-const CLOCK_EVERY: u64 = 8;
-
-/// Where the recorder stands: what `runner`'s recorder needs to carry on exactly as it would
-/// have.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RecorderState {
-    /// Index into the sorted, deduplicated profile times of the next profile to write.
-    pub next_profile: usize,
-    /// k of the next multiple k·series_interval at which a series row is due.
-    pub next_mark: f64,
-    /// Time of the last series row, s (none before the first).
-    pub last_series_t_s: Option<f64>,
-    /// Rows written to series.csv (and probes.csv).
-    pub series_rows: u64,
+/// Length and checksum of each streamed file at the checkpoint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StreamPositions {
     /// series.csv so far.
     pub series: StreamPosition,
     /// probes.csv so far.
@@ -76,22 +70,19 @@ pub struct Checkpoint<'a> {
     /// Version of the program that wrote it: another version may step differently, so resume
     /// refuses it.
     pub version: Cow<'a, str>,
-    /// The resolved scene as TOML (`Scene::to_toml_string`; resolves back to the same scene).
-    pub scene_toml: Cow<'a, str>,
     /// Wall-clock interval between checkpoints of the run, s (0 = none); a resume keeps it
     /// unless told otherwise.
     pub checkpoint_every_s: f64,
-    /// The lagged-sweep contraction factor at t = 0 reported in run.json (computed once, from
-    /// the initial state).
-    pub lagged_sweep_contraction: f64,
-    /// Index of the last loop iteration completed (the loop goes on at the next one).
-    pub loop_index: u64,
-    /// Wall-clock time spent in the time loop so far, s (over all processes of the run).
-    pub wall_seconds: f64,
-    /// The recorder's position.
-    pub recorder: RecorderState,
-    /// The engine's state after iteration `loop_index`.
+    /// The resolved scene.
+    pub scene: Cow<'a, ResolvedScene>,
+    /// The preflight at t = 0 (run.json reports it; it is not recomputed from a later state).
+    pub preflight: Cow<'a, Preflight>,
+    /// The driver's state after its last completed iteration (wall time so far included).
+    pub driver: Cow<'a, DriverState>,
+    /// The engine's state after that iteration.
     pub sim: Cow<'a, SimState>,
+    /// How far each streamed file had got.
+    pub streams: StreamPositions,
 }
 
 impl Checkpoint<'_> {
@@ -278,135 +269,60 @@ fn no_checkpoint(dir: &Path) -> CheckpointError {
              --checkpoint-every 0; rerun it with `stickslip run`",
         );
     }
-    let report = std::fs::read(dir.join("run.json"))
-        .ok()
-        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok());
-    match report
-        .as_ref()
-        .and_then(|r| Some((r.get("status")?.as_str()?, r.get("failure"))))
-    {
-        Some((status, failure)) => CheckpointError::Finished {
-            dir: dir.to_path_buf(),
-            status: status.to_string(),
-            failure: failure.and_then(|f| f.as_str()).map(str::to_string),
-        },
-        None => missing("no interrupted run there"),
+    match RunInfo::read(dir) {
+        Ok(info) if matches!(info.status, RunStatus::Ok | RunStatus::Failed) => {
+            CheckpointError::Finished {
+                dir: dir.to_path_buf(),
+                status: info.status.name().to_string(),
+                failure: info.failure.map(|f| f.message),
+            }
+        }
+        _ => missing("no interrupted run there"),
     }
 }
 
 /// The interval `every_s` (s) as a duration; `None` for 0 (never) and for intervals too long
 /// to come due.
-fn interval(every_s: f64) -> Option<Duration> {
+pub(crate) fn interval(every_s: f64) -> Option<Duration> {
     Duration::try_from_secs_f64(every_s)
         .ok()
         .filter(|d| !d.is_zero())
 }
 
-/// Writes checkpoints from inside the time loop, every `every_s` of wall time; also keeps the
-/// loop's wall-clock account across resumes.
-#[derive(Debug)]
-pub(crate) struct Checkpointer<'a> {
-    dir: &'a Path,
-    every_s: f64,
-    every: Option<Duration>,
-    scene_toml: String,
-    lagged_sweep_contraction: f64,
-    wall_before_s: f64,
-    started: Instant,
-    due: Instant,
-    calls: u64,
-}
-
-impl<'a> Checkpointer<'a> {
-    /// Starts the clock. `wall_before_s`: loop time already spent by earlier processes of the
-    /// run, s.
-    pub(crate) fn new(
-        dir: &'a Path,
-        every_s: f64,
-        scene_toml: String,
-        lagged_sweep_contraction: f64,
-        wall_before_s: f64,
-    ) -> Self {
-        let every = interval(every_s);
-        let started = Instant::now();
-        Self {
-            dir,
-            every_s,
-            every,
-            scene_toml,
-            lagged_sweep_contraction,
-            wall_before_s,
-            started,
-            due: every
-                .and_then(|d| started.checked_add(d))
-                .unwrap_or(started),
-            calls: 0,
-        }
-    }
-
-    /// Wall-clock time spent in the loop, s, over all processes of the run.
-    pub(crate) fn wall_seconds(&self) -> f64 {
-        self.wall_before_s + self.started.elapsed().as_secs_f64()
-    }
-
-    /// Called once per loop iteration, after iteration `loop_index` has been recorded: writes
-    /// a checkpoint when one is due.
-    ///
-    /// # Errors
-    /// If the streamed files cannot be synced or the checkpoint cannot be written.
-    pub(crate) fn tick(
-        &mut self,
-        loop_index: u64,
-        sim: &Simulation,
-        rec: &mut Recorder,
-    ) -> io::Result<()> {
-        let Some(every) = self.every else {
-            return Ok(());
-        };
-        self.calls += 1;
-        if !self.calls.is_multiple_of(CLOCK_EVERY) || Instant::now() < self.due {
-            return Ok(());
-        }
-        let checkpoint = Checkpoint {
-            version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
-            scene_toml: Cow::Borrowed(&self.scene_toml),
-            checkpoint_every_s: self.every_s,
-            lagged_sweep_contraction: self.lagged_sweep_contraction,
-            loop_index,
-            wall_seconds: self.wall_seconds(),
-            // Syncs the streamed files first: the checkpoint must not refer to bytes that a
-            // crash could lose.
-            recorder: rec.snapshot()?,
-            sim: Cow::Borrowed(sim.state()),
-        };
-        save(self.dir, &checkpoint)?;
-        let now = Instant::now();
-        self.due = now.checked_add(every).unwrap_or(now);
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use stickslip_core::config::{Scheme, SimConfig};
+    use crate::driver::{FixedSchedule, RecorderState};
+    use stickslip_core::sim::Simulation;
 
     fn sample() -> Checkpoint<'static> {
-        let mut config = SimConfig::fig2(Scheme::Accurate);
-        config.contact.nodes = 8;
-        let sim = Simulation::new(config, 1e-5).unwrap();
+        let scene = crate::scene::Scene::from_toml_str(
+            include_str!("../../../validation/scenes/fig2.toml"),
+            &["contact.nodes=8"],
+        )
+        .unwrap();
+        let mut sim = Simulation::new(scene.config.clone()).unwrap();
+        let preflight = sim.preflight();
         Checkpoint {
             version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
-            scene_toml: Cow::Borrowed("name = \"x\"\n"),
             checkpoint_every_s: 0.5,
-            lagged_sweep_contraction: 0.25,
-            loop_index: 7,
-            wall_seconds: 1.5,
-            recorder: RecorderState {
-                next_profile: 1,
-                next_mark: 3.0,
-                last_series_t_s: Some(-0.0),
-                series_rows: 2,
+            preflight: Cow::Owned(preflight),
+            driver: Cow::Owned(DriverState {
+                loop_index: 7,
+                recorder: RecorderState {
+                    next_profile: 1,
+                    next_mark: 3.0,
+                    last_series_t_s: Some(-0.0),
+                    series_rows: 2,
+                },
+                schedule: FixedSchedule {
+                    dt_s: 1e-8,
+                    first_index: 0,
+                    steps: 10,
+                },
+                wall_before_s: 1.5,
+            }),
+            streams: StreamPositions {
                 series: StreamPosition::START,
                 probes: StreamPosition {
                     bytes: 10,
@@ -415,6 +331,7 @@ mod tests {
                 profiles: StreamPosition::START,
             },
             sim: Cow::Owned(sim.state().clone()),
+            scene: Cow::Owned(scene),
         }
     }
 
@@ -431,7 +348,7 @@ mod tests {
         assert_eq!(back, c);
         assert_eq!(back.sim.u0_m[2].to_bits(), (-0.0f64).to_bits());
         assert_eq!(
-            back.recorder.last_series_t_s.map(f64::to_bits),
+            back.driver.recorder.last_series_t_s.map(f64::to_bits),
             Some(1 << 63)
         );
     }

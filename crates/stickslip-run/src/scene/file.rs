@@ -4,8 +4,68 @@
 //! their defaults and their allowed ranges are decided when the scene is resolved
 //! ([`super::resolve`]); the resolved scene is this same structure with every default filled in,
 //! so it can be written to `run.json` and read back as a scene.
+//!
+//! Words are serde enums (the core's where it has them), so a misspelt word is a
+//! deserialization error, translated into a message naming the key and the allowed words of
+//! [`crate::keys`].
 
 use serde::{Deserialize, Serialize};
+pub use stickslip_core::config::{ContactModel, Scheme, Substrate};
+pub use stickslip_core::drive::Integrator;
+
+/// `lubricant.noise.kind`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NoiseKindName {
+    /// ξ ~ N(0, σ²Δt) per node and step.
+    Gaussian,
+    /// Deterministic floor φ ≥ floor.
+    Floor,
+    /// No noise.
+    Off,
+}
+
+/// `temperature.law`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TemperatureLaw {
+    /// A constant.
+    Constant,
+    /// A(t) = A0·exp(−t/t̃).
+    Relaxation,
+}
+
+/// `drive.kind`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DriveKind {
+    /// Spring of stiffness K and stamp of mass m (Eq. 10).
+    Spring,
+    /// X = V0·t.
+    Rigid,
+}
+
+/// `time.stepping`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stepping {
+    /// Error-controlled steps.
+    Adaptive,
+    /// Fixed steps of `time.dt`.
+    Fixed,
+}
+
+/// `numerics.operator`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OperatorChoice {
+    /// Fast for the accurate scheme, dense for the literal one.
+    Auto,
+    /// Hierarchical low-rank, O(N) per apply.
+    Fast,
+    /// Dense mat-vec, O(N²) per apply.
+    Dense,
+}
 
 /// A whole scene file as written (see INTERFACE.md). All quantities SI.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -67,7 +127,7 @@ pub struct LubricantSection {
 pub struct NoiseSection {
     /// `"gaussian"`, `"floor"` (default) or `"off"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub kind: Option<String>,
+    pub kind: Option<NoiseKindName>,
     /// σ, s^-1/2 (gaussian only; default 1.0).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sigma: Option<f64>,
@@ -85,7 +145,7 @@ pub struct NoiseSection {
 pub struct TemperatureSection {
     /// `"constant"` (default) or `"relaxation"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub law: Option<String>,
+    pub law: Option<TemperatureLaw>,
     /// A (constant) or A0 (relaxation), Pa.
     #[serde(rename = "A0", skip_serializing_if = "Option::is_none")]
     pub a0: Option<f64>,
@@ -124,10 +184,10 @@ pub struct ContactSection {
     pub nodes: Option<i64>,
     /// `"radial"` (default) or `"homogeneous"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub model: Option<String>,
+    pub model: Option<ContactModel>,
     /// `"elastic"` (default) or `"rigid"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub substrate: Option<String>,
+    pub substrate: Option<Substrate>,
 }
 
 /// `[drive]`: how the stamp is pulled (Eq. 10).
@@ -136,7 +196,7 @@ pub struct ContactSection {
 pub struct DriveSection {
     /// `"spring"` (default) or `"rigid"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub kind: Option<String>,
+    pub kind: Option<DriveKind>,
     /// K, N/m (spring only, required there).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<f64>,
@@ -148,7 +208,7 @@ pub struct DriveSection {
     pub velocity: Option<f64>,
     /// `"verlet"` (default) or `"rk4"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub integrator: Option<String>,
+    pub integrator: Option<Integrator>,
 }
 
 /// `[time]`: interval, step and scheme.
@@ -163,10 +223,10 @@ pub struct TimeSection {
     pub dt: Option<f64>,
     /// `"accurate"` (default) or `"literal"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub scheme: Option<String>,
+    pub scheme: Option<Scheme>,
     /// `"adaptive"` (default for the accurate scheme without gaussian noise) or `"fixed"`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub stepping: Option<String>,
+    pub stepping: Option<Stepping>,
     /// Adaptive: allowed local error per step relative to the error scales (default 1e-4).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
@@ -176,6 +236,9 @@ pub struct TimeSection {
     /// Adaptive: shortest step, s, accepted whatever its error (default 1e-6·min(dt, dt_max)).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dt_min: Option<f64>,
+    /// Stop once this many events have ended (default: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_events: Option<i64>,
 }
 
 /// `[output]`: what is recorded.
@@ -188,9 +251,12 @@ pub struct OutputSection {
     /// Radii of the φ(t) probes, m (default none).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub probe_radii: Option<Vec<f64>>,
-    /// Merge gap of melting events, s (default 1e-5).
+    /// A melting this soon after the previous event ended continues it, s (default 0).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub event_merge_gap: Option<f64>,
+    /// An event ends when every node is back above this multiple of the threshold (default 2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub event_recovery: Option<f64>,
     /// Interval between rows of series.csv and probes.csv, s (default 1e-7; an addition).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub series_interval: Option<f64>,
@@ -209,5 +275,5 @@ pub struct NumericsSection {
     /// `"auto"` (default: fast for the accurate scheme, dense for the literal one), `"fast"`
     /// (hierarchical low-rank, O(N) per apply) or `"dense"` (O(N²) mat-vec).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub operator: Option<String>,
+    pub operator: Option<OperatorChoice>,
 }

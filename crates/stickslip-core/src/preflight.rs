@@ -1,0 +1,265 @@
+//! Before a run: derived numbers, stability numbers, quasi-static estimates and the verdict
+//! (run, or refuse with a typed failure).
+//!
+//! Everything here is physics of the configuration, decided once, in one place: the command
+//! line's `check`, a run's `run.json` and a sweep's refusals all read this record.
+
+use crate::config::{Derived, Scheme, SimConfig};
+use crate::drive::{Drive, free_spring_exact};
+use crate::sim::NumericalFailure;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// Explicit Euler on Eq. 8 is unstable for Δt·|∂rhs/∂φ| above this.
+pub const EULER_STABILITY_LIMIT: f64 = 2.0;
+
+/// How much a finding matters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// Worth knowing; the run is meaningful.
+    Note,
+    /// The run goes ahead but its result may be wrong or empty.
+    Warning,
+    /// The run is refused (it would diverge).
+    Refusal,
+}
+
+/// One statement about a configuration before it runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Finding {
+    /// How much it matters.
+    pub severity: Severity,
+    /// The scene key it is mostly about.
+    pub key: String,
+    /// What it means and what to do, in one or two sentences.
+    pub message: String,
+}
+
+/// The physics of a configuration before it runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Preflight {
+    /// b, A, εc, φ0 and ω.
+    pub derived: Derived,
+    /// Largest friction force the film can carry, τmax·π·a0², N.
+    pub melting_force_n: f64,
+    /// Stamp advance at which the unloaded film reaches εc, εc·h0, m (at t = 0).
+    pub critical_displacement_m: f64,
+    /// Period of the free spring 2π/ω, s (none for the rigid drive).
+    pub spring_period_s: Option<f64>,
+    /// Explicit Euler's stability number Δt·2γ·A·b/a at the solid equilibrium (literal
+    /// scheme only; stable below 2).
+    pub euler_number: Option<f64>,
+    /// Contraction factor ρ of the paper's lagged elastic sweep at t = 0 for this scheme's
+    /// compliance (the literal scheme needs ρ < 1; 0 for a rigid substrate).
+    pub lagged_sweep_contraction: f64,
+    /// Stamp position at `time.end` if friction did not slow it, m.
+    pub stamp_travel_m: f64,
+    /// Quasi-static estimate of the first melting: the first time the free stamp has advanced
+    /// εc(t)·h0, s; 0 when A(0) ≤ 0; none when that does not happen before `time.end`. Real
+    /// onsets come later at high speed (φ lags behind its equilibrium).
+    pub first_onset_estimate_s: Option<f64>,
+    /// Notes, warnings and refusals, in this order of appearance.
+    pub findings: Vec<Finding>,
+}
+
+/// Stamp position without friction at `t_s`, m (spring: the exact free motion; rigid: V0·t).
+#[must_use]
+pub fn free_stamp_position_m(drive: &Drive, t_s: f64) -> f64 {
+    match drive {
+        Drive::Spring(s) => free_spring_exact(s, t_s).0,
+        Drive::Rigid(r) => r.velocity_m_per_s * t_s,
+    }
+}
+
+impl Preflight {
+    /// The preflight of `config`; `lagged_sweep_contraction` comes from the operators
+    /// ([`crate::sim::Simulation::lagged_sweep_contraction`]).
+    #[must_use]
+    pub fn of(config: &SimConfig, lagged_sweep_contraction: f64) -> Self {
+        let derived = Derived::of(config);
+        let l = &config.lubricant;
+        let c = &config.contact;
+        let end = config.time.end_s;
+        let mut findings = Vec::new();
+        let spring_period_s = match config.drive {
+            Drive::Spring(s) => Some(2.0 * PI / s.omega_rad_per_s()),
+            Drive::Rigid(_) => None,
+        };
+        let euler_number = (config.time.scheme == Scheme::Literal).then(|| {
+            config.time.dt_s * 2.0 * l.gamma_per_pa_s * derived.a_coeff_pa.max(0.0) * derived.b_pa
+                / l.a_pa
+        });
+        if let Some(number) = euler_number.filter(|&n| n > EULER_STABILITY_LIMIT) {
+            findings.push(Finding {
+                severity: Severity::Warning,
+                key: "time.dt".into(),
+                message: format!(
+                    "time.dt x 2*gamma*A*b/a = {number:.3} > {EULER_STABILITY_LIMIT}: the literal \
+                     scheme's explicit Euler is beyond its stability limit; the run may fail \
+                     (exit 3) or finish with wrong numbers. Use time.dt < {:e} s or \
+                     time.scheme = \"accurate\".",
+                    EULER_STABILITY_LIMIT * config.time.dt_s / number
+                ),
+            });
+        }
+        if config.time.scheme == Scheme::Literal && lagged_sweep_contraction >= 1.0 {
+            findings.push(Finding {
+                severity: Severity::Refusal,
+                key: "time.scheme".into(),
+                message: lagged_sweep_message(lagged_sweep_contraction),
+            });
+        }
+        let stamp_travel_m = free_stamp_position_m(&config.drive, end);
+        let first_onset_estimate_s = if derived.a_coeff_pa <= 0.0 {
+            findings.push(Finding {
+                severity: Severity::Note,
+                key: "temperature.A0".into(),
+                message: format!(
+                    "A = {:e} Pa <= 0: the film is molten from the start (complete melting, \
+                     F = 0, smooth sliding)",
+                    derived.a_coeff_pa
+                ),
+            });
+            Some(0.0)
+        } else {
+            let onset = first_crossing(config);
+            if onset.is_none() {
+                let a_end = config.temperature.a_coeff_pa(end);
+                findings.push(Finding {
+                    severity: Severity::Warning,
+                    key: "time.end".into(),
+                    message: format!(
+                        "nothing can melt within time.end = {end:e} s: the free stamp advances \
+                         {:e} m, the film melts after about eps_c*h0 = {:e} m. Lengthen \
+                         time.end or raise drive.velocity.",
+                        stamp_travel_m.abs(),
+                        l.critical_strain(a_end) * c.film_thickness_m
+                    ),
+                });
+            }
+            onset
+        };
+        if let Some(period) = spring_period_s.filter(|&p| end > 0.25 * p) {
+            findings.push(Finding {
+                severity: Severity::Note,
+                key: "time.end".into(),
+                message: format!(
+                    "time.end = {end:e} s is more than a quarter of the spring period 2*pi/omega \
+                     = {period:e} s: the stamp no longer follows X = K*V0*t^3/(6m), so runs with \
+                     equal K*V0/m need not agree"
+                ),
+            });
+        }
+        Self {
+            melting_force_n: l.tau_max_pa * PI * c.radius_m * c.radius_m,
+            critical_displacement_m: derived.eps_c * c.film_thickness_m,
+            derived,
+            spring_period_s,
+            euler_number,
+            lagged_sweep_contraction,
+            stamp_travel_m,
+            first_onset_estimate_s,
+            findings,
+        }
+    }
+
+    /// The refusal, if the configuration must not run: the literal scheme's lagged sweep
+    /// diverges when ρ ≥ 1 (an oscillating, meaningless history).
+    #[must_use]
+    pub fn refusal(&self) -> Option<NumericalFailure> {
+        self.findings
+            .iter()
+            .find(|f| f.severity == Severity::Refusal)
+            .map(|f| NumericalFailure {
+                t_s: 0.0,
+                step: 0,
+                node: 0,
+                r_m: 0.0,
+                quantity: "lagged-sweep contraction factor",
+                value: self.lagged_sweep_contraction,
+                diagnosis: f.message.clone(),
+            })
+    }
+
+    /// Findings of at least `severity`.
+    pub fn at_least(&self, severity: Severity) -> impl Iterator<Item = &Finding> {
+        self.findings
+            .iter()
+            .filter(move |f| f.severity as u8 >= severity as u8)
+    }
+}
+
+fn lagged_sweep_message(rho: f64) -> String {
+    format!(
+        "the literal scheme takes u3D from the previous step, a fixed-point sweep that diverges \
+         when its contraction factor rho((a*phi0^2/h0)*C/G*) = {rho:.3} is >= 1 (softer \
+         substrate or thinner film than the scheme can follow); use time.scheme = \"accurate\", \
+         which solves the coupling each step"
+    )
+}
+
+/// First time in [0, end] at which the free stamp has advanced εc(t)·h0, located by a scan
+/// of 4096 intervals and bisection; none if it never does.
+fn first_crossing(config: &SimConfig) -> Option<f64> {
+    let end = config.time.end_s;
+    let h0 = config.contact.film_thickness_m;
+    let gap = |t: f64| {
+        let a = config.temperature.a_coeff_pa(t);
+        free_stamp_position_m(&config.drive, t).abs() - config.lubricant.critical_strain(a) * h0
+    };
+    const SCAN: usize = 4096;
+    let mut lo = 0.0;
+    for j in 1..=SCAN {
+        let t = end * j as f64 / SCAN as f64;
+        if gap(t) >= 0.0 {
+            let mut hi = t;
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if gap(mid) >= 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(hi);
+        }
+        lo = t;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fig2_first_onset_estimate_is_the_cubic_law() {
+        let config = SimConfig::fig2(Scheme::Accurate);
+        let p = Preflight::of(&config, 0.5);
+        // X ≈ V0·ω²t³/6 = εc·h0 → t = (6·εc·h0/(V0·ω²))^(1/3) ≈ 0.59 ms.
+        let omega_sq: f64 = 500.0 / 0.1;
+        let expected = (6.0 * 3f64.sqrt() * 1e-7 / omega_sq).cbrt();
+        let t = p.first_onset_estimate_s.unwrap();
+        assert!((t / expected - 1.0).abs() < 1e-3, "{t} vs {expected}");
+        assert!((p.melting_force_n - 1e6 * PI * 4e-10).abs() < 1e-15);
+        assert!(p.refusal().is_none());
+        assert!(p.euler_number.is_none());
+    }
+
+    #[test]
+    fn short_runs_warn_that_nothing_melts_and_literal_divergence_is_refused() {
+        let mut config = SimConfig::fig2(Scheme::Literal);
+        config.time.end_s = 1e-4;
+        let p = Preflight::of(&config, 1.5);
+        assert!(p.first_onset_estimate_s.is_none());
+        assert!(
+            p.at_least(Severity::Warning)
+                .any(|f| f.key == "time.end" && f.message.contains("nothing can melt"))
+        );
+        let refusal = p.refusal().unwrap();
+        assert_eq!(refusal.value, 1.5);
+        let euler = p.euler_number.unwrap();
+        assert!((euler - 1e-8 * 2.0 * 10.0 * 1.5e6 * 2e6 / 1e6).abs() < 1e-12);
+    }
+}

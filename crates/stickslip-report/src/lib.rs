@@ -1,0 +1,20 @@
+//! stickslip-report: the kit every report of the project is made with.
+//!
+//! - [`plot`]: one plotting layer over plotters' SVG backend (linear and log axes, lines,
+//!   markers, slope guides, reference lines, cells for maps), with one [`palette`];
+//! - [`fmt`]: one number formatter for report prose and tables;
+//! - [`stats`]: one median, mean, coefficient of variation, differences and log–log slope;
+//! - [`binary`]: builds the `stickslip` binary and runs scenes through it as a user would,
+//!   reading what it wrote through the run library's schema;
+//! - [`write_atomic`]: the run library's atomic writer, re-exported (there is one).
+//!
+//! Invariant: no physics and no time loop here; reports are computed from data they are
+//! handed.
+
+pub mod binary;
+pub mod fmt;
+pub mod palette;
+pub mod plot;
+pub mod stats;
+
+pub use stickslip_run::atomic::write_atomic_path as write_atomic;

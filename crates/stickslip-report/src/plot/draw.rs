@@ -1,0 +1,470 @@
+//! Drawing a [`Panel`] with plotters: ranges, axes and mesh, then cells, guides, reference
+//! lines, series, notes and the legend, the same code for every combination of scales.
+
+use super::{Marker, Panel, Scale, Style, decimate, positive};
+use crate::fmt::{tick, trim};
+use crate::palette::{DARK, GREY};
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+
+type Range2 = ((f64, f64), (f64, f64));
+
+/// The data range of one axis over the panel's content.
+fn extent(panel: &Panel, axis: usize, log: bool) -> (f64, f64) {
+    let mut r = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut take = |v: f64| {
+        if v.is_finite() && (!log || v > 0.0) {
+            r = (r.0.min(v), r.1.max(v));
+        }
+    };
+    for s in &panel.series {
+        for &(x, y) in &s.points {
+            let ok = x.is_finite() && y.is_finite();
+            let pos = x > 0.0 && y > 0.0;
+            let both_log = panel.x_scale == Scale::Log && panel.y_scale == Scale::Log;
+            if ok && (!both_log || pos) {
+                take(if axis == 0 { x } else { y });
+            }
+        }
+    }
+    for c in &panel.cells {
+        let (a, b) = if axis == 0 { c.x } else { c.y };
+        take(a);
+        take(b);
+    }
+    if axis == 1 {
+        for (y, _) in &panel.hlines {
+            take(*y);
+        }
+    } else {
+        for (x, _) in &panel.vlines {
+            take(*x);
+        }
+    }
+    r
+}
+
+fn ranges(panel: &Panel) -> Range2 {
+    let xlog = panel.x_scale == Scale::Log;
+    let ylog = panel.y_scale == Scale::Log;
+    let mut xr = extent(panel, 0, xlog);
+    let mut yr = extent(panel, 1, ylog);
+    if !xr.0.is_finite() {
+        xr = if xlog { (1.0, 10.0) } else { (0.0, 1.0) };
+    }
+    if !yr.0.is_finite() {
+        yr = if ylog { (1e-3, 1.0) } else { (0.0, 1.0) };
+    }
+    let log_pad = |(a, b): (f64, f64), f: f64| {
+        let (a, b) = if b > a { (a, b) } else { (a / 2.0, a * 2.0) };
+        let l = (b / a).ln() * f;
+        (a * (-l).exp(), b * l.exp())
+    };
+    let has_cells = !panel.cells.is_empty();
+    let x = panel.x_range.unwrap_or(if xlog {
+        if has_cells { xr } else { log_pad(xr, 0.06) }
+    } else {
+        xr
+    });
+    let y = panel.y_range.unwrap_or_else(|| {
+        if ylog {
+            if has_cells { yr } else { log_pad(yr, 0.12) }
+        } else if has_cells {
+            yr
+        } else {
+            let span = (yr.1 - yr.0).max(1e-300);
+            let lo = if yr.0 >= 0.0 && yr.0 < 0.3 * span {
+                0.0
+            } else {
+                yr.0 - 0.06 * span
+            };
+            (lo, yr.1 + panel.headroom * span)
+        }
+    });
+    let fix = |(a, b): (f64, f64)| if b > a { (a, b) } else { (a - 0.5, a + 0.5) };
+    (fix(x), fix(y))
+}
+
+/// 1, 2, 5 × 10^k inside [lo, hi] (only 10^k when the range spans more than four decades).
+fn decade_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mantissas: &[f64] = if hi / lo > 1e4 {
+        &[1.0]
+    } else {
+        &[1.0, 2.0, 5.0]
+    };
+    let mut e = lo.log10().floor() as i32 - 1;
+    while 10f64.powi(e) <= hi {
+        for &m in mantissas {
+            let v = m * 10f64.powi(e);
+            if v >= lo && v <= hi {
+                out.push(v);
+            }
+        }
+        e += 1;
+    }
+    out
+}
+
+fn linear_decimals(lo: f64, hi: f64) -> usize {
+    let step = (hi - lo) / 8.0;
+    if step <= 0.0 || !step.is_finite() {
+        return 2;
+    }
+    (-step.log10().floor()).max(0.0) as usize
+}
+
+/// Tick text for a linear axis over [lo, hi].
+fn linear_tick(v: f64, lo: f64, hi: f64) -> String {
+    let big = lo.abs().max(hi.abs());
+    if big >= 1e5 || (big < 1e-3 && big > 0.0) {
+        tick(v)
+    } else {
+        let d = linear_decimals(lo, hi);
+        format!("{v:.d$}")
+    }
+}
+
+fn err<E: std::fmt::Debug>(e: E) -> String {
+    format!("{e:?}")
+}
+
+/// Draws `panel` into `area`.
+fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &Panel,
+) -> Result<(), String> {
+    let ((x0, x1), (y0, y1)) = ranges(panel);
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(&panel.title, ("sans-serif", 20))
+        .margin(12)
+        .margin_right(26)
+        .x_label_area_size(50)
+        .y_label_area_size(76);
+    let xt = panel
+        .x_ticks
+        .clone()
+        .unwrap_or_else(|| decade_ticks(x0, x1));
+    let yt = decade_ticks(y0, y1);
+    match (panel.x_scale, panel.y_scale) {
+        (Scale::Linear, Scale::Linear) => fill(
+            builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?,
+            panel,
+        ),
+        (Scale::Log, Scale::Log) => fill(
+            builder
+                .build_cartesian_2d(
+                    (x0..x1).log_scale().with_key_points(xt),
+                    (y0..y1).log_scale().with_key_points(yt),
+                )
+                .map_err(err)?,
+            panel,
+        ),
+        (Scale::Log, Scale::Linear) => fill(
+            builder
+                .build_cartesian_2d((x0..x1).log_scale().with_key_points(xt), y0..y1)
+                .map_err(err)?,
+            panel,
+        ),
+        (Scale::Linear, Scale::Log) => fill(
+            builder
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale().with_key_points(yt))
+                .map_err(err)?,
+            panel,
+        ),
+    }
+}
+
+/// Everything inside the axes, for any pair of coordinate kinds.
+fn fill<'a, DB, X, Y>(
+    mut chart: ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    panel: &Panel,
+) -> Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let ((x0, x1), (y0, y1)) = ranges(panel);
+    let xlog = panel.x_scale == Scale::Log;
+    let ylog = panel.y_scale == Scale::Log;
+    let fx = move |v: &f64| {
+        if xlog {
+            tick(*v)
+        } else {
+            linear_tick(*v, x0, x1)
+        }
+    };
+    let fy = move |v: &f64| {
+        if ylog {
+            tick(*v)
+        } else {
+            linear_tick(*v, y0, y1)
+        }
+    };
+    chart
+        .configure_mesh()
+        .x_desc(panel.x_label.as_str())
+        .y_desc(panel.y_label.as_str())
+        .axis_desc_style(("sans-serif", 17))
+        .label_style(("sans-serif", 14))
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy)
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(220, 220, 220))
+        .draw()
+        .map_err(err)?;
+    chart
+        .draw_series(
+            panel
+                .cells
+                .iter()
+                .map(|c| Rectangle::new([(c.x.0, c.y.0), (c.x.1, c.y.1)], c.color.filled())),
+        )
+        .map_err(err)?;
+    let at_x = |f: f64| {
+        if xlog {
+            x0 * (x1 / x0).powf(f)
+        } else {
+            x0 + f * (x1 - x0)
+        }
+    };
+    for g in &panel.guides {
+        let sign = if g.falling { -1.0 } else { 1.0 };
+        let (ax, ay) = g.anchor;
+        let pts: Vec<(f64, f64)> = (0..=40)
+            .map(|i| at_x(f64::from(i) / 40.0))
+            .map(|x| (x, ay * (x / ax).powf(sign * g.order)))
+            .filter(|&(_, v)| v >= y0 && v <= y1)
+            .collect();
+        if pts.len() >= 2 {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    pts.clone(),
+                    3,
+                    4,
+                    GREY.stroke_width(1),
+                ))
+                .map_err(err)?;
+            let (lx, ly) = pts[pts.len() / 2];
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    format!("order {}", trim(g.order)),
+                    (lx, ly),
+                    ("sans-serif", 13).into_font().color(&GREY),
+                )))
+                .map_err(err)?;
+        }
+    }
+    for (y, label) in &panel.hlines {
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(x0, *y), (x1, *y)],
+                8,
+                5,
+                DARK.stroke_width(1),
+            ))
+            .map_err(err)?;
+        let ly = if ylog {
+            *y * 1.08
+        } else {
+            *y + 0.02 * (y1 - y0)
+        };
+        chart
+            .draw_series(std::iter::once(Text::new(
+                label.clone(),
+                (at_x(0.02), ly),
+                ("sans-serif", 13).into_font().color(&DARK),
+            )))
+            .map_err(err)?;
+    }
+    for (x, label) in &panel.vlines {
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(*x, y0), (*x, y1)],
+                8,
+                5,
+                DARK.stroke_width(2),
+            ))
+            .map_err(err)?;
+        let ly = if ylog {
+            y1 / (y1 / y0).powf(0.06)
+        } else {
+            y1 - 0.06 * (y1 - y0)
+        };
+        chart
+            .draw_series(std::iter::once(Text::new(
+                label.clone(),
+                (*x, ly),
+                ("sans-serif", 13).into_font().color(&DARK),
+            )))
+            .map_err(err)?;
+    }
+    let both_log = xlog && ylog;
+    for s in &panel.series {
+        let pts = if both_log {
+            positive(&s.points)
+        } else {
+            s.points
+                .iter()
+                .copied()
+                .filter(|(x, y)| {
+                    x.is_finite() && y.is_finite() && (!xlog || *x > 0.0) && (!ylog || *y > 0.0)
+                })
+                .collect()
+        };
+        let pts = if s.style == Style::Points || s.marker.is_some() {
+            pts
+        } else {
+            decimate(&pts, 1500)
+        };
+        let color = s.color;
+        if !s.point_labels.is_empty() {
+            let labelled: Vec<((f64, f64), String)> = s
+                .points
+                .iter()
+                .zip(&s.point_labels)
+                .filter(|((x, y), _)| pts.contains(&(*x, *y)))
+                .map(|(&p, l)| (p, l.clone()))
+                .collect();
+            chart
+                .draw_series(labelled.into_iter().map(|(p, l)| {
+                    EmptyElement::at(p)
+                        + Text::new(l, (6, 4), ("sans-serif", 12).into_font().color(&color))
+                }))
+                .map_err(err)?;
+        }
+        let marker = match (s.marker, s.style) {
+            (Some(m), _) => Some(m),
+            (None, Style::Points) => Some(Marker::Circle),
+            _ => None,
+        };
+        let line_anno = match s.style {
+            Style::Solid => Some(
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                    .map_err(err)?,
+            ),
+            Style::Dashed => Some(
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        pts.clone(),
+                        9,
+                        6,
+                        color.stroke_width(2),
+                    ))
+                    .map_err(err)?,
+            ),
+            Style::Reference => Some(
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        pts.clone(),
+                        4,
+                        4,
+                        color.stroke_width(1),
+                    ))
+                    .map_err(err)?,
+            ),
+            Style::Points => None,
+        };
+        // The legend entry hangs on the last series drawn: the markers if any, else the line.
+        let anno = match (marker, line_anno) {
+            (None, Some(a)) => a,
+            (None, None) => continue,
+            (Some(m), _) => match m {
+                Marker::Circle => chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                    .map_err(err)?,
+                Marker::Square => chart
+                    .draw_series(pts.iter().map(|&p| {
+                        EmptyElement::at(p)
+                            + Rectangle::new([(-4, -4), (4, 4)], color.stroke_width(2))
+                    }))
+                    .map_err(err)?,
+                Marker::Cross => chart
+                    .draw_series(pts.iter().map(|&p| Cross::new(p, 5, color.stroke_width(2))))
+                    .map_err(err)?,
+                Marker::Triangle => chart
+                    .draw_series(
+                        pts.iter()
+                            .map(|&p| TriangleMarker::new(p, 5, color.filled())),
+                    )
+                    .map_err(err)?,
+            },
+        };
+        if !s.label.is_empty() {
+            let style = s.style;
+            let has_line = style != Style::Points;
+            anno.label(s.label.as_str()).legend(
+                move |(x, y)| -> DynElement<'static, DB, (i32, i32)> {
+                    match (has_line, style, marker) {
+                        (true, Style::Dashed | Style::Reference, _) => DashedPathElement::new(
+                            vec![(x, y), (x + 24, y)],
+                            6,
+                            4,
+                            color.stroke_width(2),
+                        )
+                        .into_dyn(),
+                        (true, _, _) => {
+                            PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
+                                .into_dyn()
+                        }
+                        (false, _, Some(Marker::Cross)) => {
+                            Cross::new((x + 12, y), 5, color.stroke_width(2)).into_dyn()
+                        }
+                        (false, _, _) => {
+                            Rectangle::new([(x + 5, y - 6), (x + 19, y + 6)], color.filled())
+                                .into_dyn()
+                        }
+                    }
+                },
+            );
+        }
+    }
+    for n in &panel.notes {
+        chart
+            .draw_series(std::iter::once(Text::new(
+                n.text.clone(),
+                n.at,
+                ("sans-serif", 13).into_font().color(&n.color),
+            )))
+            .map_err(err)?;
+    }
+    if panel.series.iter().any(|s| !s.label.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(panel.legend.clone())
+            .background_style(WHITE.mix(0.88))
+            .border_style(RGBColor(150, 150, 150))
+            .label_font(("sans-serif", 14))
+            .margin(9)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Renders `panels` on a grid of `cols` columns.
+pub(super) fn render(
+    panels: &[Panel],
+    cols: usize,
+    width: u32,
+    height: u32,
+) -> Result<String, String> {
+    let cols = cols.max(1);
+    let rows = panels.len().div_ceil(cols).max(1);
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (width * cols as u32, height * rows as u32))
+            .into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let areas = root.split_evenly((rows, cols));
+        for (area, p) in areas.iter().zip(panels) {
+            panel(area, p)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(buf)
+}

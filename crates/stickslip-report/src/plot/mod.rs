@@ -1,0 +1,413 @@
+//! The one plotting layer: panels of lines, markers, slope guides, reference lines and filled
+//! cells on linear or log axes, rendered with plotters' SVG backend into a grid. No fonts are
+//! needed: SVG text is written as `<text>` and the viewer chooses the font.
+//!
+//! A figure is a list of [`Panel`]s drawn on `cols` columns by [`render_svg`].
+
+mod draw;
+
+use crate::palette::GREY;
+use plotters::style::RGBColor;
+
+pub use plotters::prelude::SeriesLabelPosition as LegendAt;
+
+/// Axis scale.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scale {
+    /// Linear axis.
+    Linear,
+    /// Logarithmic axis (only positive values are drawn).
+    Log,
+}
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    /// Solid line.
+    Solid,
+    /// Dashed line.
+    Dashed,
+    /// Markers only.
+    Points,
+    /// Thin dotted reference line.
+    Reference,
+}
+
+/// Marker at each point of a series.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Marker {
+    /// Filled circle.
+    Circle,
+    /// Open square.
+    Square,
+    /// Cross.
+    Cross,
+    /// Filled triangle.
+    Triangle,
+}
+
+/// One series of a panel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend text (empty: no legend entry).
+    pub label: String,
+    /// (x, y) points in the panel's units.
+    pub points: Vec<(f64, f64)>,
+    /// Colour.
+    pub color: RGBColor,
+    /// Line style.
+    pub style: Style,
+    /// Marker at each point (`Points` style without a marker draws circles).
+    pub marker: Option<Marker>,
+    /// Text next to each point (same order as `points`; empty: none).
+    pub point_labels: Vec<String>,
+}
+
+impl Series {
+    /// A solid line without markers.
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, color: RGBColor) -> Self {
+        Self {
+            label: label.into(),
+            points,
+            color,
+            style: Style::Solid,
+            marker: None,
+            point_labels: Vec::new(),
+        }
+    }
+
+    /// Sets the style.
+    #[must_use]
+    pub fn style(mut self, style: Style) -> Self {
+        self.style = style;
+        self
+    }
+
+    /// Dashed line.
+    #[must_use]
+    pub fn dashed(self) -> Self {
+        self.style(Style::Dashed)
+    }
+
+    /// Markers only.
+    #[must_use]
+    pub fn points(self) -> Self {
+        self.style(Style::Points)
+    }
+
+    /// Sets the marker.
+    #[must_use]
+    pub fn marker(mut self, m: Marker) -> Self {
+        self.marker = Some(m);
+        self
+    }
+
+    /// Text next to each point.
+    #[must_use]
+    pub fn labels(mut self, labels: Vec<String>) -> Self {
+        self.point_labels = labels;
+        self
+    }
+}
+
+/// A slope guide y = c·x^(±order) through `anchor`, across the panel's x range (log–log).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Guide {
+    /// Order p of the guide.
+    pub order: f64,
+    /// Point the guide passes through.
+    pub anchor: (f64, f64),
+    /// y ∝ x^−p (falling, x = N) or y ∝ x^p (rising, x = Δt).
+    pub falling: bool,
+}
+
+/// A filled rectangle in data coordinates (a map's cell).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cell {
+    /// x extent.
+    pub x: (f64, f64),
+    /// y extent.
+    pub y: (f64, f64),
+    /// Fill colour.
+    pub color: RGBColor,
+}
+
+/// Text at a point in data coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Note {
+    /// Where.
+    pub at: (f64, f64),
+    /// What.
+    pub text: String,
+    /// Colour.
+    pub color: RGBColor,
+}
+
+/// One chart.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Panel {
+    /// Title above the chart.
+    pub title: String,
+    /// x-axis description with unit.
+    pub x_label: String,
+    /// y-axis description with unit.
+    pub y_label: String,
+    /// x scale.
+    pub x_scale: Scale,
+    /// y scale.
+    pub y_scale: Scale,
+    /// Series.
+    pub series: Vec<Series>,
+    /// Slope guides (log–log panels).
+    pub guides: Vec<Guide>,
+    /// Horizontal reference lines (y, label).
+    pub hlines: Vec<(f64, String)>,
+    /// Vertical reference lines (x, label).
+    pub vlines: Vec<(f64, String)>,
+    /// Filled cells, drawn first.
+    pub cells: Vec<Cell>,
+    /// Text notes.
+    pub notes: Vec<Note>,
+    /// Legend position.
+    pub legend: LegendAt,
+    /// x range (None: from the data).
+    pub x_range: Option<(f64, f64)>,
+    /// y range (None: from the data with padding).
+    pub y_range: Option<(f64, f64)>,
+    /// Space above the data as a fraction of the y span (linear y; room for the legend).
+    pub headroom: f64,
+    /// Explicit x ticks (log x; default 1, 2, 5 per decade).
+    pub x_ticks: Option<Vec<f64>>,
+}
+
+impl Panel {
+    /// An empty linear panel, legend at the upper left.
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+            series: Vec::new(),
+            guides: Vec::new(),
+            hlines: Vec::new(),
+            vlines: Vec::new(),
+            cells: Vec::new(),
+            notes: Vec::new(),
+            legend: LegendAt::UpperLeft,
+            x_range: None,
+            y_range: None,
+            headroom: 0.06,
+            x_ticks: None,
+        }
+    }
+
+    /// Adds series.
+    #[must_use]
+    pub fn with(mut self, series: Vec<Series>) -> Self {
+        self.series.extend(series);
+        self
+    }
+
+    /// Sets the scales.
+    #[must_use]
+    pub fn scales(mut self, x: Scale, y: Scale) -> Self {
+        self.x_scale = x;
+        self.y_scale = y;
+        self
+    }
+
+    /// Log–log axes, legend at the upper right.
+    #[must_use]
+    pub fn log_log(self) -> Self {
+        self.scales(Scale::Log, Scale::Log)
+            .legend(LegendAt::UpperRight)
+    }
+
+    /// Sets the legend position.
+    #[must_use]
+    pub fn legend(mut self, at: LegendAt) -> Self {
+        self.legend = at;
+        self
+    }
+
+    /// Sets the space above the data, as a fraction of the y span.
+    #[must_use]
+    pub fn headroom(mut self, fraction: f64) -> Self {
+        self.headroom = fraction;
+        self
+    }
+
+    /// Sets the x range.
+    #[must_use]
+    pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
+        self.x_range = Some((lo, hi));
+        self
+    }
+
+    /// Sets the y range.
+    #[must_use]
+    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
+        self.y_range = Some((lo, hi));
+        self
+    }
+
+    /// Sets explicit x ticks.
+    #[must_use]
+    pub fn x_ticks(mut self, ticks: Vec<f64>) -> Self {
+        self.x_ticks = Some(ticks);
+        self
+    }
+
+    /// Adds a horizontal reference line.
+    #[must_use]
+    pub fn hline(mut self, y: f64, label: impl Into<String>) -> Self {
+        self.hlines.push((y, label.into()));
+        self
+    }
+
+    /// Adds a vertical reference line.
+    #[must_use]
+    pub fn vline(mut self, x: f64, label: impl Into<String>) -> Self {
+        self.vlines.push((x, label.into()));
+        self
+    }
+
+    /// Adds a fan of slope guides of `orders` through half the smallest value at the finest
+    /// resolution shown (largest x when `falling`, smallest x otherwise).
+    pub fn auto_guides(&mut self, orders: &[f64], falling: bool) {
+        let pts: Vec<(f64, f64)> = self
+            .series
+            .iter()
+            .flat_map(|s| positive(&s.points))
+            .collect();
+        let xs = pts.iter().map(|p| p.0);
+        let x = if falling {
+            xs.fold(f64::NEG_INFINITY, f64::max)
+        } else {
+            xs.fold(f64::INFINITY, f64::min)
+        };
+        let y = pts
+            .iter()
+            .filter(|p| (p.0 / x - 1.0).abs() < 1e-9)
+            .map(|p| p.1)
+            .fold(f64::INFINITY, f64::min);
+        if !(x.is_finite() && y.is_finite()) {
+            return;
+        }
+        for &order in orders {
+            self.guides.push(Guide {
+                order,
+                anchor: (x, 0.5 * y),
+                falling,
+            });
+        }
+    }
+}
+
+/// The points with finite coordinates, both > 0.
+fn positive(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .copied()
+        .filter(|&(x, y)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite())
+        .collect()
+}
+
+/// Keeps at most ~2·`buckets` points: per x-bucket the points of least and greatest y, in
+/// order, so sharp drops survive. Points must be sorted by x.
+#[must_use]
+pub fn decimate(points: &[(f64, f64)], buckets: usize) -> Vec<(f64, f64)> {
+    if points.len() <= 2 * buckets || points.len() < 3 {
+        return points.to_vec();
+    }
+    let (x0, x1) = (points[0].0, points[points.len() - 1].0);
+    let width = (x1 - x0) / buckets as f64;
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    let mut i = 0;
+    while i < points.len() {
+        let b = ((points[i].0 - x0) / width).floor();
+        let mut j = i;
+        let (mut lo, mut hi) = (i, i);
+        while j < points.len() && ((points[j].0 - x0) / width).floor() == b {
+            if points[j].1 < points[lo].1 {
+                lo = j;
+            }
+            if points[j].1 > points[hi].1 {
+                hi = j;
+            }
+            j += 1;
+        }
+        let (a, c) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        out.push(points[a]);
+        if c != a {
+            out.push(points[c]);
+        }
+        i = j;
+    }
+    out
+}
+
+/// The grey used for guides and reference lines.
+pub const GUIDE: RGBColor = GREY;
+
+/// Renders `panels` on a grid of `cols` columns, each panel `width` × `height` pixels, as
+/// SVG text.
+///
+/// # Errors
+/// A plotters drawing error, as text.
+pub fn render_svg(
+    panels: &[Panel],
+    cols: usize,
+    width: u32,
+    height: u32,
+) -> Result<String, String> {
+    draw::render(panels, cols, width, height)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::palette::PALETTE;
+
+    #[test]
+    fn every_scale_combination_renders_lines_markers_cells_and_guides() {
+        let pts: Vec<(f64, f64)> = (1..=20)
+            .map(|i| (f64::from(i), 1.0 / f64::from(i)))
+            .collect();
+        let mut panels = Vec::new();
+        for (x, y) in [
+            (Scale::Linear, Scale::Linear),
+            (Scale::Log, Scale::Log),
+            (Scale::Log, Scale::Linear),
+            (Scale::Linear, Scale::Log),
+        ] {
+            let mut p = Panel::new("t", "x [m]", "y [s]")
+                .scales(x, y)
+                .with(vec![
+                    Series::new("line", pts.clone(), PALETTE[0]),
+                    Series::new("dashed", pts.clone(), PALETTE[1]).dashed(),
+                    Series::new("marks", pts.clone(), PALETTE[2]).marker(Marker::Square),
+                    Series::new("", pts.clone(), PALETTE[3]).points(),
+                ])
+                .hline(0.5, "half")
+                .vline(5.0, "five");
+            p.cells.push(Cell {
+                x: (1.0, 2.0),
+                y: (0.1, 0.2),
+                color: PALETTE[4],
+            });
+            p.auto_guides(&[1.0], true);
+            panels.push(p);
+        }
+        let svg = render_svg(&panels, 2, 400, 300).unwrap();
+        assert!(svg.starts_with("<svg"));
+        assert_eq!(
+            svg.matches("\nline\n").count(),
+            4,
+            "one legend entry per panel"
+        );
+        assert!(svg.contains("order 1"));
+    }
+}

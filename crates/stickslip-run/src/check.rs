@@ -1,0 +1,102 @@
+//! What `stickslip check` reports: the resolved scene, the preflight (derived, stability and
+//! quasi-static numbers, the verdict), warnings for unusual values, and a cost estimate from
+//! a short timed probe of the scene itself.
+
+use crate::driver::{Control, Driver, Limit, NullSink, StartError, warnings_of};
+use crate::scene::ResolvedScene;
+use serde::Serialize;
+use std::time::Instant;
+use stickslip_core::preflight::{Finding, Preflight};
+
+/// Wall time the probe aims at, s.
+const PROBE_TARGET_S: f64 = 0.05;
+/// Most loop iterations the probe takes.
+const PROBE_MAX_STEPS: u64 = 4096;
+/// Adaptive steps per melting event, for the estimate: fig2 at the default tolerance takes
+/// about 3354 half steps for 1000 stick-phase steps and 10 events (reports/performance.md).
+pub const ADAPTIVE_HALF_STEPS_PER_EVENT: f64 = 140.0;
+
+/// A rough cost estimate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CostEstimate {
+    /// Loop iterations timed by the probe.
+    pub probe_steps: u64,
+    /// Measured wall seconds per simulation step in the probe.
+    pub seconds_per_step: f64,
+    /// Estimated simulation steps of the whole run.
+    pub steps: f64,
+    /// Estimated wall seconds of the whole run.
+    pub seconds: f64,
+    /// How the step count was estimated.
+    pub basis: String,
+}
+
+/// The report of `check`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CheckReport {
+    /// The preflight.
+    pub preflight: Preflight,
+    /// Notes and warnings (preflight, unusual values).
+    pub warnings: Vec<Finding>,
+    /// Cost estimate.
+    pub cost: CostEstimate,
+}
+
+/// Checks `scene`: preflight, warnings and a timed probe of its first steps.
+///
+/// # Errors
+/// When the engine rejects the configuration.
+pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
+    let mut sink = NullSink;
+    let mut driver = Driver::start(scene, &mut sink)?;
+    let preflight = driver.preflight().clone();
+    let warnings = warnings_of(scene, &preflight);
+    let mut control = Control::default();
+    let started = Instant::now();
+    let mut probe_steps = 0;
+    let mut batch = 8;
+    let steps_before = driver.simulation().state().step;
+    while probe_steps < PROBE_MAX_STEPS && started.elapsed().as_secs_f64() < PROBE_TARGET_S {
+        match driver.advance(&mut sink, &mut control, Limit::Steps(batch))? {
+            None => probe_steps += batch,
+            Some(_) => break,
+        }
+        batch *= 2;
+    }
+    let sim_steps = (driver.simulation().state().step - steps_before).max(1);
+    let seconds_per_step = started.elapsed().as_secs_f64() / sim_steps as f64;
+    let t = &scene.config.time;
+    let (steps, basis) = match t.adaptive {
+        None => (
+            scene.steps as f64,
+            format!("{} fixed steps of time.dt", scene.steps),
+        ),
+        Some(a) => {
+            let events = if preflight.critical_displacement_m > 0.0 {
+                (preflight.stamp_travel_m.abs() / preflight.critical_displacement_m).floor()
+            } else {
+                0.0
+            };
+            let base = 2.0 * t.end_s / a.dt_max_s;
+            (
+                base + ADAPTIVE_HALF_STEPS_PER_EVENT * events,
+                format!(
+                    "adaptive: about 2·time.end/time.dt_max = {base:.0} half steps, plus \
+                     {ADAPTIVE_HALF_STEPS_PER_EVENT} per melting event for at most {events:.0} \
+                     events (stamp travel / eps_c·h0); rough"
+                ),
+            )
+        }
+    };
+    Ok(CheckReport {
+        cost: CostEstimate {
+            probe_steps,
+            seconds_per_step,
+            steps,
+            seconds: steps * seconds_per_step,
+            basis,
+        },
+        preflight,
+        warnings,
+    })
+}

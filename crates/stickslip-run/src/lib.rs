@@ -1,0 +1,49 @@
+//! stickslip-run: the one path from a scene to results.
+//!
+//! - [`scene`] and [`keys`]: scene files, `--set` overrides, defaults and validation from the
+//!   key table, resolved into the core's typed configuration ([`scene::ResolvedScene`]);
+//! - [`driver`]: the one time loop (fixed or adaptive steps; stop at `time.end`, after
+//!   `time.max_events` events, at a failure or an interrupt) feeding a [`driver::Sink`];
+//! - [`sink`]: results in memory ([`sink::memory::MemorySink`]) or in an output directory
+//!   ([`sink::dir`]: atomic files, run.json status from the start, checkpoints, resume);
+//! - [`schema`]: one type per output file, writer and reader together;
+//! - [`outcome`] and [`summary`]: what a run hands back, and its SPEC §6 summary and regime;
+//! - [`check`]: what `stickslip check` reports (preflight, plausibility, a timed probe);
+//! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file.
+//!
+//! Invariant: no command-line or terminal code here (no clap, no progress bars, no exit
+//! codes); the physics comes from `stickslip-core`.
+
+pub mod atomic;
+pub mod check;
+pub mod checkpoint;
+pub mod driver;
+pub mod keys;
+pub mod outcome;
+pub mod scene;
+pub mod schema;
+pub mod sink;
+pub mod summary;
+
+pub use driver::{Control, Driver, Limit, NullSink, Sink, run};
+pub use outcome::{RunOutcome, RunStatus, StopReason};
+pub use scene::{ResolvedScene, Scene, SceneError};
+pub use schema::RunOutput;
+pub use sink::dir::{DirOptions, RunError, resume, run_to_dir};
+pub use sink::memory::MemorySink;
+
+/// Runs `scene` in memory and returns everything it produced.
+///
+/// # Errors
+/// [`driver::StartError`] when the run cannot start.
+pub fn run_in_memory(
+    scene: &ResolvedScene,
+    control: &mut Control<'_>,
+) -> Result<(RunOutcome, RunOutput), driver::StartError> {
+    let mut sink = MemorySink::new();
+    let outcome = run(scene, &mut sink, control)?;
+    let output = sink
+        .into_output()
+        .ok_or_else(|| driver::StartError::State("the run never began".into()))?;
+    Ok((outcome, output))
+}

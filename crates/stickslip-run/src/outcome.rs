@@ -1,0 +1,142 @@
+//! What a run hands back: status, why it stopped, the failure if any, events, summary,
+//! counters and timing. Sinks turn it into files (run.json, events.csv) or keep it in memory.
+
+use crate::summary::RunSummary;
+use serde::{Deserialize, Serialize};
+use stickslip_core::preflight::{Finding, Preflight};
+use stickslip_core::sim::NumericalFailure;
+use stickslip_core::sim::events::MeltingEvent;
+
+/// Where a run stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    /// Started, not ended (or killed without a trace).
+    Running,
+    /// Stopped by a signal; a checkpoint is there to resume from.
+    Interrupted,
+    /// Finished.
+    Ok,
+    /// Stopped by a numerical failure or refused before the first step.
+    Failed,
+}
+
+impl RunStatus {
+    /// The name as written.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Running => "running",
+            Self::Interrupted => "interrupted",
+            Self::Ok => "ok",
+            Self::Failed => "failed",
+        }
+    }
+}
+
+/// Step counters of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct StepCounts {
+    /// Steps taken (with adaptive stepping: the half steps kept, two per accepted step).
+    pub steps: u64,
+    /// Adaptive stepping: accepted steps (0 with fixed steps).
+    pub accepted_steps: u64,
+    /// Adaptive stepping: rejected attempts (0 with fixed steps).
+    pub rejected_steps: u64,
+    /// Adaptive stepping: steps accepted at time.dt_min above the tolerance.
+    pub forced_steps: u64,
+    /// Coupling-solver iterations summed over all steps (accurate scheme).
+    pub coupling_iterations: u64,
+}
+
+/// Why the loop stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// `time.end` reached.
+    End,
+    /// `time.max_events` events have ended.
+    MaxEvents,
+    /// A numerical failure, or a refusal before the first step.
+    Failure,
+    /// Interrupted (a signal, Ctrl-C, or the caller's poll).
+    Interrupted,
+}
+
+impl StopReason {
+    /// The name as written to run.json.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::End => "end",
+            Self::MaxEvents => "max_events",
+            Self::Failure => "failure",
+            Self::Interrupted => "interrupted",
+        }
+    }
+
+    /// The run's status for this stop.
+    #[must_use]
+    pub fn status(self) -> RunStatus {
+        match self {
+            Self::End | Self::MaxEvents => RunStatus::Ok,
+            Self::Failure => RunStatus::Failed,
+            Self::Interrupted => RunStatus::Interrupted,
+        }
+    }
+}
+
+/// The result of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutcome {
+    /// Why it stopped.
+    pub stop: StopReason,
+    /// The failure (stop = `Failure`).
+    pub failure: Option<NumericalFailure>,
+    /// Melting events.
+    pub events: Vec<MeltingEvent>,
+    /// Summary and regime (SPEC §6).
+    pub summary: RunSummary,
+    /// Step counters.
+    pub counts: StepCounts,
+    /// Time reached, s.
+    pub t_final_s: f64,
+    /// Wall-clock time of the loop, s (summed over the processes of a resumed run).
+    pub wall_seconds: f64,
+    /// Rows written to series.csv (and probes.csv).
+    pub series_rows: u64,
+    /// The preflight (at t = 0).
+    pub preflight: Preflight,
+    /// Notes and warnings of the preflight and unusual values.
+    pub warnings: Vec<Finding>,
+}
+
+impl RunOutcome {
+    /// The run's status.
+    #[must_use]
+    pub fn status(&self) -> RunStatus {
+        self.stop.status()
+    }
+
+    /// The one-line summary printed at the end of a run.
+    #[must_use]
+    pub fn summary_line(&self) -> String {
+        let s = &self.summary;
+        let us = |t: f64| format!("{:.4} µs", t * 1e6);
+        let mut parts = vec![format!("{} events, regime {}", s.n_events, s.regime.name())];
+        if let Some(t) = s.t_first_onset {
+            parts.push(format!("first onset {}", us(t)));
+        }
+        if let Some(p) = s.period_last {
+            parts.push(format!("last period {}", us(p)));
+        }
+        let peaks: Vec<f64> = self.events.iter().map(|e| e.f_peak_n).collect();
+        if let (Some(lo), Some(hi)) = (
+            peaks.iter().copied().reduce(f64::min),
+            peaks.iter().copied().reduce(f64::max),
+        ) {
+            parts.push(format!("peak force {:.4e} … {:.4e} N", lo, hi));
+        }
+        parts.join(", ")
+    }
+}

@@ -1,0 +1,222 @@
+//! Scenes: parse the TOML, apply `--set` overrides, fill in the defaults, validate, and hand back
+//! a [`ResolvedScene`] (the engine's [`SimConfig`] plus the output settings).
+//!
+//! Pipeline (each stage stops at the first problem, as a [`SceneError`] naming the key, the
+//! value and the allowed range; nothing here panics on any input):
+//! 1. the text is parsed as a TOML table ([`toml_text`]);
+//! 2. `--set` overrides are applied to the table ([`overrides`]);
+//! 3. the table is deserialized into [`Scene`] (unknown keys, wrong types and misspelt words
+//!    are rejected, [`error`]);
+//! 4. required keys, defaults and rules between keys are resolved, single-key ranges checked
+//!    against the key table [`crate::keys`] ([`resolve`]);
+//! 5. [`SimConfig::validate`] and the scene-level checks (output times and radii, step count,
+//!    no non-finite number anywhere) run.
+//!
+//! The defaults are the key table's; the `DEFAULT_*` constants are the values it documents.
+
+pub mod error;
+pub mod file;
+pub mod overrides;
+mod resolve;
+pub mod toml_text;
+
+pub use error::SceneError;
+pub use file::{
+    ContactSection, DriveSection, LubricantSection, NoiseSection, NumericsSection, OutputSection,
+    Scene, TemperatureSection, TimeSection,
+};
+pub use resolve::resolve;
+
+use serde::{Deserialize, Serialize};
+use stickslip_core::config::{Derived, SimConfig};
+
+/// Default `lubricant.melt_threshold`.
+pub const DEFAULT_MELT_THRESHOLD: f64 = 0.01;
+/// Default `lubricant.noise.floor` (kind `"floor"`): deterministic, draws no random numbers.
+pub const DEFAULT_NOISE_FLOOR: f64 = 1e-6;
+/// Default `lubricant.noise.sigma` (kind `"gaussian"`), s^-1/2.
+pub const DEFAULT_NOISE_SIGMA_PER_SQRT_S: f64 = 1.0;
+/// Default `lubricant.noise.seed` (kind `"gaussian"`).
+pub const DEFAULT_NOISE_SEED: i64 = 1;
+/// Default `contact.nodes`.
+pub const DEFAULT_NODES: i64 = 2000;
+/// Default `time.dt`, s.
+pub const DEFAULT_DT_S: f64 = 1e-8;
+/// Default `time.tolerance` (adaptive stepping): fig2 onsets within 0.01 µs of the converged
+/// reference at N = 125 (reports/performance.md).
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+/// Default `time.dt_max` as a fraction of `time.end`.
+pub const DEFAULT_DT_MAX_FRACTION: f64 = 1e-3;
+/// Default `time.dt_min` as a fraction of min(`time.dt`, `time.dt_max`).
+pub const DEFAULT_DT_MIN_FRACTION: f64 = 1e-6;
+/// Default `output.event_merge_gap`, s: off (events are delimited by the film's recovery).
+pub const DEFAULT_EVENT_MERGE_GAP_S: f64 = 0.0;
+/// Default `output.event_recovery` (a multiple of the melting threshold).
+pub const DEFAULT_EVENT_RECOVERY: f64 = 2.0;
+/// Default `output.series_interval`, s.
+pub const DEFAULT_SERIES_INTERVAL_S: f64 = 1e-7;
+pub use crate::keys::MAX_STEPS;
+
+/// What the driver records, besides the simulation itself.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OutputSettings {
+    /// Times of the profiles, s, as given (each within [0, time.end]).
+    pub profile_times_s: Vec<f64>,
+    /// Radii of the φ(t) probes, m, as given (each within [0, a0)).
+    pub probe_radii_m: Vec<f64>,
+    /// Interval between rows of series.csv and probes.csv, s (> 0).
+    pub series_interval_s: f64,
+}
+
+impl OutputSettings {
+    /// The profile times, s, sorted and deduplicated.
+    #[must_use]
+    pub fn sorted_profile_times_s(&self) -> Vec<f64> {
+        let mut times_s = self.profile_times_s.clone();
+        times_s.sort_by(f64::total_cmp);
+        times_s.dedup();
+        times_s
+    }
+}
+
+/// A validated scene, ready to run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResolvedScene {
+    /// The scene's `name`.
+    pub name: String,
+    /// The engine configuration.
+    pub config: SimConfig,
+    /// Output settings.
+    pub output: OutputSettings,
+    /// Stop once this many events have ended (`time.max_events`).
+    pub max_events: Option<u64>,
+    /// The scene with every default filled in (written to run.json, printed by `check`).
+    pub resolved: Scene,
+    /// The scene as written, overrides applied: what [`ResolvedScene::with_overrides`]
+    /// starts from (derived defaults such as `time.dt_max` follow a changed `time.end`).
+    pub source: toml::Table,
+    /// Derived parameters b, A, εc, φ0, ω.
+    pub derived: Derived,
+    /// Number of steps: ⌈end/dt − 1e-9⌉, all of length dt except the last, which lands on end
+    /// (fixed stepping; with adaptive steps only a scale for the progress bar).
+    pub steps: u64,
+}
+
+/// Number of steps for `end_s` and `dt_s`: ⌈end/dt − 1e-9⌉, at least 1.
+#[must_use]
+pub fn step_count(end_s: f64, dt_s: f64) -> u64 {
+    let n = (end_s / dt_s - 1e-9).ceil();
+    if n.is_finite() && n >= 1.0 {
+        // Validation caps end/dt at MAX_STEPS, far inside u64.
+        n as u64
+    } else {
+        1
+    }
+}
+
+impl Scene {
+    /// Reads a scene file as UTF-8 text.
+    ///
+    /// # Errors
+    /// [`SceneError::Read`] if the file cannot be read or is not UTF-8.
+    pub fn read_text(path: &std::path::Path) -> Result<String, SceneError> {
+        let bytes = std::fs::read(path).map_err(|e| SceneError::Read {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        String::from_utf8(bytes).map_err(|e| SceneError::Read {
+            path: path.display().to_string(),
+            message: format!("not UTF-8 text ({e})"),
+        })
+    }
+
+    /// Parses `text` into a TOML table.
+    ///
+    /// # Errors
+    /// [`SceneError::Syntax`] naming line and column.
+    pub fn parse_table(text: &str) -> Result<toml::Table, SceneError> {
+        text.parse().map_err(|e| toml_text::syntax_error(text, &e))
+    }
+
+    /// Applies `overrides` (`section.key=value`, in order) to `table`, resolves defaults and
+    /// validates.
+    ///
+    /// # Errors
+    /// The first problem, as a [`SceneError`] naming key, value and allowed range.
+    pub fn resolve_table<S: AsRef<str>>(
+        mut root: toml::Table,
+        overrides: &[S],
+    ) -> Result<ResolvedScene, SceneError> {
+        for o in overrides {
+            overrides::apply_override(&mut root, o.as_ref())?;
+        }
+        error::check_sections(&root)?;
+        let scene: Scene = root
+            .clone()
+            .try_into()
+            .map_err(|e| error::from_de_error(&root, &e))?;
+        let mut resolved = resolve(&scene)?;
+        toml_text::check_finite(&root, &mut Vec::new())?;
+        resolved.source = root;
+        Ok(resolved)
+    }
+
+    /// Parses `text`, applies `overrides` (`section.key=value`, in order), resolves defaults and
+    /// validates.
+    ///
+    /// # Errors
+    /// The first problem, as a [`SceneError`] naming key, value and allowed range.
+    pub fn from_toml_str<S: AsRef<str>>(
+        text: &str,
+        overrides: &[S],
+    ) -> Result<ResolvedScene, SceneError> {
+        Self::resolve_table(Self::parse_table(text)?, overrides)
+    }
+
+    /// [`Scene::read_text`] then [`Scene::from_toml_str`].
+    ///
+    /// # Errors
+    /// As those two.
+    pub fn from_path<S: AsRef<str>>(
+        path: &std::path::Path,
+        overrides: &[S],
+    ) -> Result<ResolvedScene, SceneError> {
+        Self::from_toml_str(&Self::read_text(path)?, overrides)
+    }
+
+    /// The scene as a TOML table.
+    #[must_use]
+    pub fn to_table(&self) -> toml::Table {
+        toml::Table::try_from(self).unwrap_or_default()
+    }
+
+    /// The scene as TOML text, numbers in shortest round-trip `{:e}` form (e.g. `1e-8`); the
+    /// text parses back to the same scene.
+    #[must_use]
+    pub fn to_toml_string(&self) -> String {
+        toml_text::to_toml_string(&self.to_table())
+    }
+}
+
+impl ResolvedScene {
+    /// The resolved scene as a TOML table (every default filled in).
+    #[must_use]
+    pub fn to_table(&self) -> toml::Table {
+        self.resolved.to_table()
+    }
+
+    /// The same scene with `overrides` applied to it as written (defaults derived from
+    /// other keys follow the new values).
+    ///
+    /// # Errors
+    /// As [`Scene::resolve_table`].
+    pub fn with_overrides<S: AsRef<str>>(&self, overrides: &[S]) -> Result<Self, SceneError> {
+        Scene::resolve_table(self.source.clone(), overrides)
+    }
+
+    /// Warnings for values outside their key's usual range (likely unit slips).
+    #[must_use]
+    pub fn unusual_values(&self) -> Vec<(String, String)> {
+        crate::keys::unusual_values(&self.to_table())
+    }
+}

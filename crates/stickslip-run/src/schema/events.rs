@@ -1,0 +1,200 @@
+//! events.csv: one row per melting event (INTERFACE.md's columns, then additions).
+
+use super::csv::{NumericCsv, opt, write_cells, write_num, write_opt};
+use super::{Column, SchemaError};
+use std::io::{self, Write};
+use std::path::Path;
+use stickslip_core::sim::events::MeltingEvent;
+
+/// File name.
+pub const FILE: &str = "events.csv";
+
+/// Columns in file order.
+pub const COLUMNS: [Column; 11] = [
+    Column {
+        name: "k",
+        unit: "–",
+        meaning: "event number, from 1",
+    },
+    Column {
+        name: "t_onset",
+        unit: "s",
+        meaning: "first melting of the event (located inside the step by the accurate scheme)",
+    },
+    Column {
+        name: "r_first",
+        unit: "m",
+        meaning: "radius of the outermost node melted at the onset",
+    },
+    Column {
+        name: "x_onset",
+        unit: "m",
+        meaning: "stamp position at the onset",
+    },
+    Column {
+        name: "f_peak",
+        unit: "N",
+        meaning: "largest F since the previous event began",
+    },
+    Column {
+        name: "r_min",
+        unit: "m",
+        meaning: "innermost radius reached by the melting",
+    },
+    Column {
+        name: "t_center",
+        unit: "s",
+        meaning: "first time the axis node melted (empty if it did not)",
+    },
+    Column {
+        name: "t_end",
+        unit: "s",
+        meaning: "when the film had recovered: every node back above the recovery level (empty while open)",
+    },
+    Column {
+        name: "max_melted_fraction",
+        unit: "–",
+        meaning: "largest melted area fraction during the event",
+    },
+    Column {
+        name: "recovery",
+        unit: "–",
+        meaning: "largest area-weighted ⟨φ⟩/√(A/a) from this onset to the next (or the end)",
+    },
+    Column {
+        name: "f_mean",
+        unit: "N",
+        meaning: "time-mean F from this onset to the next (or the end)",
+    },
+];
+
+/// events.csv.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Events(pub Vec<MeltingEvent>);
+
+impl Events {
+    /// Events in order.
+    #[must_use]
+    pub fn events(&self) -> &[MeltingEvent] {
+        &self.0
+    }
+
+    /// Number of events.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// No events.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Onset times, s.
+    #[must_use]
+    pub fn onsets_s(&self) -> Vec<f64> {
+        self.0.iter().map(|e| e.t_onset_s).collect()
+    }
+
+    /// The columns in file order, by name (`k` as a float; none as NaN).
+    #[must_use]
+    pub fn columns(&self) -> Vec<(&'static str, Vec<f64>)> {
+        let get: [fn(&MeltingEvent) -> f64; 11] = [
+            |e| e.k as f64,
+            |e| e.t_onset_s,
+            |e| e.r_first_m,
+            |e| e.x_onset_m,
+            |e| e.f_peak_n,
+            |e| e.r_min_m,
+            |e| e.t_center_s.unwrap_or(f64::NAN),
+            |e| e.t_end_s.unwrap_or(f64::NAN),
+            |e| e.max_melted_fraction,
+            |e| e.recovery,
+            |e| e.f_mean_n,
+        ];
+        COLUMNS
+            .iter()
+            .zip(get)
+            .map(|(c, f)| (c.name, self.0.iter().map(f).collect()))
+            .collect()
+    }
+
+    /// Writes the file's text.
+    ///
+    /// # Errors
+    /// Those of the writer.
+    pub fn write(&self, w: &mut impl Write) -> io::Result<()> {
+        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        writeln!(w, "{}", names.join(","))?;
+        for e in &self.0 {
+            write!(w, "{},", e.k)?;
+            write_cells(
+                w,
+                &[e.t_onset_s, e.r_first_m, e.x_onset_m, e.f_peak_n, e.r_min_m],
+            )?;
+            write_opt(w, e.t_center_s)?;
+            write_opt(w, e.t_end_s)?;
+            for v in [e.max_melted_fraction, e.recovery, e.f_mean_n] {
+                w.write_all(b",")?;
+                write_num(w, v)?;
+            }
+            w.write_all(b"\n")?;
+        }
+        Ok(())
+    }
+
+    /// The file's text.
+    #[must_use]
+    pub fn to_csv(&self) -> String {
+        let mut out = Vec::new();
+        let _ = self.write(&mut out);
+        String::from_utf8(out).unwrap_or_default()
+    }
+
+    /// Parses the text of events.csv.
+    ///
+    /// # Errors
+    /// [`SchemaError`] if a column is missing or a cell is not a number.
+    pub fn parse(text: &str) -> Result<Self, SchemaError> {
+        let csv = NumericCsv::parse(text, FILE)?;
+        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        csv.expect_header(&names, FILE)?;
+        let events = csv
+            .rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                if !(r[0] >= 1.0 && r[0].fract() == 0.0) {
+                    return Err(SchemaError::new(
+                        FILE,
+                        Some(i + 2),
+                        format!("k = {} is not an event number", r[0]),
+                    ));
+                }
+                Ok(MeltingEvent {
+                    k: r[0] as usize,
+                    t_onset_s: r[1],
+                    r_first_m: r[2],
+                    x_onset_m: r[3],
+                    f_peak_n: r[4],
+                    r_min_m: r[5],
+                    t_center_s: opt(r[6]),
+                    t_end_s: opt(r[7]),
+                    max_melted_fraction: r[8],
+                    recovery: r[9],
+                    f_mean_n: r[10],
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self(events))
+    }
+
+    /// Reads `dir/events.csv`.
+    ///
+    /// # Errors
+    /// As [`Events::parse`], or if the file cannot be read.
+    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
+        Self::parse(&super::read_text(dir, FILE)?)
+    }
+}

@@ -1,0 +1,158 @@
+//! The output files of a run, one Rust type per file with its writer and its reader:
+//! [`series::Series`] (series.csv), [`events::Events`] (events.csv), [`profiles::Profiles`]
+//! (profiles.csv), [`probes::Probes`] (probes.csv) and [`run_info::RunInfo`] (run.json).
+//! [`RunOutput`] holds all five, read from a directory or collected in memory.
+//!
+//! Every column has a [`Column`] spec with its unit; run.json's `columns` and the generated
+//! reference are built from these specs. Written and read back, every number keeps its bits
+//! (tested in `tests/schema.rs`).
+
+pub mod csv;
+pub mod events;
+pub mod probes;
+pub mod profiles;
+pub mod run_info;
+pub mod series;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use thiserror::Error;
+
+/// One column of an output table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Column {
+    /// Name in the header.
+    pub name: &'static str,
+    /// SI unit (`–` for dimensionless).
+    pub unit: &'static str,
+    /// What it holds.
+    pub meaning: &'static str,
+}
+
+/// An output file that does not read as its schema says.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{file}{}: {message}", line.map(|l| format!(", line {l}")).unwrap_or_default())]
+pub struct SchemaError {
+    /// The file (path or name).
+    pub file: String,
+    /// Line, from 1, if the problem has one.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl SchemaError {
+    /// A new error.
+    pub fn new(file: &str, line: Option<usize>, message: impl Into<String>) -> Self {
+        Self {
+            file: file.to_string(),
+            line,
+            message: message.into(),
+        }
+    }
+
+    /// An error reading `path`.
+    pub fn io(path: &Path, e: &std::io::Error) -> Self {
+        Self::new(&path.display().to_string(), None, e.to_string())
+    }
+}
+
+/// Reads `dir/name` as text.
+///
+/// # Errors
+/// [`SchemaError`] naming the path.
+pub fn read_text(dir: &Path, name: &str) -> Result<String, SchemaError> {
+    let path = dir.join(name);
+    std::fs::read_to_string(&path).map_err(|e| SchemaError::io(&path, &e))
+}
+
+/// Everything one run produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutput {
+    /// series.csv.
+    pub series: series::Series,
+    /// events.csv.
+    pub events: events::Events,
+    /// profiles.csv.
+    pub profiles: profiles::Profiles,
+    /// probes.csv.
+    pub probes: probes::Probes,
+    /// run.json.
+    pub info: run_info::RunInfo,
+}
+
+impl RunOutput {
+    /// Reads the five files of a finished (or failed) run in `dir`.
+    ///
+    /// # Errors
+    /// The first file that is missing or does not match its schema.
+    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
+        Ok(Self {
+            info: run_info::RunInfo::read(dir)?,
+            series: series::Series::read(dir)?,
+            events: events::Events::read(dir)?,
+            profiles: profiles::Profiles::read(dir)?,
+            probes: probes::Probes::read(dir)?,
+        })
+    }
+}
+
+/// The output files as a Markdown section: every column with its unit and meaning.
+#[must_use]
+pub fn markdown() -> String {
+    let mut out = String::from(
+        "## Output files\n\nNumbers are written in shortest round-trip `{:e}` form (read \
+         back, they keep their bits); an empty cell means no value. Columns may be added at \
+         the end of a row, never renamed or dropped.\n",
+    );
+    let probe = [probes::TIME, probes::PHI, probes::T_MELT];
+    for (file, cols) in [
+        (series::FILE, &series::COLUMNS[..]),
+        (events::FILE, &events::COLUMNS[..]),
+        (profiles::FILE, &profiles::COLUMNS[..]),
+        (probes::FILE, &probe[..]),
+    ] {
+        out.push_str(&format!(
+            "\n### `{file}`\n\n| column | unit | meaning |\n|---|---|---|\n"
+        ));
+        for c in cols {
+            out.push_str(&format!("| `{}` | {} | {} |\n", c.name, c.unit, c.meaning));
+        }
+    }
+    out.push_str(
+        "\n### `run.json`\n\n`name`, `status` (`running` | `interrupted` | `ok` | `failed`), \
+         `failure` (null, or `{time_s, step, node, r_m, quantity, value, reason, message}`), \
+         `stop` (`end` | `max_events` | `failure` | `interrupted`), `version`, `scene` (as \
+         resolved), `derived` (b, A, eps_c, phi0, omega, g_eff, nodes, steps_planned, \
+         lagged_sweep_contraction, melting_force, critical_displacement, spring_period, \
+         euler_number, first_onset_estimate), `warnings`, `steps`, `accepted_steps`, \
+         `rejected_steps`, `forced_steps`, `t_final`, `wall_seconds`, `coupling_iterations`, \
+         `seed`, `events`, `series_rows`, `columns` (file → column → unit) and `summary` (n_events, \
+         t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean, recovery, \
+         melted_time_fraction, regime).\n",
+    );
+    out
+}
+
+/// Units of every column of every table, as in run.json's `columns`: file name → column
+/// name → unit. Probe columns depend on the probe radii (m).
+#[must_use]
+pub fn column_units(probe_radii_m: &[f64]) -> BTreeMap<String, BTreeMap<String, String>> {
+    let table = |cols: &[Column]| {
+        cols.iter()
+            .map(|c| (c.name.to_string(), c.unit.to_string()))
+            .collect::<BTreeMap<_, _>>()
+    };
+    let mut out = BTreeMap::new();
+    out.insert(series::FILE.to_string(), table(&series::COLUMNS));
+    out.insert(events::FILE.to_string(), table(&events::COLUMNS));
+    out.insert(profiles::FILE.to_string(), table(&profiles::COLUMNS));
+    out.insert(
+        probes::FILE.to_string(),
+        probes::header(probe_radii_m)
+            .into_iter()
+            .map(|(name, col)| (name, col.unit.to_string()))
+            .collect(),
+    );
+    out
+}

@@ -1,0 +1,271 @@
+//! run.json: the resolved scene, derived and stability numbers, status and failure, step
+//! counts, timing, version, seed, the unit of every output column and the run's summary.
+//!
+//! `status` is there from the start: `running` while the run goes on (written before the
+//! first step), then `ok`, `failed` (with `failure`) or `interrupted` (a checkpoint is in the
+//! directory; `stickslip resume DIR` finishes it).
+
+use super::SchemaError;
+use crate::outcome::RunOutcome;
+pub use crate::outcome::{RunStatus, StepCounts};
+use crate::scene::{ResolvedScene, Scene};
+use crate::summary::RunSummary;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+use stickslip_core::noise::NoiseKind;
+use stickslip_core::preflight::{Finding, Preflight};
+use stickslip_core::sim::NumericalFailure;
+
+/// File name.
+pub const FILE: &str = "run.json";
+
+/// A numerical failure (or refusal) as written to run.json.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FailureRecord {
+    /// Time at the end of the failing step, s (0 for a refusal).
+    pub time_s: f64,
+    /// Number of the failing step, from 1 (0 for a refusal).
+    pub step: u64,
+    /// Node where the bad value appeared first.
+    pub node: usize,
+    /// Radius of that node, m.
+    pub r_m: f64,
+    /// The quantity (`phi`, `tau`, `coupling residual`, `lagged-sweep contraction factor`, …).
+    pub quantity: String,
+    /// Its value (a string when it is not finite, as JSON has no NaN).
+    pub value: serde_json::Value,
+    /// What it means and what to do.
+    pub reason: String,
+    /// The whole message, as printed.
+    pub message: String,
+}
+
+impl From<&NumericalFailure> for FailureRecord {
+    fn from(f: &NumericalFailure) -> Self {
+        Self {
+            time_s: f.t_s,
+            step: f.step,
+            node: f.node,
+            r_m: f.r_m,
+            quantity: f.quantity.to_string(),
+            value: serde_json::Number::from_f64(f.value).map_or_else(
+                || serde_json::Value::String(format!("{}", f.value)),
+                Into::into,
+            ),
+            reason: f.diagnosis.clone(),
+            message: f.to_string(),
+        }
+    }
+}
+
+/// Derived parameters as written to run.json (SI).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DerivedReport {
+    /// b = 2a²εmax³/τmax, Pa.
+    pub b: f64,
+    /// A at t = 0, Pa.
+    #[serde(rename = "A")]
+    pub a: f64,
+    /// εc = √(A·b)/a at t = 0.
+    pub eps_c: f64,
+    /// φ0 = √(A/a).
+    pub phi0: f64,
+    /// ω = √(K/m), rad/s (0 for the rigid drive).
+    pub omega: f64,
+    /// G*, Pa (given or from Eq. 9).
+    pub g_eff: f64,
+    /// Nodes simulated (1 for the homogeneous model).
+    pub nodes: usize,
+    /// Steps the scene asks for (fixed stepping; a scale with adaptive steps).
+    pub steps_planned: u64,
+    /// Contraction factor ρ((a·φ0²/h0)·C/G*) of the paper's lagged elastic sweep at t = 0,
+    /// for this scheme's compliance C: the literal scheme only converges for ρ < 1.
+    pub lagged_sweep_contraction: f64,
+    /// Largest friction force τmax·π·a0², N.
+    pub melting_force: f64,
+    /// εc·h0, m.
+    pub critical_displacement: f64,
+    /// 2π/ω, s (null for the rigid drive).
+    pub spring_period: Option<f64>,
+    /// Δt·2γAb/a, literal scheme only (stable below 2).
+    pub euler_number: Option<f64>,
+    /// Quasi-static estimate of the first onset, s (null: none before time.end).
+    pub first_onset_estimate: Option<f64>,
+}
+
+impl DerivedReport {
+    /// The derived parameters of `scene` with its preflight.
+    #[must_use]
+    pub fn of(scene: &ResolvedScene, preflight: &Preflight) -> Self {
+        let d = &preflight.derived;
+        Self {
+            b: d.b_pa,
+            a: d.a_coeff_pa,
+            eps_c: d.eps_c,
+            phi0: d.phi0,
+            omega: d.omega_rad_per_s,
+            g_eff: scene.config.contact.g_eff_pa,
+            nodes: scene.config.simulated_nodes(),
+            steps_planned: scene.steps,
+            lagged_sweep_contraction: preflight.lagged_sweep_contraction,
+            melting_force: preflight.melting_force_n,
+            critical_displacement: preflight.critical_displacement_m,
+            spring_period: preflight.spring_period_s,
+            euler_number: preflight.euler_number,
+            first_onset_estimate: preflight.first_onset_estimate_s,
+        }
+    }
+}
+
+/// Contents of run.json.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunInfo {
+    /// Scene name.
+    pub name: String,
+    /// Where the run stands.
+    pub status: RunStatus,
+    /// Why it failed (null unless `status` is `failed`).
+    pub failure: Option<FailureRecord>,
+    /// Why it stopped: `end` (time.end), `max_events`, `failure`, `interrupted` (null while
+    /// running).
+    pub stop: Option<String>,
+    /// Program version (Cargo package version).
+    pub version: String,
+    /// The scene as resolved (defaults filled in).
+    pub scene: Scene,
+    /// Derived parameters.
+    pub derived: DerivedReport,
+    /// Notes and warnings of the preflight and of unusual values (likely unit slips).
+    pub warnings: Vec<Finding>,
+    /// Steps taken.
+    pub steps: u64,
+    /// Adaptive stepping: accepted steps (0 with fixed steps).
+    pub accepted_steps: u64,
+    /// Adaptive stepping: rejected attempts (0 with fixed steps).
+    pub rejected_steps: u64,
+    /// Adaptive stepping: steps accepted at time.dt_min above the tolerance.
+    pub forced_steps: u64,
+    /// Time reached, s.
+    pub t_final: f64,
+    /// Wall-clock time of the time loop, s; for a resumed run, summed over its processes (each
+    /// up to its last checkpoint, the last one to the end). The one field in which a resumed
+    /// run's run.json differs from an uninterrupted one's.
+    pub wall_seconds: f64,
+    /// Coupling-solver iterations summed over all steps (accurate scheme).
+    pub coupling_iterations: u64,
+    /// Noise seed (null unless the noise is gaussian).
+    pub seed: Option<u64>,
+    /// Number of melting events.
+    pub events: usize,
+    /// Rows in series.csv (and probes.csv).
+    pub series_rows: u64,
+    /// Unit of every output column: file → column → unit.
+    pub columns: BTreeMap<String, BTreeMap<String, String>>,
+    /// The run's summary and regime (SPEC §6; null while running).
+    pub summary: Option<RunSummary>,
+}
+
+/// The noise seed of `scene`, if its noise draws random numbers.
+#[must_use]
+pub fn seed_of(scene: &ResolvedScene) -> Option<u64> {
+    match scene.config.noise {
+        NoiseKind::Gaussian { seed, .. } => Some(seed),
+        NoiseKind::Off | NoiseKind::Floor { .. } => None,
+    }
+}
+
+impl RunInfo {
+    /// The run.json of a run of `scene` that has not taken a step yet (`status: running`).
+    #[must_use]
+    pub fn starting(scene: &ResolvedScene, preflight: &Preflight, warnings: Vec<Finding>) -> Self {
+        Self {
+            name: scene.name.clone(),
+            status: RunStatus::Running,
+            failure: None,
+            stop: None,
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            scene: scene.resolved.clone(),
+            derived: DerivedReport::of(scene, preflight),
+            warnings,
+            steps: 0,
+            accepted_steps: 0,
+            rejected_steps: 0,
+            forced_steps: 0,
+            t_final: 0.0,
+            wall_seconds: 0.0,
+            coupling_iterations: 0,
+            seed: seed_of(scene),
+            events: 0,
+            series_rows: 0,
+            columns: super::column_units(&scene.output.probe_radii_m),
+            summary: None,
+        }
+    }
+
+    /// Sets the step counters.
+    pub fn set_counts(&mut self, c: &StepCounts) {
+        self.steps = c.steps;
+        self.accepted_steps = c.accepted_steps;
+        self.rejected_steps = c.rejected_steps;
+        self.forced_steps = c.forced_steps;
+        self.coupling_iterations = c.coupling_iterations;
+    }
+
+    /// Fills in what the run ended with: status, failure, stop reason, counters, time, wall
+    /// seconds, events, rows and summary.
+    pub fn finish(&mut self, outcome: &RunOutcome) {
+        self.status = outcome.status();
+        self.failure = outcome.failure.as_ref().map(FailureRecord::from);
+        self.stop = Some(outcome.stop.name().to_string());
+        self.set_counts(&outcome.counts);
+        self.t_final = outcome.t_final_s;
+        self.wall_seconds = outcome.wall_seconds;
+        self.events = outcome.events.len();
+        self.series_rows = outcome.series_rows;
+        self.summary = Some(outcome.summary.clone());
+    }
+
+    /// Pretty JSON and a newline.
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        let mut text = serde_json::to_string_pretty(self).unwrap_or_default();
+        text.push('\n');
+        text
+    }
+
+    /// Parses run.json.
+    ///
+    /// # Errors
+    /// [`SchemaError`] naming what does not fit.
+    pub fn parse(text: &str) -> Result<Self, SchemaError> {
+        serde_json::from_str(text)
+            .map_err(|e| SchemaError::new(FILE, Some(e.line()), e.to_string()))
+    }
+
+    /// Reads `dir/run.json`.
+    ///
+    /// # Errors
+    /// As [`RunInfo::parse`], or if the file cannot be read.
+    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
+        Self::parse(&super::read_text(dir, FILE)?)
+    }
+
+    /// Writes `dir/run.json` atomically.
+    ///
+    /// # Errors
+    /// If it cannot be written.
+    pub fn write(&self, dir: &Path) -> std::io::Result<()> {
+        crate::atomic::write_atomic(dir, FILE, self.to_json().as_bytes())
+    }
+
+    /// End time of the scene, s.
+    #[must_use]
+    pub fn end_s(&self) -> f64 {
+        self.scene
+            .time
+            .as_ref()
+            .and_then(|t| t.end)
+            .unwrap_or(f64::NAN)
+    }
+}

@@ -1,0 +1,396 @@
+//! The output directory of a run: streamed CSV files, events.csv, run.json from the start,
+//! checkpoints, and [`resume`].
+//!
+//! **Safe outputs.** A directory that holds an earlier run's files (run.json, a CSV, a
+//! checkpoint) is refused unless `force` is set, and nothing in it is touched. With `force`,
+//! the earlier files are removed before the run writes anything, so old results never sit
+//! beside a newer run's partial output. run.json is written before the first step with
+//! `status: running`; the CSV files grow as `.<name>.tmp` and are renamed into place when the
+//! run ends; then run.json is rewritten with the final status (`ok` or `failed`).
+//!
+//! **Checkpoints** every `checkpoint_every_s` of wall time (see [`crate::checkpoint`]), and at
+//! once when the run is interrupted: then run.json says `interrupted`, the partial files stay
+//! under their temporary names, and [`resume`] finishes the run bit-identically.
+
+use crate::atomic::{AtomicFile, write_atomic};
+use crate::checkpoint::{self, Checkpoint, CheckpointError, StreamPositions};
+use crate::driver::{Control, Driver, RunStart, Sink, Snapshot, StartError};
+use crate::outcome::{RunOutcome, StopReason};
+use crate::scene::ResolvedScene;
+use crate::schema::events::Events;
+use crate::schema::probes::Probes;
+use crate::schema::profiles::Profiles;
+use crate::schema::run_info::RunInfo;
+use crate::schema::series::Series;
+use crate::schema::{self};
+use std::borrow::Cow;
+use std::io;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use stickslip_core::config::ConfigError;
+use stickslip_core::sim::{Observables, SimState};
+use thiserror::Error;
+
+/// Default wall-clock interval between checkpoints, s.
+pub const DEFAULT_CHECKPOINT_EVERY_S: f64 = checkpoint::DEFAULT_EVERY_S;
+
+/// Loop iterations between looks at the clock: a look costs about as much as a step of the
+/// one-node model, and even slow steps keep the delay well below a second.
+const CLOCK_EVERY: u64 = 8;
+
+/// Files that belong to a run (final names; temporary ones are `.<name>.tmp`).
+pub const RUN_FILES: [&str; 6] = [
+    schema::run_info::FILE,
+    schema::series::FILE,
+    schema::events::FILE,
+    schema::profiles::FILE,
+    schema::probes::FILE,
+    checkpoint::FILE_NAME,
+];
+
+/// How to write into the directory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DirOptions {
+    /// Replace an earlier run's files (otherwise such a directory is refused).
+    pub force: bool,
+    /// Wall-clock interval between checkpoints, s; 0 = none (an interrupt still writes one).
+    pub checkpoint_every_s: f64,
+}
+
+impl Default for DirOptions {
+    fn default() -> Self {
+        Self {
+            force: false,
+            checkpoint_every_s: DEFAULT_CHECKPOINT_EVERY_S,
+        }
+    }
+}
+
+/// Why a run into a directory did not happen or did not complete.
+#[derive(Debug, Error)]
+pub enum RunError {
+    /// The configuration was rejected by the engine (exit 2).
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The directory holds an earlier run's results (exit 2).
+    #[error(
+        "{dir} holds the results of an earlier run ({files}); allowed: an empty or new \
+         directory, --force to replace them, or `stickslip resume {dir}` to finish an \
+         interrupted run"
+    )]
+    Existing {
+        /// The directory.
+        dir: String,
+        /// The files found.
+        files: String,
+    },
+    /// The output directory cannot be created or written to (exit 2).
+    #[error("cannot write to output directory {path}: {source}; allowed: a writable directory")]
+    OutDir {
+        /// The directory.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// Writing an output file failed during or after the run (exit 1).
+    #[error("cannot write output in {path}: {source}")]
+    Io {
+        /// The directory.
+        path: PathBuf,
+        /// The I/O error.
+        source: io::Error,
+    },
+    /// A directory that cannot be resumed (see [`CheckpointError::exit_code`]).
+    #[error(transparent)]
+    Checkpoint(#[from] CheckpointError),
+}
+
+impl RunError {
+    /// Exit status of the command line: 2 bad scene or output directory, 1 an I/O error
+    /// during the run, the checkpoint error's own code.
+    #[must_use]
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Self::Config(_) | Self::OutDir { .. } | Self::Existing { .. } => 2,
+            Self::Io { .. } => 1,
+            Self::Checkpoint(e) => e.exit_code(),
+        }
+    }
+}
+
+/// The files of an earlier run in `dir` (final or temporary names).
+#[must_use]
+pub fn earlier_run_files(dir: &Path) -> Vec<String> {
+    RUN_FILES
+        .iter()
+        .flat_map(|f| [(*f).to_string(), format!(".{f}.tmp")])
+        .filter(|f| dir.join(f).exists())
+        .collect()
+}
+
+/// Removes the files of an earlier run in `dir`.
+fn remove_earlier_run(dir: &Path) -> io::Result<()> {
+    for f in earlier_run_files(dir) {
+        match std::fs::remove_file(dir.join(&f)) {
+            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The three streamed files.
+#[derive(Debug)]
+struct Streams {
+    series: AtomicFile,
+    probes: AtomicFile,
+    profiles: AtomicFile,
+}
+
+impl Streams {
+    fn positions(&mut self) -> io::Result<StreamPositions> {
+        Ok(StreamPositions {
+            series: self.series.sync_position()?,
+            probes: self.probes.sync_position()?,
+            profiles: self.profiles.sync_position()?,
+        })
+    }
+}
+
+/// Streams a run into a directory.
+#[derive(Debug)]
+pub struct DirSink {
+    dir: PathBuf,
+    streams: Option<Streams>,
+    info: Option<RunInfo>,
+    every_s: f64,
+    every: Option<Duration>,
+    due: Instant,
+    calls: u64,
+}
+
+impl DirSink {
+    /// A sink writing into `dir`, created if needed; refuses a directory with an earlier
+    /// run's files unless `options.force` (nothing is touched then).
+    ///
+    /// # Errors
+    /// [`RunError::Existing`] or [`RunError::OutDir`].
+    pub fn create(dir: &Path, options: &DirOptions) -> Result<Self, RunError> {
+        let earlier = earlier_run_files(dir);
+        if !earlier.is_empty() && !options.force {
+            return Err(RunError::Existing {
+                dir: dir.display().to_string(),
+                files: earlier.join(", "),
+            });
+        }
+        std::fs::create_dir_all(dir).map_err(|source| RunError::OutDir {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        Ok(Self::with_interval(dir, options.checkpoint_every_s))
+    }
+
+    fn with_interval(dir: &Path, every_s: f64) -> Self {
+        let every = checkpoint::interval(every_s);
+        let now = Instant::now();
+        Self {
+            dir: dir.to_path_buf(),
+            streams: None,
+            info: None,
+            every_s,
+            every,
+            due: every.and_then(|d| now.checked_add(d)).unwrap_or(now),
+            calls: 0,
+        }
+    }
+
+    /// The directory.
+    #[must_use]
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    fn save_checkpoint(&mut self, snapshot: &Snapshot<'_>) -> io::Result<()> {
+        let Some(streams) = &mut self.streams else {
+            return Ok(());
+        };
+        // Syncs the streamed files first: the checkpoint must not refer to bytes that a crash
+        // could lose.
+        let positions = streams.positions()?;
+        let mut driver = snapshot.driver.clone();
+        driver.wall_before_s = snapshot.wall_seconds;
+        let c = Checkpoint {
+            version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
+            checkpoint_every_s: self.every_s,
+            scene: Cow::Borrowed(snapshot.scene),
+            preflight: Cow::Borrowed(snapshot.preflight),
+            driver: Cow::Owned(driver),
+            sim: Cow::Borrowed(snapshot.sim),
+            streams: positions,
+        };
+        checkpoint::save(&self.dir, &c)
+    }
+
+    fn streams(&mut self) -> io::Result<&mut Streams> {
+        self.streams
+            .as_mut()
+            .ok_or_else(|| io::Error::other("the run has not begun"))
+    }
+}
+
+impl Sink for DirSink {
+    fn begin(&mut self, start: &RunStart<'_>) -> io::Result<()> {
+        remove_earlier_run(&self.dir)?;
+        let info = RunInfo::starting(start.scene, start.preflight, start.warnings.to_vec());
+        info.write(&self.dir)?;
+        let mut series = AtomicFile::create(&self.dir, schema::series::FILE)?;
+        Series::write_header(&mut series)?;
+        let mut probes = AtomicFile::create(&self.dir, schema::probes::FILE)?;
+        Probes::write_header(&mut probes, &start.scene.output.probe_radii_m)?;
+        let mut profiles = AtomicFile::create(&self.dir, schema::profiles::FILE)?;
+        Profiles::write_header(&mut profiles)?;
+        self.streams = Some(Streams {
+            series,
+            probes,
+            profiles,
+        });
+        self.info = Some(info);
+        Ok(())
+    }
+
+    fn series_row(&mut self, observables: &Observables, probes: &[f64]) -> io::Result<()> {
+        let s = self.streams()?;
+        Series::write_observables(&mut s.series, observables)?;
+        Probes::write_values(&mut s.probes, probes)
+    }
+
+    fn profile(&mut self, t_s: f64, radii_m: &[f64], state: &SimState) -> io::Result<()> {
+        Profiles::write_profile(&mut self.streams()?.profiles, t_s, radii_m, state)
+    }
+
+    fn after_iteration(&mut self, snapshot: &Snapshot<'_>) -> io::Result<()> {
+        let Some(every) = self.every else {
+            return Ok(());
+        };
+        self.calls += 1;
+        if !self.calls.is_multiple_of(CLOCK_EVERY) || Instant::now() < self.due {
+            return Ok(());
+        }
+        self.save_checkpoint(snapshot)?;
+        let now = Instant::now();
+        self.due = now.checked_add(every).unwrap_or(now);
+        Ok(())
+    }
+
+    fn end(&mut self, outcome: &RunOutcome, snapshot: &Snapshot<'_>) -> io::Result<()> {
+        if outcome.stop == StopReason::Interrupted {
+            self.save_checkpoint(snapshot)?;
+            if let Some(s) = self.streams.take() {
+                s.series.keep_for_resume()?;
+                s.probes.keep_for_resume()?;
+                s.profiles.keep_for_resume()?;
+            }
+        } else {
+            if let Some(s) = self.streams.take() {
+                s.series.commit()?;
+                s.probes.commit()?;
+                s.profiles.commit()?;
+            }
+            let mut text = Vec::new();
+            Events(outcome.events.clone()).write(&mut text)?;
+            write_atomic(&self.dir, schema::events::FILE, &text)?;
+        }
+        if let Some(info) = &mut self.info {
+            info.finish(outcome);
+            info.write(&self.dir)?;
+        }
+        if outcome.stop != StopReason::Interrupted {
+            // The run has ended and its output is complete: nothing is left to resume.
+            checkpoint::remove(&self.dir)?;
+        }
+        Ok(())
+    }
+}
+
+fn start_error(dir: &Path, e: StartError) -> RunError {
+    match e {
+        StartError::Config(c) => RunError::Config(c),
+        StartError::State(s) => RunError::Checkpoint(CheckpointError::corrupt(dir, s)),
+        StartError::Io(source) => RunError::Io {
+            path: dir.to_path_buf(),
+            source,
+        },
+    }
+}
+
+/// Runs `scene` into `dir` (see the module docs).
+///
+/// # Errors
+/// [`RunError`]; a numerical failure is not an error here but the outcome's `stop`.
+pub fn run_to_dir(
+    scene: &ResolvedScene,
+    dir: &Path,
+    options: &DirOptions,
+    control: &mut Control<'_>,
+) -> Result<RunOutcome, RunError> {
+    let mut sink = DirSink::create(dir, options)?;
+    let driver = Driver::start(scene, &mut sink).map_err(|e| start_error(dir, e))?;
+    if let Some(on_start) = control.on_start.as_mut() {
+        on_start(driver.warnings());
+    }
+    driver
+        .run_to_end(&mut sink, control)
+        .map_err(|source| RunError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })
+}
+
+/// Finishes the interrupted run in `dir` from its checkpoint, with output bit-identical to
+/// an uninterrupted run (run.json's `wall_seconds` aside). `checkpoint_every_s` overrides the
+/// run's checkpoint interval. Returns the scene and the outcome of the whole run.
+///
+/// # Errors
+/// [`RunError::Checkpoint`] when there is nothing to resume or the checkpoint (or the partial
+/// output it refers to) is unusable; otherwise as [`run_to_dir`].
+pub fn resume(
+    dir: &Path,
+    checkpoint_every_s: Option<f64>,
+    control: &mut Control<'_>,
+) -> Result<(ResolvedScene, RunOutcome), RunError> {
+    let c = checkpoint::load(dir)?;
+    let corrupt = |reason: String| CheckpointError::corrupt(dir, reason);
+    let scene = c.scene.into_owned();
+    let preflight = c.preflight.into_owned();
+    let driver = Driver::restore(
+        &scene,
+        preflight.clone(),
+        c.sim.into_owned(),
+        c.driver.into_owned(),
+    )
+    .map_err(|e| start_error(dir, e))?;
+    let reopen = |name: &str, at| {
+        AtomicFile::reopen(dir, name, at)
+            .map_err(|e| corrupt(format!("its partial output cannot be continued: {e}")))
+    };
+    let streams = Streams {
+        series: reopen(schema::series::FILE, c.streams.series)?,
+        probes: reopen(schema::probes::FILE, c.streams.probes)?,
+        profiles: reopen(schema::profiles::FILE, c.streams.profiles)?,
+    };
+    let mut sink = DirSink::with_interval(dir, checkpoint_every_s.unwrap_or(c.checkpoint_every_s));
+    let info = RunInfo::starting(
+        &scene,
+        &preflight,
+        crate::driver::warnings_of(&scene, &preflight),
+    );
+    let io_err = |source| RunError::Io {
+        path: dir.to_path_buf(),
+        source,
+    };
+    info.write(dir).map_err(io_err)?;
+    sink.info = Some(info);
+    sink.streams = Some(streams);
+    let outcome = driver.run_to_end(&mut sink, control).map_err(io_err)?;
+    Ok((scene, outcome))
+}

@@ -1,0 +1,9 @@
+//! Where a run's rows go: [`memory::MemorySink`] keeps them as the output types of
+//! [`crate::schema`], [`dir::DirSink`] streams them into an output directory (atomically, with
+//! checkpoints and run.json's status from the start), [`crate::driver::NullSink`] keeps
+//! nothing.
+
+pub mod dir;
+pub mod memory;
+
+pub use crate::driver::{NullSink, Sink};

@@ -1,0 +1,195 @@
+//! The per-run summary and regime of SPEC §6, computed from the run's events and the event
+//! tracker's totals (every step counted, not sampled rows).
+//!
+//! - `n_events`, `t_first_onset`; `period_last` and `x_period_last`: time and stamp advance
+//!   between the last two onsets; `f_peak_first`, `f_peak_last`: the peaks that preceded the
+//!   first and the last event; `f_mean`: time-mean F over the last complete cycle (between the
+//!   last two onsets);
+//! - `recovery` R: the largest area-weighted ⟨φ⟩/√(A(t)/a) over that cycle;
+//! - `melted_time_fraction`: the share of the time after the first onset during which no node
+//!   was solid;
+//! - `regime`, decided in this order: `sliding` (A(0) ≤ 0, or no node solid for at least
+//!   [`RegimeThresholds::sliding_fraction`] of the time after the first onset), `no_melting`
+//!   (no event), `transient` (one event), then by R for two or more events: `stick_slip`
+//!   (R ≥ [`RegimeThresholds::stick_slip_recovery`]), `partial` (R ≥
+//!   [`RegimeThresholds::smooth_recovery`]), `smooth` (below).
+//!
+//! Values that do not exist for a run (the period of a run with one event) are `None`
+//! (JSON null, an empty cell in map.csv).
+
+use serde::{Deserialize, Serialize};
+use stickslip_core::sim::events::MeltingEvent;
+
+/// Regime of a run (SPEC §6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Regime {
+    /// The film is melted everywhere most of the time (or from the start, A ≤ 0).
+    Sliding,
+    /// No node melts within the run.
+    NoMelting,
+    /// Exactly one event.
+    Transient,
+    /// Two or more events and the film re-solidifies fully between them.
+    StickSlip,
+    /// Two or more events and the film re-solidifies only partly between them.
+    Partial,
+    /// Two or more events and the film hardly recovers between them.
+    Smooth,
+}
+
+impl Regime {
+    /// All regimes, in the order of the rules.
+    pub const ALL: [Self; 6] = [
+        Self::Sliding,
+        Self::NoMelting,
+        Self::Transient,
+        Self::StickSlip,
+        Self::Partial,
+        Self::Smooth,
+    ];
+
+    /// The name as written in files.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sliding => "sliding",
+            Self::NoMelting => "no_melting",
+            Self::Transient => "transient",
+            Self::StickSlip => "stick_slip",
+            Self::Partial => "partial",
+            Self::Smooth => "smooth",
+        }
+    }
+
+    /// The regime called `name`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.name() == name)
+    }
+}
+
+/// Thresholds of the regime rules (settable per sweep).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RegimeThresholds {
+    /// R at or above which two or more events are `stick_slip` (default 0.9).
+    pub stick_slip_recovery: f64,
+    /// R below which two or more events are `smooth` (default 0.1); in between: `partial`.
+    pub smooth_recovery: f64,
+    /// Share of the time after the first onset with no solid node at or above which the run
+    /// is `sliding` (default 0.9).
+    pub sliding_fraction: f64,
+}
+
+impl Default for RegimeThresholds {
+    fn default() -> Self {
+        Self {
+            stick_slip_recovery: 0.9,
+            smooth_recovery: 0.1,
+            sliding_fraction: 0.9,
+        }
+    }
+}
+
+impl RegimeThresholds {
+    /// Checks 0 ≤ smooth ≤ stick-slip ≤ 1 and 0 < sliding ≤ 1.
+    ///
+    /// # Errors
+    /// The offending key (`regime.<field>`) and what is allowed.
+    pub fn validate(&self) -> Result<(), (String, String)> {
+        let ok01 = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);
+        if !ok01(self.smooth_recovery) {
+            return Err(("regime.smooth_recovery".into(), "within [0, 1]".to_string()));
+        }
+        if !(ok01(self.stick_slip_recovery) && self.stick_slip_recovery >= self.smooth_recovery) {
+            return Err((
+                "regime.stick_slip_recovery".into(),
+                "within [regime.smooth_recovery, 1]".to_string(),
+            ));
+        }
+        if !(ok01(self.sliding_fraction) && self.sliding_fraction > 0.0) {
+            return Err((
+                "regime.sliding_fraction".into(),
+                "within (0, 1]".to_string(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The summary of one run (SPEC §6), SI units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// Number of melting events.
+    pub n_events: usize,
+    /// Onset of the first event, s.
+    pub t_first_onset: Option<f64>,
+    /// Time between the last two onsets, s.
+    pub period_last: Option<f64>,
+    /// Stamp advance between the last two onsets, m.
+    pub x_period_last: Option<f64>,
+    /// Peak force before the first event, N.
+    pub f_peak_first: Option<f64>,
+    /// Peak force before the last event, N.
+    pub f_peak_last: Option<f64>,
+    /// Time-mean force over the last complete cycle, N.
+    pub f_mean: Option<f64>,
+    /// Largest ⟨φ⟩/√(A/a) over the last complete cycle.
+    pub recovery: Option<f64>,
+    /// Share of the time after the first onset with no solid node.
+    pub melted_time_fraction: Option<f64>,
+    /// The regime.
+    pub regime: Regime,
+}
+
+/// What [`summarize`] needs from a run.
+#[derive(Debug, Clone, Copy)]
+pub struct SummaryInput<'a> {
+    /// The events, in order.
+    pub events: &'a [MeltingEvent],
+    /// Time after the first onset with no solid node, s.
+    pub no_solid_time_s: f64,
+    /// Time the run reached, s.
+    pub t_final_s: f64,
+    /// A at t = 0, Pa.
+    pub a_coeff_start_pa: f64,
+}
+
+/// The summary and regime of a run.
+#[must_use]
+pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary {
+    let ev = input.events;
+    let n = ev.len();
+    let last_two = (n >= 2).then(|| (&ev[n - 2], &ev[n - 1]));
+    let melted_time_fraction = ev.first().and_then(|first| {
+        let span = input.t_final_s - first.t_onset_s;
+        (span > 0.0).then(|| (input.no_solid_time_s / span).clamp(0.0, 1.0))
+    });
+    let recovery = last_two.map(|(a, _)| a.recovery);
+    let sliding = input.a_coeff_start_pa <= 0.0
+        || melted_time_fraction.is_some_and(|f| f >= th.sliding_fraction);
+    let regime = if sliding {
+        Regime::Sliding
+    } else {
+        match (n, recovery) {
+            (0, _) => Regime::NoMelting,
+            (1, _) => Regime::Transient,
+            (_, Some(r)) if r >= th.stick_slip_recovery => Regime::StickSlip,
+            (_, Some(r)) if r >= th.smooth_recovery => Regime::Partial,
+            _ => Regime::Smooth,
+        }
+    };
+    RunSummary {
+        n_events: n,
+        t_first_onset: ev.first().map(|e| e.t_onset_s),
+        period_last: last_two.map(|(a, b)| b.t_onset_s - a.t_onset_s),
+        x_period_last: last_two.map(|(a, b)| b.x_onset_m - a.x_onset_m),
+        f_peak_first: ev.first().map(|e| e.f_peak_n),
+        f_peak_last: ev.last().map(|e| e.f_peak_n),
+        f_mean: last_two.map(|(a, _)| a.f_mean_n),
+        recovery,
+        melted_time_fraction,
+        regime,
+    }
+}

@@ -1,0 +1,89 @@
+//! `stickslip check`: prints the resolved scene, derived and stability numbers, quasi-static
+//! estimates, the cost estimate and the warnings, all from the run library's check report.
+
+use std::process::ExitCode;
+use stickslip_core::preflight::Severity;
+use stickslip_run::ResolvedScene;
+
+/// Prints the check of `scene`; exit 0 (2 if the engine rejects it). A configuration that
+/// `run` would refuse is valid here: the refusal is printed among the warnings.
+pub fn print(scene: &ResolvedScene) -> ExitCode {
+    let report = match stickslip_run::check::check(scene) {
+        Ok(r) => r,
+        Err(e) => return crate::fail(e, 2),
+    };
+    let p = &report.preflight;
+    let d = &p.derived;
+    let c = &scene.config;
+    println!("# resolved scene (defaults filled in)");
+    print!("{}", scene.resolved.to_toml_string());
+    println!();
+    println!("# derived parameters");
+    println!("b = {:e} Pa", d.b_pa);
+    println!("A = {:e} Pa", d.a_coeff_pa);
+    println!("eps_c = {}", d.eps_c);
+    println!("phi0 = {}", d.phi0);
+    println!("omega = {} rad/s", d.omega_rad_per_s);
+    println!("g_eff = {:e} Pa", c.contact.g_eff_pa);
+    println!("nodes = {}", c.simulated_nodes());
+    println!("steps = {}", scene.steps);
+    println!(
+        "lagged_sweep_contraction = {:.4} (rho of the paper's lagged elastic sweep at t = 0; \
+         the literal scheme needs < 1)",
+        p.lagged_sweep_contraction
+    );
+    if let Some(e) = p.euler_number {
+        println!("euler_number = {e} (literal scheme: gamma*dt*2*A*b/a, stable below 2)");
+    }
+    println!();
+    println!("# plausibility");
+    println!(
+        "melting_force = {:e} N (tau_max*pi*a0^2: the largest friction force the film carries)",
+        p.melting_force_n
+    );
+    println!(
+        "critical_displacement = {:e} m (eps_c*h0: stamp advance to the first melting)",
+        p.critical_displacement_m
+    );
+    if let Some(period) = p.spring_period_s {
+        println!(
+            "spring_period = {period:e} s (2*pi/omega; time.end = {:e} s is {:.3} of it)",
+            c.time.end_s,
+            c.time.end_s / period
+        );
+    }
+    println!(
+        "stamp_travel = {:e} m (free stamp at time.end, no friction)",
+        p.stamp_travel_m
+    );
+    match p.first_onset_estimate_s {
+        Some(t) => println!(
+            "first_onset_estimate = {t:e} s (quasi-static: the free stamp reaches eps_c*h0; \
+             later at high speed)"
+        ),
+        None => println!("first_onset_estimate = none before time.end"),
+    }
+    let cost = &report.cost;
+    println!();
+    println!("# cost estimate");
+    println!(
+        "seconds_per_step = {:.3e} s (measured on {} steps of this scene)",
+        cost.seconds_per_step, cost.probe_steps
+    );
+    println!("steps_estimate = {:.0} ({})", cost.steps, cost.basis);
+    println!("seconds_estimate = {:.3} s", cost.seconds);
+    if !report.warnings.is_empty() {
+        println!();
+        println!("# warnings");
+        for f in &report.warnings {
+            let tag = match f.severity {
+                Severity::Note => "note",
+                Severity::Warning => "warning",
+                Severity::Refusal => "refused",
+            };
+            println!("{tag}: {} ({})", f.message, f.key);
+        }
+    }
+    crate::print_findings(&report.warnings, false);
+    ExitCode::SUCCESS
+}
