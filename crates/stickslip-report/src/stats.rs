@@ -53,6 +53,26 @@ pub fn max_ratio(values: &[f64]) -> f64 {
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
+/// Linear interpolation of y(x) at `x0`, `x` ascending; clamped outside; NaN when empty.
+#[must_use]
+pub fn interp(x: &[f64], y: &[f64], x0: f64) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    let i = x.partition_point(|&v| v <= x0);
+    if i == 0 {
+        return y[0];
+    }
+    if i >= x.len() {
+        return y[x.len() - 1];
+    }
+    let (x_a, x_b) = (x[i - 1], x[i]);
+    if x_b == x_a {
+        return y[i];
+    }
+    y[i - 1] + (y[i] - y[i - 1]) * (x0 - x_a) / (x_b - x_a)
+}
+
 /// Least-squares slope of log y against log x over the points with x, y > 0.
 #[must_use]
 pub fn log_log_slope(points: &[(f64, f64)]) -> f64 {

@@ -67,6 +67,25 @@ pub struct Profiles {
     pub u3d_m: Vec<f64>,
 }
 
+/// One profile: every node at one time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProfileView<'a> {
+    /// Time of the profile, s.
+    pub t_s: f64,
+    /// Node radii, m.
+    pub r_m: &'a [f64],
+    /// φ.
+    pub phi: &'a [f64],
+    /// ε.
+    pub eps: &'a [f64],
+    /// τ, Pa.
+    pub tau_pa: &'a [f64],
+    /// u0, m.
+    pub u0_m: &'a [f64],
+    /// u3D, m.
+    pub u3d_m: &'a [f64],
+}
+
 /// The rows of one profile: r, φ, ε, τ, u0, u3D for every node at time `t_s`.
 fn rows<'a>(t_s: f64, radii_m: &'a [f64], s: &'a SimState) -> impl Iterator<Item = [f64; 7]> + 'a {
     radii_m.iter().enumerate().map(move |(i, &r)| {
@@ -175,6 +194,39 @@ impl Profiles {
             .position(|&t| t != t_s)
             .map_or(self.len(), |p| a + p);
         a..b
+    }
+
+    /// The profiles one by one, in file order.
+    #[must_use]
+    pub fn blocks(&self) -> Vec<ProfileView<'_>> {
+        let mut out = Vec::new();
+        let mut a = 0;
+        while a < self.len() {
+            let t = self.t_s[a];
+            let b = self.t_s[a..]
+                .iter()
+                .position(|&x| x != t)
+                .map_or(self.len(), |p| a + p);
+            out.push(ProfileView {
+                t_s: t,
+                r_m: &self.r_m[a..b],
+                phi: &self.phi[a..b],
+                eps: &self.eps[a..b],
+                tau_pa: &self.tau_pa[a..b],
+                u0_m: &self.u0_m[a..b],
+                u3d_m: &self.u3d_m[a..b],
+            });
+            a = b;
+        }
+        out
+    }
+
+    /// The profile recorded nearest to `t_s`, if any.
+    #[must_use]
+    pub fn nearest(&self, t_s: f64) -> Option<ProfileView<'_>> {
+        self.blocks()
+            .into_iter()
+            .min_by(|a, b| (a.t_s - t_s).abs().total_cmp(&(b.t_s - t_s).abs()))
     }
 
     /// Writes the header line.
