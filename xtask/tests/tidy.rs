@@ -65,3 +65,90 @@ fn ci_runs_exactly_the_readme_test_command() {
         ".ci/run must run exactly `{command}`"
     );
 }
+
+/// Files under `dir` (relative to the root), their paths and texts.
+fn sources(root: &Path, dir: &str) -> Vec<(String, String)> {
+    let mut files = Vec::new();
+    rust_files(&root.join(dir), &mut files);
+    files
+        .into_iter()
+        .map(|p| {
+            let rel = p.strip_prefix(root).unwrap_or(&p).display().to_string();
+            (rel, std::fs::read_to_string(&p).unwrap_or_default())
+        })
+        .collect()
+}
+
+#[test]
+fn the_core_does_no_file_io() {
+    let root = workspace_root();
+    let offenders: Vec<String> = sources(&root, "crates/stickslip-core/src")
+        .into_iter()
+        .filter(|(_, text)| text.contains("std::fs") || text.contains("File::"))
+        .map(|(p, _)| p)
+        .collect();
+    assert!(
+        offenders.is_empty(),
+        "the core knows nothing of files (ARCHITECTURE.md): {offenders:?}"
+    );
+}
+
+#[test]
+fn nothing_outside_the_run_library_steps_a_simulation() {
+    // Without a Simulation of its own nothing can step one: every consumer goes through the
+    // run library's driver. The core itself (its own tests of one step) is the other owner.
+    let root = workspace_root();
+    let mut offenders = Vec::new();
+    for dir in ["crates", "validation", "benches", "xtask", "examples"] {
+        for (path, text) in sources(&root, dir) {
+            let owner = path.starts_with("crates/stickslip-core/")
+                || path.starts_with("crates/stickslip-run/src/");
+            if !owner && (text.contains("Simulation::new(") || text.contains("step_adaptive(")) {
+                offenders.push(path);
+            }
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "these files build or step a Simulation themselves; use stickslip_run's driver: {offenders:?}"
+    );
+}
+
+#[test]
+fn the_driver_knows_no_files_and_checkpoints_know_no_sink() {
+    let root = workspace_root();
+    let driver = std::fs::read_to_string(root.join("crates/stickslip-run/src/driver.rs")).unwrap();
+    for forbidden in ["std::fs", "crate::checkpoint", "crate::sink::dir", "atomic"] {
+        assert!(!driver.contains(forbidden), "driver.rs uses {forbidden}");
+    }
+    let checkpoint =
+        std::fs::read_to_string(root.join("crates/stickslip-run/src/checkpoint.rs")).unwrap();
+    assert!(
+        !checkpoint.contains("crate::sink"),
+        "checkpoint.rs must not depend on the sink that writes it (no module cycle)"
+    );
+}
+
+#[test]
+fn the_run_library_has_no_command_line_code() {
+    let root = workspace_root();
+    let manifest = std::fs::read_to_string(root.join("crates/stickslip-run/Cargo.toml")).unwrap();
+    for dep in ["clap", "indicatif", "signal-hook", "pyo3"] {
+        assert!(!manifest.contains(dep), "stickslip-run depends on {dep}");
+    }
+}
+
+#[test]
+fn no_source_file_is_far_over_a_thousand_lines() {
+    let root = workspace_root();
+    let mut offenders = Vec::new();
+    for dir in ["crates", "validation", "benches", "xtask"] {
+        for (path, text) in sources(&root, dir) {
+            let lines = text.lines().count();
+            if lines > 1100 && !path.contains("/tests/") {
+                offenders.push(format!("{path} ({lines} lines)"));
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "split by responsibility: {offenders:?}");
+}

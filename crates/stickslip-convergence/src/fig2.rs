@@ -25,6 +25,18 @@ pub const SAMPLE_DT_S: f64 = 1e-7;
 /// The shipped fig2 scene.
 const FIG2_SCENE: &str = include_str!("../../../validation/scenes/fig2.toml");
 
+/// The shipped fig2 scene as resolved, without overrides: the paper's N and Δt, the melt
+/// threshold, the noise floor, the contact radius and the lubricant the reports quote.
+///
+/// # Panics
+/// If the shipped scene does not resolve (its own tests would fail first).
+#[must_use]
+#[track_caller]
+pub fn shipped() -> ResolvedScene {
+    Scene::from_toml_str(FIG2_SCENE, &[] as &[String])
+        .unwrap_or_else(|e| panic!("validation/scenes/fig2.toml: {e}"))
+}
+
 /// What to run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunSpec {
@@ -193,7 +205,6 @@ pub fn run(spec: &RunSpec) -> RunRecord {
             .expect("null sink")
             .unwrap_or(StopReason::End),
     };
-    drop(control);
     let outcome = driver.outcome(stop, &Default::default());
     let wall_s = start.elapsed().as_secs_f64();
     let events = outcome

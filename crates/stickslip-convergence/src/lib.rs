@@ -9,18 +9,21 @@
 //! - [`fig2`] and [`simulation`]: whole-simulation convergence of fig2 (event onsets, peak
 //!   forces, stick-phase force) refining N and Δt separately for each scheme;
 //! - [`work_precision`]: error against wall seconds, against a much finer reference;
-//! - [`report`] and [`plot`]: `reports/convergence.md`, `convergence.json`, `convergence_*.svg`.
+//! - [`report`]: `reports/convergence.md`, `convergence.json`, `convergence_*.svg`, drawn and
+//!   formatted with the reporting kit (`stickslip-report`);
+//! - [`performance`]: `cargo xtask bench` (T1–T4), the release binary run as a user would.
 //!
 //! Entry point: [`run_convergence_cli`] (used by `cargo xtask convergence` and by the
 //! `convergence` binary of this crate).
 //!
-//! Invariant: this crate only calls `stickslip-core`'s public API.
+//! Invariant: every fig2 run goes through the run library's driver (`stickslip-run`), every
+//! benchmark through the `stickslip` binary; otherwise only `stickslip-core`'s public API is
+//! called, and reports are made with `stickslip-report`.
 
 pub mod celik;
 pub mod fig2;
 pub mod operators;
 pub mod performance;
-pub mod plot;
 pub mod report;
 pub mod simulation;
 pub mod steppers;
@@ -145,11 +148,16 @@ pub struct Results {
     /// Cargo profile the study ran in (`release`, or `dev` with the core at opt-level 3).
     #[serde(default = "dev_profile")]
     pub build_profile: String,
+    /// The machine the study ran on (logical CPUs; absent in studies written before it was
+    /// recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub machine: Option<String>,
     /// Levels used.
     pub settings: Settings,
     /// All studies.
     pub studies: Vec<Study>,
-    /// Relative error of X(1.3 ms) of each drive integrator at Δt = 1e-8 s (free spring).
+    /// Relative error of X at the end of fig2 of each drive integrator with the paper's Δt
+    /// (free spring; the shipped scene's time.end and time.dt).
     pub drive_fig2_rel_error: Vec<(String, f64)>,
     /// Every fig2 run.
     pub runs: Vec<RunSummary>,
@@ -189,9 +197,13 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
     log(&format!("{} operators done", stamp(&start)));
     studies.extend(steppers::landau_study(&settings.landau_dts_s));
     studies.extend(steppers::drive_study(&settings.drive_dts_s));
+    let paper = fig2::shipped();
     let drive_fig2_rel_error = [(Integrator::Verlet, "verlet"), (Integrator::Rk4, "rk4")]
         .into_iter()
-        .map(|(i, n)| (n.to_string(), steppers::drive_error_at_fig2(i)))
+        .map(|(i, n)| {
+            let t = &paper.config.time;
+            (n.to_string(), steppers::drive_error_at(i, t.end_s, t.dt_s))
+        })
         .collect();
     log(&format!("{} steppers done", stamp(&start)));
 
@@ -284,6 +296,10 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
         } else {
             "release".to_string()
         },
+        machine: Some(format!(
+            "{} logical CPUs",
+            std::thread::available_parallelism().map_or(0, usize::from)
+        )),
         settings: settings.clone(),
         studies,
         drive_fig2_rel_error,

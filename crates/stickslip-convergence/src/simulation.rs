@@ -2,7 +2,8 @@
 //! and the stick-phase force, refining N and Δt separately for each scheme.
 //!
 //! Observables, per run (see [`crate::fig2`]):
-//! - `onset`: the onset of event k located inside its step (ln φ interpolated to the threshold);
+//! - `onset`: the onset of event k located inside its step (the core's, on the node's exact
+//!   path, for the accurate scheme; ln φ interpolated to the threshold for the literal one);
 //! - `f_peak`: the core's peak force before event k (largest step-end F since the previous
 //!   event began);
 //! - `force_stick_rms`: F(t) on the common 0.1 µs grid, restricted to the stick phases S (all

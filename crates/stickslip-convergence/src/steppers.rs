@@ -102,16 +102,30 @@ pub fn drive_error(integrator: Integrator, t_end_s: f64, dt_s: f64) -> f64 {
     ((s.x_m - x) / (v0 / d.omega_rad_per_s())).hypot((s.v_m_per_s - v) / v0)
 }
 
-/// Relative error of X at the end of fig2 (1.3 ms) with Δt = 1e-8 s, the paper's step.
-pub fn drive_error_at_fig2(integrator: Integrator) -> f64 {
+/// Relative error of X of the free spring after `end_s` with steps of `dt_s` (fig2's horizon
+/// and the paper's step: how much the drive integrator contributes to fig2's error).
+pub fn drive_error_at(integrator: Integrator, end_s: f64, dt_s: f64) -> f64 {
     let d = fig2_spring();
-    let dt = 1e-8;
+    let n = (end_s / dt_s).round() as u64;
     let mut s = DriveState::at_rest();
-    for _ in 0..130_000 {
-        d.step(integrator, &mut s, dt, 0.0);
+    for _ in 0..n {
+        d.step(integrator, &mut s, dt_s, 0.0);
     }
     let (x, _) = free_spring_exact(&d, s.t_s);
     ((s.x_m - x) / x).abs()
+}
+
+/// ωT of the friction-free spring over `t_s`.
+pub fn omega_t(t_s: f64) -> f64 {
+    fig2_spring().omega_rad_per_s() * t_s
+}
+
+/// Relaxation time 1/(2γ|c|) of a frozen-strain Landau case, s (c the Bernoulli coefficient
+/// a·ε² − A·b/a of [`LandauParams::bernoulli_c_pa`]).
+pub fn relaxation_time_s(case: &LandauCase) -> f64 {
+    let p = fig2_lubricant();
+    let c = p.bernoulli_c_pa(case.eps, p.a_coeff_default_pa());
+    1.0 / (2.0 * p.gamma_per_pa_s * c.abs())
 }
 
 /// Horizon of the drive study: ωT ≈ 7 (a little more than one period), s.
@@ -190,7 +204,10 @@ pub fn drive_study(dts: &[f64]) -> Vec<Study> {
             name,
             Refined::Dt,
             dts.to_vec(),
-            &format!("free spring from rest, T = {DRIVE_T_END_S} s (omega T = 7.07)"),
+            &format!(
+                "free spring from rest, T = {DRIVE_T_END_S} s (omega T = {:.2})",
+                omega_t(DRIVE_T_END_S)
+            ),
             "relative (phase space, by V0/omega and V0)",
             errors,
             (Some(p), if p == 2.0 { "2" } else { "4" }),

@@ -181,7 +181,7 @@ pub fn point(run: &RunRecord, reference: &Reference, walls_s: Vec<f64>) -> WpPoi
         method: scheme_name(run.spec.scheme).to_string(),
         nodes: run.spec.nodes,
         dt_s: run.spec.dt_s,
-        wall_s: crate::performance::median(&walls_s),
+        wall_s: stickslip_report::stats::median(&walls_s),
         walls_s,
         onset_error_s,
         f_peak_error_rel,

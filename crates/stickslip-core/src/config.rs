@@ -103,7 +103,7 @@ pub struct TimeConfig {
 /// `tolerance`. The next h follows from the first-order error model, err ∝ h².
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct AdaptiveConfig {
-    /// Allowed local error per step, relative to the error scales (default 1e-3).
+    /// Allowed local error per step, relative to the error scales (the scene default is 1e-4).
     pub tolerance: f64,
     /// Longest step, s.
     pub dt_max_s: f64,

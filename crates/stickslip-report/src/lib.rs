@@ -4,6 +4,7 @@
 //!   markers, slope guides, reference lines, cells for maps), with one [`palette`];
 //! - [`fmt`]: one number formatter for report prose and tables;
 //! - [`stats`]: one median, mean, coefficient of variation, differences and log–log slope;
+//! - [`map`]: friction-map panels (regime colours, a continuous quantity) from a sweep;
 //! - [`binary`]: builds the `stickslip` binary and runs scenes through it as a user would,
 //!   reading what it wrote through the run library's schema;
 //! - [`write_atomic`]: the run library's atomic writer, re-exported (there is one).
@@ -13,6 +14,7 @@
 
 pub mod binary;
 pub mod fmt;
+pub mod map;
 pub mod palette;
 pub mod plot;
 pub mod stats;

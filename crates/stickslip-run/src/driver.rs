@@ -461,7 +461,12 @@ impl Driver {
         limit: Limit,
     ) -> io::Result<Option<StopReason>> {
         if self.failure.is_some() {
-            return Ok(Some(StopReason::Failure));
+            // Only a refusal is set before the loop runs; a failure ends it.
+            return Ok(Some(if self.state.loop_index == 0 {
+                StopReason::Refused
+            } else {
+                StopReason::Failure
+            }));
         }
         let end = self.scene.config.time.end_s;
         let adaptive = self.adaptive();
@@ -514,6 +519,13 @@ impl Driver {
             if self.scene.max_events.is_some_and(|m| ended as u64 >= m) {
                 return Ok(Some(StopReason::MaxEvents));
             }
+            if let (Some(limit), Some(last)) =
+                (self.scene.max_open_event_s, self.sim.events().last())
+                && last.t_end_s.is_none()
+                && self.sim.time_s() - last.t_onset_s >= limit
+            {
+                return Ok(Some(StopReason::OpenEvent));
+            }
             if (adaptive || i.is_multiple_of(POLL_EVERY))
                 && let Some(poll) = control.poll.as_mut()
             {
@@ -541,8 +553,10 @@ impl Driver {
         stop: StopReason,
         thresholds: &RegimeThresholds,
     ) -> io::Result<RunOutcome> {
-        if matches!(stop, StopReason::End | StopReason::MaxEvents)
-            && self.state.recorder.last_series_t_s != Some(self.sim.time_s())
+        if matches!(
+            stop,
+            StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent
+        ) && self.state.recorder.last_series_t_s != Some(self.sim.time_s())
         {
             self.series_row(sink)?;
         }

@@ -672,6 +672,14 @@ pub const KEYS: &[Key] = &[
         Range::Integers(1, i64::MAX),
         "stop once this many melting events have ended (the film recovered); time.end still bounds the run",
     ),
+    k(
+        "time.max_open_event",
+        Real,
+        "s",
+        Off("none (run to time.end)"),
+        Range::Positive,
+        "stop once an event has stayed open this long (the film has not recovered; a sweep point's regime is clear)",
+    ),
     rule(
         k(
             "output.profile_times",

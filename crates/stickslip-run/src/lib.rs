@@ -9,6 +9,7 @@
 //! - [`schema`]: one type per output file, writer and reader together;
 //! - [`outcome`] and [`summary`]: what a run hands back, and its SPEC §6 summary and regime;
 //! - [`check`]: what `stickslip check` reports (preflight, plausibility, a timed probe);
+//! - [`sweep`]: friction maps, points run in-process on threads, sharded, resumable, merged;
 //! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file.
 //!
 //! Invariant: no command-line or terminal code here (no clap, no progress bars, no exit
@@ -24,6 +25,7 @@ pub mod scene;
 pub mod schema;
 pub mod sink;
 pub mod summary;
+pub mod sweep;
 
 pub use driver::{Control, Driver, Limit, NullSink, Sink, run};
 pub use outcome::{RunOutcome, RunStatus, StopReason};

@@ -57,8 +57,12 @@ pub enum StopReason {
     End,
     /// `time.max_events` events have ended.
     MaxEvents,
-    /// A numerical failure, or a refusal before the first step.
+    /// An event stayed open for `time.max_open_event`.
+    OpenEvent,
+    /// A numerical failure.
     Failure,
+    /// Refused before the first step (the preflight's verdict, e.g. a diverging lagged sweep).
+    Refused,
     /// Interrupted (a signal, Ctrl-C, or the caller's poll).
     Interrupted,
 }
@@ -70,7 +74,9 @@ impl StopReason {
         match self {
             Self::End => "end",
             Self::MaxEvents => "max_events",
+            Self::OpenEvent => "open_event",
             Self::Failure => "failure",
+            Self::Refused => "refused",
             Self::Interrupted => "interrupted",
         }
     }
@@ -79,8 +85,8 @@ impl StopReason {
     #[must_use]
     pub fn status(self) -> RunStatus {
         match self {
-            Self::End | Self::MaxEvents => RunStatus::Ok,
-            Self::Failure => RunStatus::Failed,
+            Self::End | Self::MaxEvents | Self::OpenEvent => RunStatus::Ok,
+            Self::Failure | Self::Refused => RunStatus::Failed,
             Self::Interrupted => RunStatus::Interrupted,
         }
     }

@@ -14,6 +14,13 @@
 //!   (R ≥ [`RegimeThresholds::stick_slip_recovery`]), `partial` (R ≥
 //!   [`RegimeThresholds::smooth_recovery`]), `smooth` (below).
 //!
+//! One refinement of SPEC §6, where its rules meet the event rule: when the film never
+//! regrows above the recovery level after the first melting, no second onset can be told
+//! apart, so the run has one event that is still open at its end. If that event's own
+//! recovery (the largest ⟨φ⟩/√(A/a) since its onset) stays below the smooth threshold, the
+//! film hardly recovers: the run is `smooth`, and `recovery` reports that value. An open
+//! single event with a larger recovery stays `transient`.
+//!
 //! Values that do not exist for a run (the period of a run with one event) are `None`
 //! (JSON null, an empty cell in map.csv).
 
@@ -156,6 +163,13 @@ pub struct SummaryInput<'a> {
     pub a_coeff_start_pa: f64,
 }
 
+impl SummaryInput<'_> {
+    /// Whether the last event is still open (the film has not recovered since).
+    fn last_open(&self) -> bool {
+        self.events.last().is_some_and(|e| e.t_end_s.is_none())
+    }
+}
+
 /// The summary and regime of a run.
 #[must_use]
 pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary {
@@ -166,7 +180,12 @@ pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary 
         let span = input.t_final_s - first.t_onset_s;
         (span > 0.0).then(|| (input.no_solid_time_s / span).clamp(0.0, 1.0))
     });
-    let recovery = last_two.map(|(a, _)| a.recovery);
+    let single_open = n == 1 && input.last_open();
+    let recovery = if single_open {
+        ev.first().map(|e| e.recovery)
+    } else {
+        last_two.map(|(a, _)| a.recovery)
+    };
     let sliding = input.a_coeff_start_pa <= 0.0
         || melted_time_fraction.is_some_and(|f| f >= th.sliding_fraction);
     let regime = if sliding {
@@ -174,6 +193,7 @@ pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary 
     } else {
         match (n, recovery) {
             (0, _) => Regime::NoMelting,
+            (1, Some(r)) if single_open && r < th.smooth_recovery => Regime::Smooth,
             (1, _) => Regime::Transient,
             (_, Some(r)) if r >= th.stick_slip_recovery => Regime::StickSlip,
             (_, Some(r)) if r >= th.smooth_recovery => Regime::Partial,
@@ -191,5 +211,106 @@ pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary 
         recovery,
         melted_time_fraction,
         regime,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Events with onsets 1, 2, …, their recoveries and whether the last has ended.
+    fn events(recoveries: &[f64], last_open: bool) -> Vec<MeltingEvent> {
+        recoveries
+            .iter()
+            .enumerate()
+            .map(|(i, &r)| MeltingEvent {
+                k: i + 1,
+                t_onset_s: (i + 1) as f64,
+                r_first_m: 1.0,
+                x_onset_m: 2.0 * (i + 1) as f64,
+                f_peak_n: 10.0 + i as f64,
+                r_min_m: 0.0,
+                t_center_s: None,
+                max_melted_fraction: 1.0,
+                t_end_s: (!(last_open && i + 1 == recoveries.len()))
+                    .then_some((i + 1) as f64 + 0.1),
+                recovery: r,
+                f_mean_n: 5.0 + i as f64,
+            })
+            .collect()
+    }
+
+    fn regime(ev: &[MeltingEvent], no_solid_s: f64, t_final: f64, a: f64) -> RunSummary {
+        summarize(
+            &SummaryInput {
+                events: ev,
+                no_solid_time_s: no_solid_s,
+                t_final_s: t_final,
+                a_coeff_start_pa: a,
+            },
+            &RegimeThresholds::default(),
+        )
+    }
+
+    #[test]
+    fn every_regime_and_its_boundaries() {
+        let cases: [(&[f64], bool, f64, f64, Regime); 14] = [
+            // A ≤ 0 from the start: sliding whatever the events.
+            (&[0.0], true, 0.0, 0.0, Regime::Sliding),
+            (&[0.0], true, 0.0, -1.0, Regime::Sliding),
+            // No node solid for ≥ 90 % of the time after the first onset (1 … 11 s): sliding.
+            (&[0.5], true, 9.0, 1.0, Regime::Sliding),
+            (&[0.5], true, 8.999, 1.0, Regime::Transient),
+            (&[], false, 0.0, 1.0, Regime::NoMelting),
+            (&[0.95], false, 0.0, 1.0, Regime::Transient),
+            // Two or more events: by the recovery of the last complete cycle.
+            (&[0.9, 0.0], false, 0.0, 1.0, Regime::StickSlip),
+            (&[0.899_999, 1.0], false, 0.0, 1.0, Regime::Partial),
+            (&[0.2, 0.899_999, 0.0], false, 0.0, 1.0, Regime::Partial),
+            (&[0.1, 1.0], false, 0.0, 1.0, Regime::Partial),
+            (&[0.099_999, 1.0], false, 0.0, 1.0, Regime::Smooth),
+            (&[0.0, 0.0], true, 0.0, 1.0, Regime::Smooth),
+            // One event that never ends: smooth when it hardly recovered, else transient.
+            (&[0.05], true, 0.0, 1.0, Regime::Smooth),
+            (&[0.1], true, 0.0, 1.0, Regime::Transient),
+        ];
+        for (rec, open, no_solid, a, expected) in cases {
+            let ev = events(rec, open && !rec.is_empty());
+            let s = regime(&ev, no_solid, 11.0, a);
+            assert_eq!(
+                s.regime, expected,
+                "recoveries {rec:?}, open {open}, no-solid {no_solid} s, A {a}"
+            );
+        }
+    }
+
+    #[test]
+    fn summary_numbers_come_from_the_last_two_onsets() {
+        let ev = events(&[0.95, 0.97, 0.99], false);
+        let s = regime(&ev, 0.0, 4.0, 1.0);
+        assert_eq!(s.n_events, 3);
+        assert_eq!(s.t_first_onset, Some(1.0));
+        assert_eq!(s.period_last, Some(1.0));
+        assert_eq!(s.x_period_last, Some(2.0));
+        assert_eq!(s.f_peak_first, Some(10.0));
+        assert_eq!(s.f_peak_last, Some(12.0));
+        assert_eq!(s.f_mean, Some(6.0));
+        assert_eq!(s.recovery, Some(0.97));
+        assert_eq!(s.melted_time_fraction, Some(0.0));
+        let none = regime(&[], 0.0, 4.0, 1.0);
+        assert_eq!(
+            (none.t_first_onset, none.period_last, none.recovery),
+            (None, None, None)
+        );
+    }
+
+    #[test]
+    fn thresholds_are_checked() {
+        let bad = RegimeThresholds {
+            stick_slip_recovery: 0.05,
+            ..RegimeThresholds::default()
+        };
+        assert_eq!(bad.validate().unwrap_err().0, "regime.stick_slip_recovery");
+        assert!(RegimeThresholds::default().validate().is_ok());
     }
 }

@@ -1,4 +1,4 @@
-//! The `stickslip` command line: `run`, `check`, `resume` and `keys` (see
+//! The `stickslip` command line: `run`, `check`, `resume`, `sweep` and `keys` (see
 //! INTERFACE.md and `docs/reference.md`).
 //!
 //! This crate holds arguments, progress, signals, printing and exit codes only; scenes, the
@@ -6,12 +6,14 @@
 //!
 //! Exit status: 0 success, 1 an I/O error while writing output, 2 bad scene or arguments
 //! (clap usage errors included) or an output directory holding an earlier run without
-//! `--force`, 3 numerical failure (or a refused configuration), 130 interrupted (SIGINT/SIGTERM; a checkpoint is written, `resume` finishes the run).
+//! `--force`, 3 numerical failure (or a refused configuration), 4 a sweep whose map has
+//! failed or refused points, 5 `sweep merge` with points missing, 130 interrupted (SIGINT/SIGTERM; a checkpoint is written, `resume` finishes the run).
 //! Messages go to stderr, prefixed `error: `.
 
 mod check;
 mod progress;
 mod reference;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -79,6 +81,9 @@ enum Command {
         #[arg(long, value_name = "SECONDS", value_parser = parse_interval)]
         checkpoint_every: Option<f64>,
     },
+    /// Friction maps: parameter sweeps with regime classification.
+    #[command(subcommand)]
+    Sweep(sweep::SweepCommand),
     /// Every scene key with its unit, default, allowed range and meaning.
     Keys {
         /// Print the reference as Markdown (docs/reference.md is generated from it).
@@ -142,7 +147,7 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
             );
             ExitCode::from(EXIT_INTERRUPTED)
         }
-        StopReason::Failure => {
+        StopReason::Failure | StopReason::Refused => {
             let failure = outcome
                 .failure
                 .as_ref()
@@ -155,7 +160,7 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
                 3,
             )
         }
-        StopReason::End | StopReason::MaxEvents => {
+        StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent => {
             println!(
                 "{name}: {} steps to t = {:e} s, {} melting events, {:.2} s wall; output in {}",
                 outcome.counts.steps,
@@ -256,6 +261,7 @@ fn main() -> ExitCode {
             quiet,
             checkpoint_every,
         } => resume(&dir, quiet, checkpoint_every),
+        Command::Sweep(cmd) => sweep::main(cmd),
         Command::Keys { markdown } => {
             if markdown {
                 print!("{}", reference::markdown());

@@ -340,3 +340,116 @@ fn damaged_checkpoint_or_partial_output_exits_2() {
     std::fs::remove_file(shortened.join(".series.csv.tmp")).unwrap();
     assert_refused(&shortened, "neither");
 }
+
+/// The status in `dir`'s run.json, if it can be read.
+fn status(dir: &Path) -> Option<String> {
+    stickslip_run::schema::run_info::RunInfo::read(dir)
+        .ok()
+        .map(|i| i.status.name().to_string())
+}
+
+/// Sends `signal` (e.g. "INT") to `child`.
+fn signal(child: &Child, signal: &str) {
+    let ok = std::process::Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .expect("kill runs")
+        .success();
+    assert!(ok, "kill -{signal} failed");
+}
+
+#[test]
+fn sigint_and_sigterm_checkpoint_exit_130_and_resume_bit_identical() {
+    let tmp = tempfile::tempdir().unwrap();
+    let reference = tmp.path().join("reference");
+    let out = run(&run_args(&reference, SHORT_NOISY)
+        .iter()
+        .map(String::as_str)
+        .collect::<Vec<_>>());
+    assert!(out.status.success(), "{}", texts(&out).1);
+    for sig in ["INT", "TERM"] {
+        let dir = tmp.path().join(sig);
+        // No periodic checkpoints: the one in the directory must come from the signal.
+        let child = bin()
+            .args(run_args(
+                &dir,
+                &[SHORT_NOISY, &["--checkpoint-every", "0"]].concat(),
+            ))
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        wait_until("run.json with status running", || {
+            status(&dir).as_deref() == Some("running")
+        });
+        std::thread::sleep(Duration::from_millis(100) + unplanned_delay());
+        signal(&child, sig);
+        let output = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(130), "SIG{sig}: {stderr}");
+        assert!(
+            stderr.contains(&format!("resume with: stickslip resume {}", dir.display())),
+            "SIG{sig}: {stderr}"
+        );
+        assert_eq!(status(&dir).as_deref(), Some("interrupted"), "SIG{sig}");
+        assert!(checkpoint(&dir).exists(), "SIG{sig}: no checkpoint");
+        let resumed = run(&["resume", dir.to_str().unwrap(), "--quiet"]);
+        assert!(resumed.status.success(), "{}", texts(&resumed).1);
+        assert_bit_identical(&reference, &dir);
+        assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+    }
+}
+
+#[test]
+fn an_earlier_run_is_refused_without_force_and_never_looks_current() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("out");
+    let small = [
+        "--set",
+        "contact.nodes=10",
+        "--set",
+        "time.end=1e-5",
+        "--set",
+        "output.profile_times=[1e-5]",
+        "--quiet",
+    ];
+    let first = run(&run_args(&dir, &small)
+        .iter()
+        .map(String::as_str)
+        .collect::<Vec<_>>());
+    assert!(first.status.success(), "{}", texts(&first).1);
+    let before: Vec<Vec<u8>> = ["run.json", "series.csv", "events.csv"]
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect();
+    let again = run(&run_args(&dir, &small)
+        .iter()
+        .map(String::as_str)
+        .collect::<Vec<_>>());
+    let stderr = texts(&again).1;
+    assert_eq!(again.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(&dir.display().to_string()) && stderr.contains("--force"),
+        "{stderr}"
+    );
+    let after: Vec<Vec<u8>> = ["run.json", "series.csv", "events.csv"]
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect();
+    assert_eq!(before, after, "a refused run touched the directory");
+
+    // With --force a long run replaces the earlier results before its first step: killed
+    // mid-way, the directory holds its run.json (running) and no finished-looking CSVs.
+    let child = spawn(&run_args(&dir, &[SHORT_NOISY, &["--force"]].concat()));
+    wait_until("run.json with status running", || {
+        status(&dir).as_deref() == Some("running")
+    });
+    let mut child = child;
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert_eq!(status(&dir).as_deref(), Some("running"));
+    for f in ["series.csv", "events.csv", "profiles.csv", "probes.csv"] {
+        assert!(!dir.join(f).exists(), "stale {f} beside a newer run");
+    }
+}

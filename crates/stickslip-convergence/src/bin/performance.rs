@@ -1,12 +1,27 @@
 //! `performance`: the headline benchmarks of `cargo xtask bench` (T1–T4, reports/performance.*).
 //!
-//! Options: `--quick` (smoke run, not for the report), `--repeats N` (default 5),
-//! `--max-nodes N` (largest N of the cost sweep, default 8000), `--out DIR` (default reports),
-//! `--binary PATH` (default target/release/stickslip).
+//! Options: see [`HELP`].
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use stickslip_convergence::performance::{BenchSettings, measure, write_report};
+
+/// The options.
+const HELP: &str = "\
+cargo xtask bench [options]
+
+Runs the headline performance comparisons T1-T4 on the release stickslip binary (every run a
+subprocess, read back through run.json and events.csv) and writes reports/performance.md,
+performance.json, performance_cost.svg and performance_work_precision.svg.
+
+Options:
+  --quick          a smoke run of about a minute (few, short runs; not for the report)
+  --repeats N      timed runs per configuration, median reported (default 5)
+  --max-nodes N    largest N of the cost-per-step sweep (default 8000)
+  --out DIR        output directory (default: the workspace's reports/)
+  --binary PATH    the stickslip binary (default: target/release/stickslip)
+  -h, --help       this text
+";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -32,6 +47,10 @@ fn main() -> ExitCode {
                 .ok_or_else(|| format!("{name} needs a value"))
         };
         let parsed: Result<(), String> = match a.as_str() {
+            "-h" | "--help" => {
+                print!("{HELP}");
+                return ExitCode::SUCCESS;
+            }
             "--quick" => {
                 settings.quick = true;
                 settings.repeats = 1;
@@ -56,9 +75,7 @@ fn main() -> ExitCode {
             }),
             "--out" => value("--out").map(|v| out = PathBuf::from(v)),
             "--binary" => value("--binary").map(|v| settings.binary = PathBuf::from(v)),
-            other => Err(format!(
-                "unknown option {other}; allowed: --quick, --repeats N, --max-nodes N, --out DIR, --binary PATH"
-            )),
+            other => Err(format!("unknown option {other}\n\n{HELP}")),
         };
         if let Err(e) = parsed {
             eprintln!("error: {e}");

@@ -239,6 +239,9 @@ pub struct TimeSection {
     /// Stop once this many events have ended (default: none).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_events: Option<i64>,
+    /// Stop once an event has stayed open this long, s (default: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_open_event: Option<f64>,
 }
 
 /// `[output]`: what is recorded.

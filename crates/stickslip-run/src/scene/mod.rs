@@ -90,6 +90,8 @@ pub struct ResolvedScene {
     pub output: OutputSettings,
     /// Stop once this many events have ended (`time.max_events`).
     pub max_events: Option<u64>,
+    /// Stop once an event has stayed open this long, s (`time.max_open_event`).
+    pub max_open_event_s: Option<f64>,
     /// The scene with every default filled in (written to run.json, printed by `check`).
     pub resolved: Scene,
     /// The scene as written, overrides applied: what [`ResolvedScene::with_overrides`]

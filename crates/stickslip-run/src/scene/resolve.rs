@@ -267,10 +267,13 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
 }
 
 /// Stepping, adaptive control and the filled-in `[time]` section.
+/// The stop rules of `[time]` besides the end: `max_events`, `max_open_event` (s).
+type Stops = (Option<u64>, Option<f64>);
+
 fn resolve_time(
     t: &TimeSection,
     noise: &NoiseKind,
-) -> Result<(TimeConfig, Option<u64>, TimeSection), SceneError> {
+) -> Result<(TimeConfig, Stops, TimeSection), SceneError> {
     let end = required(t.end, "time.end")?;
     let dt = t.dt.unwrap_or(DEFAULT_DT_S);
     if !(dt.is_finite() && dt > 0.0 && dt <= end) {
@@ -312,6 +315,10 @@ fn resolve_time(
         None => None,
         Some(n) => Some(keys::check("time.max_events", n as f64).map(|_| n.unsigned_abs())?),
     };
+    let max_open_event = t
+        .max_open_event
+        .map(|v| keys::check("time.max_open_event", v))
+        .transpose()?;
     let section = TimeSection {
         end: Some(end),
         dt: Some(dt),
@@ -321,6 +328,7 @@ fn resolve_time(
         dt_max: adaptive.map(|a| a.dt_max_s),
         dt_min: adaptive.map(|a| a.dt_min_s),
         max_events: t.max_events,
+        max_open_event,
     };
     let config = TimeConfig {
         end_s: end,
@@ -328,7 +336,7 @@ fn resolve_time(
         scheme,
         adaptive,
     };
-    Ok((config, max_events, section))
+    Ok((config, (max_events, max_open_event), section))
 }
 
 fn resolve_numerics(nm: &NumericsSection) -> Result<(NumericsConfig, NumericsSection), SceneError> {
@@ -469,7 +477,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
 
     let (drive, integrator, drive_section) =
         resolve_drive(&scene.drive.clone().unwrap_or_default())?;
-    let (time, max_events, time_section) =
+    let (time, (max_events, max_open_event_s), time_section) =
         resolve_time(&scene.time.clone().unwrap_or_default(), &noise)?;
     let (numerics, numerics_section) =
         resolve_numerics(&scene.numerics.clone().unwrap_or_default())?;
@@ -543,6 +551,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         config,
         output,
         max_events,
+        max_open_event_s,
         resolved,
         source: toml::Table::new(),
         derived,

@@ -122,7 +122,7 @@ pub fn markdown() -> String {
     out.push_str(
         "\n### `run.json`\n\n`name`, `status` (`running` | `interrupted` | `ok` | `failed`), \
          `failure` (null, or `{time_s, step, node, r_m, quantity, value, reason, message}`), \
-         `stop` (`end` | `max_events` | `failure` | `interrupted`), `version`, `scene` (as \
+         `stop` (`end` | `max_events` | `open_event` | `failure` | `refused` | `interrupted`), `version`, `scene` (as \
          resolved), `derived` (b, A, eps_c, phi0, omega, g_eff, nodes, steps_planned, \
          lagged_sweep_contraction, melting_force, critical_displacement, spring_period, \
          euler_number, first_onset_estimate), `warnings`, `steps`, `accepted_steps`, \

@@ -127,8 +127,8 @@ pub struct RunInfo {
     pub status: RunStatus,
     /// Why it failed (null unless `status` is `failed`).
     pub failure: Option<FailureRecord>,
-    /// Why it stopped: `end` (time.end), `max_events`, `failure`, `interrupted` (null while
-    /// running).
+    /// Why it stopped: `end` (time.end), `max_events`, `open_event` (time.max_open_event),
+    /// `failure`, `refused`, `interrupted` (null while running).
     pub stop: Option<String>,
     /// Program version (Cargo package version).
     pub version: String,

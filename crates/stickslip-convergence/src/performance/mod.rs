@@ -1,0 +1,622 @@
+//! `cargo xtask bench`: the headline performance comparisons (issue "performance", T1–T4),
+//! measured end to end on the release `stickslip` binary and written to
+//! `reports/performance.{md,json}` with two SVG figures ([`report`]).
+//!
+//! Every run is a subprocess started by the reporting kit ([`stickslip_report::binary`]);
+//! what it measured is read back through the run library's schema (run.json's typed fields:
+//! status, loop wall time, step counts, coupling iterations, the resolved scene; events.csv's
+//! onsets). Every number is a wall-clock measurement on this machine (medians of `repeats`
+//! runs, thread count set with `RAYON_NUM_THREADS`), and every accuracy figure is a
+//! difference to a converged reference computed in the same run — nothing is copied in.
+//!
+//! - **T1** fig2 with the default accurate settings (adaptive steps, default tolerance) at
+//!   N = [`T1_NODES`]: wall time on 1 and 2 threads, largest onset error against the reference.
+//! - **literal** the paper's scheme at its own settings (the scene's N and Δt) timed on a
+//!   window of the run and extrapolated per simulated second (the window is stated).
+//! - **T2** the paper's N with fixed steps of the paper's Δt, the whole run (run in full when a
+//!   window projects ≤ `full_run_limit_s`, else extrapolated and marked so).
+//! - **T3** loop time per step against N (fixed steps, fast and dense operators), log–log slope.
+//! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`].
+
+pub mod report;
+
+pub use report::write_report;
+
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+use stickslip_core::mdr::OperatorForm;
+use stickslip_report::binary;
+use stickslip_report::fmt::first_line;
+use stickslip_report::stats::{log_log_slope, median};
+use stickslip_run::schema::run_info::RunInfo;
+use stickslip_run::{RunStatus, Scene};
+
+/// T1: nodes of the default-settings run.
+pub const T1_NODES: usize = 200;
+/// T1: the goal for its wall time, s.
+pub const T1_GOAL_S: f64 = 0.5;
+/// T1: the goal for the onsets against the reference, µs.
+pub const ONSET_GOAL_US: f64 = 0.1;
+/// T1: the goal for the speed-up over the literal scheme.
+pub const SPEEDUP_GOAL: f64 = 300.0;
+/// T2: the goal for the whole run at the paper's resolution, s.
+pub const T2_GOAL_S: f64 = 10.0;
+/// T3: the goal for the slope of time per step against N.
+pub const SLOPE_GOAL: f64 = 1.2;
+/// T4: nodes of the work–precision runs.
+pub const T4_NODES: usize = 125;
+/// T3: the dense operator is timed up to this N.
+pub const DENSE_MAX_NODES: usize = 4000;
+
+/// Where and how to measure.
+#[derive(Debug, Clone)]
+pub struct BenchSettings {
+    /// The release `stickslip` binary.
+    pub binary: PathBuf,
+    /// The fig2 scene file.
+    pub scene: PathBuf,
+    /// Scratch directory for run outputs.
+    pub work_dir: PathBuf,
+    /// Runs per timed configuration (median reported).
+    pub repeats: usize,
+    /// Node counts of the cost-per-step sweep (T3).
+    pub sweep_nodes: Vec<usize>,
+    /// Fixed steps timed per node count in the sweep.
+    pub sweep_steps: usize,
+    /// Run T2 in full when its window projects at most this long, s.
+    pub full_run_limit_s: f64,
+    /// Nodes of the reference run.
+    pub reference_nodes: usize,
+    /// Tolerance of the reference run.
+    pub reference_tolerance: f64,
+    /// Fewer and shorter runs (smoke test of the pipeline, not for the report).
+    pub quick: bool,
+}
+
+/// The time stepping and operator a run resolved to (run.json's `scene`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Resolved {
+    /// `accurate` or `literal`.
+    pub scheme: String,
+    /// `adaptive` or `fixed`.
+    pub stepping: String,
+    /// Adaptive tolerance (None with fixed steps).
+    pub tolerance: Option<f64>,
+    /// time.dt, s (the first step tried when adaptive).
+    pub dt_s: f64,
+    /// Longest adaptive step, s.
+    pub dt_max_s: Option<f64>,
+    /// time.end, s.
+    pub end_s: f64,
+    /// Series interval, s.
+    pub series_interval_s: f64,
+    /// The operator form the run used (`fast`, `dense`; `fast (auto)` when `numerics.operator
+    /// = "auto"` chose it).
+    pub operator: String,
+    /// Nodes.
+    pub nodes: usize,
+}
+
+/// The lowercase name a value serialises to (`"adaptive"`), or `?`.
+fn name<T: Serialize>(v: &T) -> String {
+    serde_json::to_value(v)
+        .ok()
+        .and_then(|v| v.as_str().map(String::from))
+        .unwrap_or_else(|| "?".into())
+}
+
+impl Resolved {
+    /// From run.json.
+    #[must_use]
+    pub fn of(info: &RunInfo) -> Self {
+        let time = info.scene.time.clone().unwrap_or_default();
+        let output = info.scene.output.clone().unwrap_or_default();
+        let numerics = info.scene.numerics.clone().unwrap_or_default();
+        let choice = numerics.operator.as_ref().map_or("?".into(), name);
+        let form = stickslip_run::scene::resolve(&info.scene)
+            .map(|r| match r.config.operator_form() {
+                OperatorForm::Fast => "fast",
+                OperatorForm::Dense => "dense",
+            })
+            .unwrap_or("?");
+        Self {
+            scheme: time.scheme.as_ref().map_or("?".into(), name),
+            stepping: time.stepping.as_ref().map_or("?".into(), name),
+            tolerance: time.tolerance,
+            dt_s: time.dt.unwrap_or(f64::NAN),
+            dt_max_s: time.dt_max,
+            end_s: info.end_s(),
+            series_interval_s: output.series_interval.unwrap_or(f64::NAN),
+            operator: if choice == form {
+                choice
+            } else {
+                format!("{form} ({choice})")
+            },
+            nodes: info.derived.nodes,
+        }
+    }
+}
+
+/// What one finished subprocess run measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measured {
+    /// Wall time of the whole process, s.
+    pub wall_s: f64,
+    /// Wall time of the time loop (run.json `wall_seconds`), s.
+    pub loop_s: f64,
+    /// Steps taken (run.json `steps`: the half steps kept when adaptive).
+    pub steps: u64,
+    /// Rejected adaptive attempts.
+    pub rejected_steps: u64,
+    /// Coupling-solver iterations.
+    pub coupling_iterations: u64,
+    /// Event onsets (events.csv), s.
+    pub onsets_s: Vec<f64>,
+    /// What the run resolved to.
+    pub resolved: Resolved,
+}
+
+/// Runs `stickslip run SCENE --out WORK/TAG --quiet --force --set …` with `threads` rayon
+/// threads and reads what it wrote.
+///
+/// # Errors
+/// The process could not start or failed, its outputs do not read, or run.json does not say
+/// `ok`.
+pub fn run_cli(
+    s: &BenchSettings,
+    tag: &str,
+    sets: &[String],
+    threads: usize,
+) -> Result<Measured, String> {
+    let out = s.work_dir.join(tag);
+    let threads = threads.to_string();
+    let run = binary::run_scene(
+        &s.binary,
+        &s.scene,
+        &out,
+        sets,
+        &[("RAYON_NUM_THREADS", threads.as_str())],
+    )?;
+    let what = || format!("stickslip run --set {}", sets.join(" --set "));
+    if !run.process.ok() {
+        return Err(format!(
+            "{} failed (exit {:?}): {}",
+            what(),
+            run.process.code,
+            first_line(&run.process.stderr)
+        ));
+    }
+    let output = run
+        .output
+        .map_err(|e| format!("{}: output does not read: {e}", what()))?;
+    let info = &output.info;
+    if info.status != RunStatus::Ok {
+        return Err(format!(
+            "{}: run.json says {} ({})",
+            what(),
+            info.status.name(),
+            info.failure.as_ref().map_or("", |f| f.message.as_str())
+        ));
+    }
+    Ok(Measured {
+        wall_s: run.process.wall_s,
+        loop_s: info.wall_seconds,
+        steps: info.steps,
+        rejected_steps: info.rejected_steps,
+        coupling_iterations: info.coupling_iterations,
+        onsets_s: output.events.onsets_s(),
+        resolved: Resolved::of(info),
+    })
+}
+
+/// Largest |onset − reference| over the events both have, s; infinite if the counts differ.
+#[must_use]
+pub fn max_onset_error_s(onsets_s: &[f64], reference_s: &[f64]) -> f64 {
+    if onsets_s.len() != reference_s.len() {
+        return f64::INFINITY;
+    }
+    onsets_s
+        .iter()
+        .zip(reference_s)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Timed runs of one configuration.
+#[derive(Debug, Clone, Serialize)]
+pub struct Timed {
+    /// What was run (the `--set` overrides).
+    pub settings: Vec<String>,
+    /// What the last run resolved to.
+    pub resolved: Resolved,
+    /// Threads.
+    pub threads: usize,
+    /// Median process wall time, s.
+    pub wall_s: f64,
+    /// Median loop time, s.
+    pub loop_s: f64,
+    /// All process wall times, s.
+    pub walls_s: Vec<f64>,
+    /// Steps of the last run.
+    pub steps: u64,
+    /// Rejected steps of the last run.
+    pub rejected_steps: u64,
+    /// Largest onset error against the reference, µs.
+    pub max_onset_error_us: f64,
+    /// Events of the last run.
+    pub events: usize,
+    /// Coupling-solver iterations of the last run.
+    pub coupling_iterations: u64,
+}
+
+impl Timed {
+    /// Loop time per step, µs.
+    #[must_use]
+    pub fn us_per_step(&self) -> f64 {
+        1e6 * self.loop_s / self.steps.max(1) as f64
+    }
+}
+
+fn timed(
+    s: &BenchSettings,
+    tag: &str,
+    sets: &[String],
+    threads: usize,
+    repeats: usize,
+    reference_s: &[f64],
+) -> Result<Timed, String> {
+    let mut walls = Vec::new();
+    let mut loops = Vec::new();
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let r = run_cli(s, tag, sets, threads)?;
+        walls.push(r.wall_s);
+        loops.push(r.loop_s);
+        last = Some(r);
+    }
+    let last = last.ok_or("no run")?;
+    Ok(Timed {
+        settings: sets.to_vec(),
+        resolved: last.resolved,
+        threads,
+        wall_s: median(&walls),
+        loop_s: median(&loops),
+        walls_s: walls,
+        steps: last.steps,
+        rejected_steps: last.rejected_steps,
+        max_onset_error_us: 1e6 * max_onset_error_s(&last.onsets_s, reference_s),
+        events: last.onsets_s.len(),
+        coupling_iterations: last.coupling_iterations,
+    })
+}
+
+/// One point of the cost-per-step sweep.
+#[derive(Debug, Clone, Serialize)]
+pub struct CostPoint {
+    /// Nodes N.
+    pub nodes: usize,
+    /// Operator form (`fast` or `dense`).
+    pub operator: String,
+    /// Loop time per step, µs (median).
+    pub us_per_step: f64,
+    /// Threads.
+    pub threads: usize,
+}
+
+/// One point of the work–precision diagram.
+#[derive(Debug, Clone, Serialize)]
+pub struct WpPoint {
+    /// `adaptive` or `fixed`.
+    pub method: String,
+    /// Tolerance (adaptive) or Δt in s (fixed).
+    pub parameter: f64,
+    /// Median process wall time, s.
+    pub wall_s: f64,
+    /// Largest onset error against the reference, µs.
+    pub max_onset_error_us: f64,
+    /// Steps (sub-steps when adaptive).
+    pub steps: u64,
+    /// Rejected attempts (adaptive).
+    pub rejected_steps: u64,
+}
+
+/// Everything `cargo xtask bench` writes to `reports/performance.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Performance {
+    /// The scene's (the paper's) N.
+    pub paper_nodes: usize,
+    /// The scene's (the paper's) Δt, s.
+    pub paper_dt_s: f64,
+    /// The scene's end time, s.
+    pub scene_end_s: f64,
+    /// T1: fig2, default accurate settings at N = [`T1_NODES`], 2 threads, median wall s.
+    pub fig2_accurate_s: f64,
+    /// T1 on 1 thread.
+    pub fig2_accurate_1thread_s: f64,
+    /// T1 largest onset error against the reference, µs.
+    pub fig2_accurate_max_onset_error_us: f64,
+    /// T1 details (2 threads, 1 thread).
+    pub fig2_accurate_runs: Vec<Timed>,
+    /// The literal scheme at the paper's N and Δt, extrapolated to the whole run, s.
+    pub fig2_literal_extrapolated_s: f64,
+    /// Simulated window the literal scheme was timed on, s.
+    pub literal_window_s: f64,
+    /// The literal window run.
+    pub literal_window_run: Timed,
+    /// fig2_literal_extrapolated_s / fig2_accurate_s.
+    pub speedup: f64,
+    /// T2: the paper's N, fixed steps of the paper's Δt, whole run, 2 threads, s.
+    pub full_resolution_s: f64,
+    /// Whether T2 ran in full (else extrapolated from `full_resolution_window_s`).
+    pub full_resolution_measured: bool,
+    /// Steps of the whole T2 run (counted when run in full, else planned).
+    pub full_resolution_steps: u64,
+    /// Window T2 was timed on first, s.
+    pub full_resolution_window_s: f64,
+    /// T2 runs.
+    pub full_resolution_runs: Vec<Timed>,
+    /// T2 profile: loop µs per step on the T2 window with a rigid substrate (everything but
+    /// the elastic coupling: Landau steps, forces, output) and with the elastic one.
+    pub t2_profile_rigid_us_per_step: f64,
+    /// See `t2_profile_rigid_us_per_step`.
+    pub t2_profile_elastic_us_per_step: f64,
+    /// Coupling-solver (BiCGSTAB) iterations per step on the T2 window.
+    pub t2_coupling_iterations_per_step: f64,
+    /// T3: fitted log–log slope of loop time per step against N (fast operator, 2 threads).
+    pub slope: f64,
+    /// T3 slope of the dense operator.
+    pub slope_dense: f64,
+    /// T3 points.
+    pub cost_per_step: Vec<CostPoint>,
+    /// T4 points (N = [`T4_NODES`]).
+    pub work_precision: Vec<WpPoint>,
+    /// Reference onsets (adaptive, `reference_nodes`, `reference_tolerance`), s.
+    pub reference_onsets_s: Vec<f64>,
+    /// Reference settings.
+    pub reference_settings: Vec<String>,
+    /// Largest onset difference of the reference to a half-resolution, 10× looser run, µs:
+    /// an upper estimate of the reference's own error.
+    pub reference_uncertainty_us: f64,
+    /// Total time of the benchmark, s.
+    pub total_s: f64,
+    /// Machine note.
+    pub machine: String,
+}
+
+fn set(k: &str, v: impl std::fmt::Display) -> String {
+    format!("{k}={v}")
+}
+
+/// A window of `window_s` of the scene: end and the profile there.
+fn window(window_s: f64) -> [String; 2] {
+    [
+        set("time.end", format!("{window_s:e}")),
+        format!("output.profile_times=[{window_s:e}]"),
+    ]
+}
+
+/// Runs all measurements.
+///
+/// # Errors
+/// A run that failed, or a scene that does not resolve.
+pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
+    let start = Instant::now();
+    std::fs::create_dir_all(&s.work_dir).map_err(|e| e.to_string())?;
+    let progress = |msg: &str| eprintln!("[{:7.1} s] {msg}", start.elapsed().as_secs_f64());
+    let scene = Scene::from_path(&s.scene, &[] as &[String])
+        .map_err(|e| format!("{}: {e}", s.scene.display()))?;
+    let paper_nodes = scene.config.contact.nodes;
+    let paper_dt_s = scene.config.time.dt_s;
+    let scene_end_s = scene.config.time.end_s;
+
+    // Reference: the accurate scheme at high resolution, and a check run at half of it.
+    progress("reference");
+    let ref_sets = vec![
+        set("contact.nodes", s.reference_nodes),
+        set("time.tolerance", format!("{:e}", s.reference_tolerance)),
+    ];
+    let reference = run_cli(s, "reference", &ref_sets, 2)?;
+    let check_sets = vec![
+        set("contact.nodes", s.reference_nodes / 2),
+        set(
+            "time.tolerance",
+            format!("{:e}", 10.0 * s.reference_tolerance),
+        ),
+    ];
+    let check = run_cli(s, "reference_check", &check_sets, 2)?;
+    let reference_uncertainty_us = 1e6 * max_onset_error_s(&check.onsets_s, &reference.onsets_s);
+    let r = &reference.onsets_s;
+
+    // T1.
+    progress(&format!(
+        "T1: fig2 accurate, default settings, N = {T1_NODES}"
+    ));
+    let t1_sets = vec![set("contact.nodes", T1_NODES)];
+    let t1_two = timed(s, "t1", &t1_sets, 2, s.repeats, r)?;
+    let t1_one = timed(s, "t1", &t1_sets, 1, s.repeats, r)?;
+
+    // The paper's algorithm at its own settings, on a window.
+    let literal_window_s = if s.quick { 5e-6 } else { 3.4e-5 };
+    progress(&format!("literal N = {paper_nodes} window"));
+    let mut lit_sets = vec![
+        set("contact.nodes", paper_nodes),
+        set("time.scheme", "literal"),
+        set("time.dt", format!("{paper_dt_s:e}")),
+    ];
+    lit_sets.extend(window(literal_window_s));
+    let literal_window_run = timed(s, "literal", &lit_sets, 2, 1, &[])?;
+    let setup_s = literal_window_run.wall_s - literal_window_run.loop_s;
+    let fig2_literal_extrapolated_s =
+        setup_s + literal_window_run.loop_s * scene_end_s / literal_window_s;
+
+    // T2.
+    progress(&format!(
+        "T2: N = {paper_nodes}, fixed dt = {paper_dt_s:e} s"
+    ));
+    let full_sets = vec![
+        set("contact.nodes", paper_nodes),
+        set("time.stepping", "fixed"),
+        set("time.dt", format!("{paper_dt_s:e}")),
+    ];
+    let full_resolution_window_s = if s.quick { 2e-6 } else { 2.6e-5 };
+    let mut t2_window_sets = full_sets.clone();
+    t2_window_sets.extend(window(full_resolution_window_s));
+    let t2_window = timed(s, "t2_window", &t2_window_sets, 2, s.repeats, &[])?;
+    let mut rigid_sets = t2_window_sets.clone();
+    rigid_sets.push(set("contact.substrate", "rigid"));
+    let t2_rigid = timed(s, "t2_rigid", &rigid_sets, 2, s.repeats, &[])?;
+    let t2_profile_rigid_us_per_step = t2_rigid.us_per_step();
+    let t2_profile_elastic_us_per_step = t2_window.us_per_step();
+    let t2_coupling_iterations_per_step =
+        t2_window.coupling_iterations as f64 / t2_window.steps.max(1) as f64;
+    let projected = (t2_window.wall_s - t2_window.loop_s)
+        + t2_window.loop_s * scene_end_s / full_resolution_window_s;
+    let mut full_resolution_runs = vec![t2_window];
+    let planned_steps = stickslip_run::scene::step_count(scene_end_s, paper_dt_s);
+    let (full_resolution_s, full_resolution_measured, full_resolution_steps) =
+        if !s.quick && projected <= s.full_run_limit_s {
+            progress("T2: full run");
+            let full = timed(s, "t2_full", &full_sets, 2, 1, r)?;
+            let (wall, steps) = (full.wall_s, full.steps);
+            full_resolution_runs.push(full);
+            (wall, true, steps)
+        } else {
+            (projected, false, planned_steps)
+        };
+
+    // T3.
+    let mut cost_per_step = Vec::new();
+    for &n in &s.sweep_nodes {
+        for operator in ["fast", "dense"] {
+            if operator == "dense" && n > DENSE_MAX_NODES {
+                continue;
+            }
+            progress(&format!("T3: N = {n}, {operator}"));
+            let mut sets = vec![
+                set("contact.nodes", n),
+                set("time.stepping", "fixed"),
+                set("time.dt", format!("{paper_dt_s:e}")),
+                set("numerics.operator", operator),
+            ];
+            sets.extend(window(s.sweep_steps as f64 * paper_dt_s));
+            let t = timed(s, &format!("t3_{n}_{operator}"), &sets, 2, s.repeats, &[])?;
+            cost_per_step.push(CostPoint {
+                nodes: n,
+                operator: operator.to_string(),
+                us_per_step: t.us_per_step(),
+                threads: 2,
+            });
+        }
+    }
+    let slope_of = |op: &str| {
+        let pts: Vec<(f64, f64)> = cost_per_step
+            .iter()
+            .filter(|p| p.operator == op)
+            .map(|p| (p.nodes as f64, p.us_per_step))
+            .collect();
+        log_log_slope(&pts)
+    };
+    let slope = slope_of("fast");
+    let slope_dense = slope_of("dense");
+
+    // T4.
+    let mut work_precision = Vec::new();
+    let tolerances: &[f64] = if s.quick {
+        &[1e-3, 1e-4]
+    } else {
+        &[1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6]
+    };
+    for &tol in tolerances {
+        progress(&format!("T4: adaptive tol {tol:e}"));
+        let sets = vec![
+            set("contact.nodes", T4_NODES),
+            set("time.tolerance", format!("{tol:e}")),
+        ];
+        let t = timed(s, "t4", &sets, 2, s.repeats, r)?;
+        work_precision.push(WpPoint {
+            method: "adaptive".into(),
+            parameter: tol,
+            wall_s: t.wall_s,
+            max_onset_error_us: t.max_onset_error_us,
+            steps: t.steps,
+            rejected_steps: t.rejected_steps,
+        });
+    }
+    let dts: &[f64] = if s.quick {
+        &[8e-8]
+    } else {
+        &[3.2e-7, 1.6e-7, 8e-8, 4e-8, 2e-8, 1e-8]
+    };
+    for &dt in dts {
+        progress(&format!("T4: fixed dt {dt:e}"));
+        let sets = vec![
+            set("contact.nodes", T4_NODES),
+            set("time.stepping", "fixed"),
+            set("time.dt", format!("{dt:e}")),
+        ];
+        let t = timed(s, "t4", &sets, 2, s.repeats, r)?;
+        work_precision.push(WpPoint {
+            method: "fixed".into(),
+            parameter: dt,
+            wall_s: t.wall_s,
+            max_onset_error_us: t.max_onset_error_us,
+            steps: t.steps,
+            rejected_steps: 0,
+        });
+    }
+    let fig2_accurate_s = t1_two.wall_s;
+    Ok(Performance {
+        paper_nodes,
+        paper_dt_s,
+        scene_end_s,
+        fig2_accurate_s,
+        fig2_accurate_1thread_s: t1_one.wall_s,
+        fig2_accurate_max_onset_error_us: t1_two.max_onset_error_us,
+        fig2_accurate_runs: vec![t1_two, t1_one],
+        fig2_literal_extrapolated_s,
+        literal_window_s,
+        literal_window_run,
+        speedup: fig2_literal_extrapolated_s / fig2_accurate_s,
+        full_resolution_s,
+        full_resolution_measured,
+        full_resolution_steps,
+        full_resolution_window_s,
+        full_resolution_runs,
+        t2_profile_rigid_us_per_step,
+        t2_profile_elastic_us_per_step,
+        t2_coupling_iterations_per_step,
+        slope,
+        slope_dense,
+        cost_per_step,
+        work_precision,
+        reference_onsets_s: reference.onsets_s,
+        reference_settings: ref_sets,
+        reference_uncertainty_us,
+        total_s: start.elapsed().as_secs_f64(),
+        machine: format!(
+            "{} logical CPUs; release build; wall times of whole processes",
+            std::thread::available_parallelism().map_or(0, usize::from)
+        ),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn onset_error_needs_equal_counts() {
+        assert_eq!(max_onset_error_s(&[1.0, 2.0], &[1.0]), f64::INFINITY);
+        assert!((max_onset_error_s(&[1.0, 2.5], &[1.5, 2.0]) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn names_of_enums_as_written() {
+        assert_eq!(
+            name(&stickslip_run::scene::file::Stepping::Adaptive),
+            "adaptive"
+        );
+        assert_eq!(name(&stickslip_core::config::Scheme::Literal), "literal");
+    }
+}

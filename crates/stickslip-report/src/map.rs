@@ -1,0 +1,376 @@
+//! Friction maps from a sweep's table: one panel of regimes as colours and one of a
+//! continuous quantity, over the first two numeric axes (log axes where the axis is
+//! log-spaced), failed and refused points marked; further axes (and word axes) give one pair
+//! of panels per value.
+
+use crate::fmt::sig;
+use crate::palette::{self, sequential};
+use crate::plot::{Cell, LegendAt, Marker, Panel, Scale, Series};
+use plotters::style::RGBColor;
+use stickslip_run::summary::Regime;
+use stickslip_run::sweep::map::{MapJson, MapRow, SUMMARY_COLUMNS};
+use stickslip_run::sweep::record::PointStatus;
+use stickslip_run::sweep::{Axis, value_text};
+
+/// Quantities a map can show as colours.
+pub const QUANTITIES: [&str; 6] = [
+    "recovery",
+    "period_last",
+    "x_period_last",
+    "f_peak_last",
+    "t_first_onset",
+    "n_events",
+];
+
+/// Cell edges around sorted axis values: midpoints (geometric on a log axis), the ends half
+/// a step out.
+fn edges(values: &[f64], log: bool) -> Vec<(f64, f64)> {
+    let n = values.len();
+    let mid = |a: f64, b: f64| if log { (a * b).sqrt() } else { 0.5 * (a + b) };
+    let out_of = |a: f64, b: f64| if log { a * a / b } else { 2.0 * a - b };
+    (0..n)
+        .map(|i| {
+            let lo = if i > 0 {
+                mid(values[i - 1], values[i])
+            } else if n > 1 {
+                mid(out_of(values[0], values[1]), values[0])
+            } else if log {
+                values[0] / 1.5
+            } else {
+                values[0] - 0.5 * values[0].abs().max(1e-300)
+            };
+            let hi = if i + 1 < n {
+                mid(values[i], values[i + 1])
+            } else if n > 1 {
+                mid(values[n - 1], out_of(values[n - 1], values[n - 2]))
+            } else if log {
+                values[0] * 1.5
+            } else {
+                values[0] + 0.5 * values[0].abs().max(1e-300)
+            };
+            (lo, hi)
+        })
+        .collect()
+}
+
+fn numeric(axis: &Axis) -> bool {
+    axis.numbers().iter().all(|v| v.is_finite())
+}
+
+fn label(axis: &Axis) -> String {
+    let unit = axis.unit();
+    if unit.is_empty() || unit == "–" {
+        axis.key.clone()
+    } else {
+        format!("{} [{unit}]", axis.key)
+    }
+}
+
+/// The unit of a summary column.
+#[must_use]
+pub fn unit(column: &str) -> &'static str {
+    SUMMARY_COLUMNS
+        .iter()
+        .find(|c| c.name == column)
+        .map_or("", |c| c.unit)
+}
+
+/// Which axes go where: x, optional y, then the facet axes.
+struct Layout {
+    x: usize,
+    y: Option<usize>,
+    facets: Vec<usize>,
+}
+
+fn layout(axes: &[Axis]) -> Result<Layout, String> {
+    let numeric: Vec<usize> = (0..axes.len()).filter(|&i| numeric(&axes[i])).collect();
+    let Some(&x) = numeric.first() else {
+        return Err("a map needs at least one numeric axis".into());
+    };
+    let y = numeric.get(1).copied();
+    let facets = (0..axes.len())
+        .filter(|i| *i != x && Some(*i) != y)
+        .collect();
+    Ok(Layout { x, y, facets })
+}
+
+/// The panels of a map of `json` showing `quantity` (a summary column), and per facet value
+/// the regime panel then the quantity panel. Panels carry no overlays; callers add their own
+/// lines (critical speeds, diagonals) before rendering.
+///
+/// # Errors
+/// When no axis is numeric or `quantity` is not a summary column.
+pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
+    if !SUMMARY_COLUMNS.iter().any(|c| c.name == quantity) || quantity == "regime" {
+        return Err(format!(
+            "quantity {quantity:?}; allowed: one of {}",
+            QUANTITIES.join(", ")
+        ));
+    }
+    let axes = &json.sweep.axes;
+    let lay = layout(axes)?;
+    let sweep = &json.sweep;
+    let facet_values: Vec<Vec<String>> = {
+        let mut seen: Vec<Vec<String>> = Vec::new();
+        for r in &json.table.rows {
+            let key: Vec<String> = lay.facets.iter().map(|&i| r.values[i].clone()).collect();
+            if !seen.contains(&key) {
+                seen.push(key);
+            }
+        }
+        seen
+    };
+    let mut out = Vec::new();
+    for facet in &facet_values {
+        let rows: Vec<&MapRow> = json
+            .table
+            .rows
+            .iter()
+            .filter(|r| {
+                lay.facets
+                    .iter()
+                    .zip(facet)
+                    .all(|(&i, v)| r.values[i] == *v)
+            })
+            .collect();
+        let suffix = if facet.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " ({})",
+                lay.facets
+                    .iter()
+                    .zip(facet)
+                    .map(|(&i, v)| format!("{} = {v}", axes[i].key))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        out.extend(pair(
+            sweep.name.as_str(),
+            axes,
+            &lay,
+            &rows,
+            quantity,
+            &suffix,
+        ));
+    }
+    Ok(out)
+}
+
+fn coords(lay: &Layout, row: &MapRow) -> (f64, f64) {
+    let num = |i: usize| row.values[i].parse::<f64>().unwrap_or(f64::NAN);
+    (num(lay.x), lay.y.map_or(0.0, num))
+}
+
+fn cell_of(axes: &[Axis], lay: &Layout, row: &MapRow) -> ((f64, f64), (f64, f64)) {
+    let find = |i: usize| {
+        let a = &axes[i];
+        let values: Vec<String> = a.values.iter().map(value_text).collect();
+        let k = values.iter().position(|v| *v == row.values[i]).unwrap_or(0);
+        edges(&a.numbers(), a.log)[k]
+    };
+    (find(lay.x), lay.y.map_or((0.0, 1.0), find))
+}
+
+fn pair(
+    name: &str,
+    axes: &[Axis],
+    lay: &Layout,
+    rows: &[&MapRow],
+    quantity: &str,
+    suffix: &str,
+) -> Vec<Panel> {
+    let xs = if axes[lay.x].log {
+        Scale::Log
+    } else {
+        Scale::Linear
+    };
+    let x_label = label(&axes[lay.x]);
+    let two_d = lay.y.is_some();
+    let ys = lay.y.map_or(Scale::Linear, |y| {
+        if axes[y].log {
+            Scale::Log
+        } else {
+            Scale::Linear
+        }
+    });
+    let y_label = lay.y.map_or_else(String::new, |y| label(&axes[y]));
+    let failed = |status: PointStatus| -> Series {
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.status == status)
+            .map(|r| coords(lay, r))
+            .map(|(x, y)| (x, if two_d { y } else { 0.5 }))
+            .collect();
+        let n = pts.len();
+        Series::new(
+            if n > 0 {
+                format!("{} ({n})", status.name())
+            } else {
+                String::new()
+            },
+            pts,
+            if status == PointStatus::Failed {
+                RGBColor(0, 0, 0)
+            } else {
+                RGBColor(180, 0, 0)
+            },
+        )
+        .points()
+        .marker(Marker::Cross)
+    };
+    // Regimes.
+    let mut regime = Panel::new(
+        &format!("{name}: regime{suffix}"),
+        &x_label,
+        if two_d { &y_label } else { "" },
+    )
+    .scales(xs, ys)
+    .legend(LegendAt::UpperRight);
+    for r in rows {
+        let (x, y) = cell_of(axes, lay, r);
+        regime.cells.push(Cell {
+            x,
+            y,
+            color: if r.status == PointStatus::Ok {
+                palette::regime(r.summary.regime.name())
+            } else {
+                RGBColor(255, 255, 255)
+            },
+        });
+    }
+    for reg in Regime::ALL {
+        let n = rows
+            .iter()
+            .filter(|r| r.status == PointStatus::Ok && r.summary.regime == reg)
+            .count();
+        if n > 0 {
+            regime.series.push(
+                Series::new(
+                    format!("{} ({n})", reg.name()),
+                    Vec::new(),
+                    palette::regime(reg.name()),
+                )
+                .points(),
+            );
+        }
+    }
+    regime.series.push(failed(PointStatus::Failed));
+    regime.series.push(failed(PointStatus::Refused));
+    // The quantity.
+    let values: Vec<f64> = rows.iter().map(|r| r.number(quantity)).collect();
+    let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    let (lo, hi) = finite
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let log_colour = lo > 0.0 && hi / lo > 10.0;
+    let norm = |v: f64| {
+        if !(hi > lo) {
+            0.5
+        } else if log_colour {
+            (v / lo).ln() / (hi / lo).ln()
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
+    let u = unit(quantity);
+    let title = if u.is_empty() || u == "–" {
+        quantity.to_string()
+    } else {
+        format!("{quantity} [{u}]")
+    };
+    let mut q = Panel::new(
+        &format!(
+            "{name}: {title}{}{suffix}",
+            if log_colour { ", log colour" } else { "" }
+        ),
+        &x_label,
+        if two_d { &y_label } else { &title },
+    )
+    .scales(xs, ys)
+    .legend(LegendAt::UpperRight);
+    if two_d {
+        for (r, &v) in rows.iter().zip(&values) {
+            let (x, y) = cell_of(axes, lay, r);
+            q.cells.push(Cell {
+                x,
+                y,
+                color: if v.is_finite() {
+                    sequential(norm(v))
+                } else {
+                    RGBColor(225, 225, 225)
+                },
+            });
+        }
+        if lo.is_finite() {
+            let mid = if log_colour {
+                (lo * hi).sqrt()
+            } else {
+                0.5 * (lo + hi)
+            };
+            for v in [lo, mid, hi] {
+                q.series.push(
+                    Series::new(
+                        format!("{} {u}", sig(v, 3)),
+                        Vec::new(),
+                        sequential(norm(v)),
+                    )
+                    .points(),
+                );
+            }
+        }
+        if values.iter().any(|v| !v.is_finite()) {
+            q.series
+                .push(Series::new("no value", Vec::new(), RGBColor(225, 225, 225)).points());
+        }
+    } else {
+        // One axis: the quantity against it, coloured by regime.
+        q = q.scales(
+            xs,
+            if log_colour {
+                Scale::Log
+            } else {
+                Scale::Linear
+            },
+        );
+        for reg in Regime::ALL {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .zip(&values)
+                .filter(|(r, v)| {
+                    r.status == PointStatus::Ok && r.summary.regime == reg && v.is_finite()
+                })
+                .map(|(r, &v)| (coords(lay, r).0, v))
+                .collect();
+            if !pts.is_empty() {
+                q.series
+                    .push(Series::new(reg.name(), pts, palette::regime(reg.name())).points());
+            }
+        }
+    }
+    q.series.push(failed(PointStatus::Failed));
+    q.series.push(failed(PointStatus::Refused));
+    if !two_d {
+        regime = regime.y_range(0.0, 1.0);
+    }
+    vec![regime, q]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::edges;
+
+    #[test]
+    fn cells_meet_halfway_on_linear_and_log_axes() {
+        assert_eq!(
+            edges(&[0.0, 1.0, 2.0], false),
+            vec![(-0.5, 0.5), (0.5, 1.5), (1.5, 2.5)]
+        );
+        let e = edges(&[1.0, 10.0, 100.0], true);
+        assert!((e[1].0 - 10f64.sqrt()).abs() < 1e-12 && (e[1].1 - 1000f64.sqrt()).abs() < 1e-9);
+        assert!((e[0].0 - 10f64.powf(-0.5)).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,476 @@
+//! Friction maps: a sweep of one base scene over the cartesian product of axes, each point one
+//! in-process run reduced to its summary and regime (SPEC §6).
+//!
+//! - [`file`]: SWEEP.toml as written and its errors;
+//! - this module: the resolved [`Sweep`] (axes, points, every point's scene validated before
+//!   anything runs);
+//! - [`record`]: one record per finished point, `DIR/points/<point>.json`, written atomically;
+//! - [`map`]: `map.csv` and `map.json`, writer and reader;
+//! - [`exec`]: running points (jobs, shards, resumable, interruptible) and the merge;
+//! - [`slurm`]: the job-array script.
+//!
+//! Points are numbered 0 … P−1 in the order of the cartesian product, the last axis fastest.
+//! A shard I/N runs the points with index mod N = I. Results do not depend on jobs or shards:
+//! each point is a deterministic run of its own scene.
+
+pub mod exec;
+pub mod file;
+pub mod map;
+pub mod record;
+pub mod slurm;
+
+pub use file::SweepError;
+
+use crate::keys::{self, ValueType};
+use crate::scene::{ResolvedScene, Scene, SceneError};
+use crate::summary::RegimeThresholds;
+use file::{AxisFile, SweepFile};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Largest number of points a sweep may have without `allow_large`.
+pub const MAX_POINTS: usize = 100_000;
+
+/// One axis of a sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    /// The scene key it varies.
+    pub key: String,
+    /// Its values, in order (numbers, or words of a choice key).
+    pub values: Vec<toml::Value>,
+    /// Values spaced logarithmically (from `range.scale = "log"`, or explicit positive
+    /// values whose ratios are equal).
+    pub log: bool,
+}
+
+impl Axis {
+    /// The values as numbers (NaN for words).
+    #[must_use]
+    pub fn numbers(&self) -> Vec<f64> {
+        self.values.iter().map(value_number).collect()
+    }
+
+    /// The unit of the axis key.
+    #[must_use]
+    pub fn unit(&self) -> &'static str {
+        keys::KEYS
+            .iter()
+            .find(|k| k.path == self.key)
+            .map_or("", |k| k.unit)
+    }
+}
+
+/// A number from a TOML value (NaN for anything else).
+#[must_use]
+pub fn value_number(v: &toml::Value) -> f64 {
+    match v {
+        toml::Value::Float(f) => *f,
+        toml::Value::Integer(i) => *i as f64,
+        _ => f64::NAN,
+    }
+}
+
+/// A value as written in map.csv: `{:e}` for numbers, the word itself otherwise.
+#[must_use]
+pub fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::Float(f) => format!("{f:e}"),
+        toml::Value::Integer(i) => i.to_string(),
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// A resolved sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sweep {
+    /// Name.
+    pub name: String,
+    /// The sweep file, absolute.
+    pub file: PathBuf,
+    /// The base scene, absolute.
+    pub scene_path: PathBuf,
+    /// `[set]`, applied to every point.
+    pub set: toml::Table,
+    /// The axes.
+    pub axes: Vec<Axis>,
+    /// Regime thresholds.
+    pub thresholds: RegimeThresholds,
+    /// Number of points.
+    pub points: usize,
+    /// The base scene as written (parsed), with `[set]` applied.
+    pub base: toml::Table,
+}
+
+/// Inserts `value` at the dotted `path` of `table`, creating tables on the way.
+fn insert(table: &mut toml::Table, path: &str, value: toml::Value) {
+    let parts: Vec<&str> = path.split('.').collect();
+    let Some((last, parents)) = parts.split_last() else {
+        return;
+    };
+    let mut t = table;
+    for p in parents {
+        let entry = t
+            .entry((*p).to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        if !entry.is_table() {
+            *entry = toml::Value::Table(toml::Table::new());
+        }
+        let toml::Value::Table(sub) = entry else {
+            return;
+        };
+        t = sub;
+    }
+    t.insert((*last).to_string(), value);
+}
+
+/// `[set]` keys as dotted paths: `"contact.nodes" = 100` or `[set.contact] nodes = 100`.
+fn flatten(table: &toml::Table, prefix: &str, out: &mut Vec<(String, toml::Value)>) {
+    for (k, v) in table {
+        let path = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(sub) => flatten(sub, &path, out),
+            other => out.push((path, other.clone())),
+        }
+    }
+}
+
+fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepError> {
+    let name = |field: &str| format!("axis[{i}].{field}");
+    let key = a.key.clone().ok_or_else(|| {
+        SweepError::invalid(name("key"), "none", "a scene key (see `stickslip keys`)")
+    })?;
+    let Some(spec) = keys::KEYS.iter().find(|k| k.path == key) else {
+        return Err(SweepError::invalid(
+            name("key"),
+            format!("{key:?}"),
+            "a scene key (see `stickslip keys`)",
+        ));
+    };
+    if key == "name" {
+        return Err(SweepError::invalid(
+            name("key"),
+            "\"name\"",
+            "a scene key other than name",
+        ));
+    }
+    if seen.contains(&key) {
+        return Err(SweepError::invalid(
+            name("key"),
+            format!("{key:?}"),
+            "a key not already swept by an earlier axis",
+        ));
+    }
+    let (values, log) = match (&a.values, &a.range) {
+        (Some(_), Some(_)) | (None, None) => {
+            return Err(SweepError::invalid(
+                format!("axis[{i}] ({key})"),
+                "values and range",
+                "exactly one of `values = [...]` or `range = { from, to, count, scale }`",
+            ));
+        }
+        (Some(values), None) => {
+            if values.is_empty() {
+                return Err(SweepError::invalid(
+                    name("values"),
+                    "[]",
+                    "a non-empty array of values",
+                ));
+            }
+            for v in values {
+                let ok = match (spec.value, v) {
+                    (ValueType::Choice(words), toml::Value::String(s)) => {
+                        words.contains(&s.as_str())
+                    }
+                    (ValueType::Real | ValueType::Integer, toml::Value::Float(f)) => f.is_finite(),
+                    (ValueType::Real | ValueType::Integer, toml::Value::Integer(_)) => true,
+                    _ => false,
+                };
+                if !ok {
+                    return Err(SweepError::invalid(
+                        name("values"),
+                        crate::scene::error::show_value(v),
+                        &format!("values of {key}: {}", spec.allowed()),
+                    ));
+                }
+            }
+            let nums: Vec<f64> = values.iter().map(value_number).collect();
+            let log = nums.len() >= 3
+                && nums.iter().all(|&x| x > 0.0)
+                && nums.windows(3).all(|w| {
+                    let (r1, r2) = (w[1] / w[0], w[2] / w[1]);
+                    (r1 / r2 - 1.0).abs() < 1e-6 && (r1 - 1.0).abs() > 1e-9
+                });
+            (values.clone(), log)
+        }
+        (None, Some(r)) => {
+            if !matches!(spec.value, ValueType::Real | ValueType::Integer) {
+                return Err(SweepError::invalid(
+                    name("range"),
+                    "a range",
+                    &format!("`values = [...]` for {key}, which takes words"),
+                ));
+            }
+            if r.count < 1 {
+                return Err(SweepError::invalid(
+                    name("range.count"),
+                    r.count,
+                    "an integer >= 1",
+                ));
+            }
+            if !(r.from.is_finite() && r.to.is_finite()) {
+                return Err(SweepError::invalid(
+                    name("range"),
+                    format!("from = {}, to = {}", r.from, r.to),
+                    "finite bounds",
+                ));
+            }
+            let log = match r.scale.as_deref() {
+                None | Some("linear") => false,
+                Some("log") => true,
+                Some(other) => {
+                    return Err(SweepError::invalid(
+                        name("range.scale"),
+                        format!("{other:?}"),
+                        "\"linear\" or \"log\"",
+                    ));
+                }
+            };
+            if log && !(r.from > 0.0 && r.to > 0.0) {
+                return Err(SweepError::invalid(
+                    name("range"),
+                    format!("from = {}, to = {}", r.from, r.to),
+                    "bounds > 0 with scale = \"log\"",
+                ));
+            }
+            let n = usize::try_from(r.count).unwrap_or(usize::MAX);
+            if n > MAX_POINTS {
+                return Err(SweepError::invalid(
+                    name("range.count"),
+                    r.count,
+                    &format!("at most {MAX_POINTS}"),
+                ));
+            }
+            let at = |j: usize| {
+                if n == 1 {
+                    return r.from;
+                }
+                let f = j as f64 / (n - 1) as f64;
+                if log {
+                    (r.from.ln() + f * (r.to.ln() - r.from.ln())).exp()
+                } else {
+                    r.from + f * (r.to - r.from)
+                }
+            };
+            let values = (0..n)
+                .map(|j| {
+                    let v = if j == n - 1 { r.to } else { at(j) };
+                    if spec.value == ValueType::Integer {
+                        toml::Value::Integer(v.round() as i64)
+                    } else {
+                        toml::Value::Float(v)
+                    }
+                })
+                .collect();
+            (values, log && n >= 2)
+        }
+    };
+    Ok(Axis { key, values, log })
+}
+
+impl Sweep {
+    /// Reads and resolves the sweep file at `path`; every point's scene is resolved and
+    /// validated. `allow_large` lifts the [`MAX_POINTS`] limit.
+    ///
+    /// # Errors
+    /// The first problem, as a [`SweepError`] naming the key.
+    pub fn load(path: &Path, allow_large: bool) -> Result<Self, SweepError> {
+        let read_err = |message: String| SweepError::Read {
+            path: path.display().to_string(),
+            message,
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| read_err(e.to_string()))?;
+        let file: SweepFile = toml::from_str(&text).map_err(|e| {
+            let message = e.message().trim().to_string();
+            match message.strip_prefix("unknown field `") {
+                Some(rest) => {
+                    let field = rest.split('`').next().unwrap_or(rest);
+                    SweepError::invalid(
+                        field.to_string(),
+                        "(present)",
+                        "the keys of INTERFACE.md's sweep file: name, scene, [set], [[axis]] \
+                         (key, values | range {from, to, count, scale}), [regime]",
+                    )
+                }
+                None => read_err(message),
+            }
+        })?;
+        let file_path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+        Self::resolve(&file, &file_path, allow_large)
+    }
+
+    /// Resolves a parsed sweep file located at `file_path` (for the relative scene path).
+    ///
+    /// # Errors
+    /// As [`Sweep::load`].
+    pub fn resolve(
+        file: &SweepFile,
+        file_path: &Path,
+        allow_large: bool,
+    ) -> Result<Self, SweepError> {
+        let name = file
+            .name
+            .clone()
+            .filter(|n| !n.trim().is_empty())
+            .ok_or_else(|| SweepError::invalid("name", "none", "a non-empty string"))?;
+        let scene_rel = file.scene.clone().ok_or_else(|| {
+            SweepError::invalid("scene", "none", "a scene file, relative to the sweep file")
+        })?;
+        let dir = file_path.parent().unwrap_or(Path::new("."));
+        let scene_path = dir.join(&scene_rel);
+        let text = std::fs::read_to_string(&scene_path).map_err(|e| {
+            SweepError::invalid(
+                "scene",
+                format!("{scene_rel:?}"),
+                &format!("a readable scene file ({e})"),
+            )
+        })?;
+        let mut base = Scene::parse_table(&text).map_err(|error| SweepError::Base {
+            path: scene_path.display().to_string(),
+            error,
+        })?;
+        let mut set = Vec::new();
+        flatten(&file.set, "", &mut set);
+        for (key, value) in &set {
+            if !keys::KEYS.iter().any(|k| k.path == *key) {
+                return Err(SweepError::invalid(
+                    format!("set.\"{key}\""),
+                    crate::scene::error::show_value(value),
+                    "a scene key (see `stickslip keys`)",
+                ));
+            }
+            insert(&mut base, key, value.clone());
+        }
+        let thresholds = file.regime.unwrap_or_default();
+        if let Err((key, allowed)) = thresholds.validate() {
+            return Err(SweepError::invalid(key, "(given)", &allowed));
+        }
+        let mut axes: Vec<Axis> = Vec::new();
+        for (i, a) in file.axis.iter().enumerate() {
+            let seen: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
+            let axis = resolve_axis(i, a, &seen)?;
+            if set.iter().any(|(k, _)| *k == axis.key) {
+                return Err(SweepError::invalid(
+                    format!("axis[{i}].key"),
+                    format!("{:?}", axis.key),
+                    "a key that [set] does not also fix",
+                ));
+            }
+            axes.push(axis);
+        }
+        if axes.is_empty() {
+            return Err(SweepError::invalid("axis", "none", "at least one [[axis]]"));
+        }
+        let points = axes
+            .iter()
+            .try_fold(1usize, |p, a| p.checked_mul(a.values.len()))
+            .unwrap_or(usize::MAX);
+        if points > MAX_POINTS && !allow_large {
+            return Err(SweepError::invalid(
+                "axis",
+                format!("{points} points"),
+                &format!("at most {MAX_POINTS} points without --allow-large"),
+            ));
+        }
+        Scene::resolve_table(base.clone(), &[] as &[&str]).map_err(|error| SweepError::Base {
+            path: scene_path.display().to_string(),
+            error,
+        })?;
+        let sweep = Self {
+            name,
+            file: file_path.to_path_buf(),
+            scene_path,
+            set: file.set.clone(),
+            axes,
+            thresholds,
+            points,
+            base,
+        };
+        for p in 0..sweep.points {
+            sweep.scene(p).map_err(|error| SweepError::Point {
+                point: p,
+                values: sweep.describe(p),
+                error,
+            })?;
+        }
+        Ok(sweep)
+    }
+
+    /// The axis indices of point `p` (last axis fastest).
+    #[must_use]
+    pub fn indices(&self, p: usize) -> Vec<usize> {
+        let mut rest = p;
+        let mut out = vec![0; self.axes.len()];
+        for (slot, axis) in out.iter_mut().zip(&self.axes).rev() {
+            let n = axis.values.len();
+            *slot = rest % n;
+            rest /= n;
+        }
+        out
+    }
+
+    /// The axis values of point `p`.
+    #[must_use]
+    pub fn values(&self, p: usize) -> Vec<toml::Value> {
+        self.indices(p)
+            .iter()
+            .zip(&self.axes)
+            .map(|(&i, a)| a.values[i].clone())
+            .collect()
+    }
+
+    /// `key = value, …` of point `p`.
+    #[must_use]
+    pub fn describe(&self, p: usize) -> String {
+        self.axes
+            .iter()
+            .zip(self.values(p))
+            .map(|(a, v)| format!("{} = {}", a.key, value_text(&v)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The resolved scene of point `p`.
+    ///
+    /// # Errors
+    /// The scene's error (naming the key).
+    pub fn scene(&self, p: usize) -> Result<ResolvedScene, SceneError> {
+        let mut table = self.base.clone();
+        for (axis, v) in self.axes.iter().zip(self.values(p)) {
+            insert(&mut table, &axis.key, v);
+        }
+        Scene::resolve_table(table, &[] as &[&str])
+    }
+
+    /// The points of shard `index`/`count`.
+    #[must_use]
+    pub fn shard(&self, index: usize, count: usize) -> Vec<usize> {
+        (0..self.points).filter(|p| p % count == index).collect()
+    }
+
+    /// What identifies this sweep's results: everything that decides a point's outcome.
+    #[must_use]
+    pub fn fingerprint(&self) -> String {
+        serde_json::to_string(&(
+            &self.base,
+            &self.axes,
+            &self.thresholds,
+            env!("CARGO_PKG_VERSION"),
+        ))
+        .unwrap_or_default()
+    }
+}

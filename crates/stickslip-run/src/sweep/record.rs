@@ -1,0 +1,118 @@
+//! One record per finished point: `DIR/points/<point>.json`, written atomically. A rerun
+//! skips the points that have one; the merge reads them all.
+
+use crate::atomic::write_atomic;
+use crate::outcome::{RunOutcome, StopReason};
+use crate::summary::RunSummary;
+use serde::{Deserialize, Serialize};
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// How a point ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PointStatus {
+    /// The run finished.
+    Ok,
+    /// The numerics failed.
+    Failed,
+    /// The configuration was refused before the first step.
+    Refused,
+}
+
+impl PointStatus {
+    /// The name as written.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ok => "ok",
+            Self::Failed => "failed",
+            Self::Refused => "refused",
+        }
+    }
+
+    /// The status called `name`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::Ok, Self::Failed, Self::Refused]
+            .into_iter()
+            .find(|s| s.name() == name)
+    }
+}
+
+/// A finished point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointRecord {
+    /// Point number.
+    pub point: usize,
+    /// Its axis values.
+    pub values: Vec<toml::Value>,
+    /// How it ended.
+    pub status: PointStatus,
+    /// Summary and regime (also of a failed run, up to its failure).
+    pub summary: RunSummary,
+    /// Wall-clock seconds of the point (resolution, run, record).
+    pub wall_s: f64,
+    /// The failure or refusal, in one line (empty when ok).
+    pub message: String,
+}
+
+impl PointRecord {
+    /// The record of point `point` with `values` from its run's outcome.
+    #[must_use]
+    pub fn of(point: usize, values: Vec<toml::Value>, outcome: &RunOutcome, wall_s: f64) -> Self {
+        let status = match outcome.stop {
+            StopReason::Refused => PointStatus::Refused,
+            StopReason::Failure => PointStatus::Failed,
+            _ => PointStatus::Ok,
+        };
+        let message = outcome
+            .failure
+            .as_ref()
+            .map(|f| f.to_string().replace(['\n', '\r'], " "))
+            .unwrap_or_default();
+        Self {
+            point,
+            values,
+            status,
+            summary: outcome.summary.clone(),
+            wall_s,
+            message,
+        }
+    }
+
+    /// Path of point `point`'s record in the sweep directory `dir`.
+    #[must_use]
+    pub fn path(dir: &Path, point: usize) -> PathBuf {
+        dir.join("points").join(format!("{point:07}.json"))
+    }
+
+    /// Writes the record atomically.
+    ///
+    /// # Errors
+    /// If it cannot be written.
+    pub fn write(&self, dir: &Path) -> io::Result<()> {
+        let points = dir.join("points");
+        let text = serde_json::to_string(self).map_err(io::Error::other)?;
+        write_atomic(&points, &format!("{:07}.json", self.point), text.as_bytes())
+    }
+
+    /// Reads point `point`'s record; `None` if there is none.
+    ///
+    /// # Errors
+    /// If it exists but cannot be read or parsed (a damaged record: delete it to rerun the
+    /// point).
+    pub fn read(dir: &Path, point: usize) -> io::Result<Option<Self>> {
+        let path = Self::path(dir, point);
+        match std::fs::read(&path) {
+            Ok(bytes) => serde_json::from_slice(&bytes).map(Some).map_err(|e| {
+                io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    format!("{}: {e} (delete it to rerun the point)", path.display()),
+                )
+            }),
+            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+}

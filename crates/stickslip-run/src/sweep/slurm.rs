@@ -1,0 +1,67 @@
+//! The Slurm job-array script of a sweep: task i of N runs `stickslip sweep run SWEEP --out
+//! DIR --shard i/N`, reading its index from `SLURM_ARRAY_TASK_ID`. Sites cap array sizes, so
+//! the number of tasks is a setting, not the number of points; a failed task reruns by index
+//! (`sbatch --array=4,8 DIR/sweep.sbatch`) and skips the points it had finished.
+
+use std::path::Path;
+
+/// File name of the script in the sweep directory.
+pub const SCRIPT: &str = "sweep.sbatch";
+
+/// The text of the job-array script.
+///
+/// `binary`, `sweep_file` and `dir` should be absolute (the job runs wherever Slurm starts
+/// it); `extra` are additional `#SBATCH` lines' arguments (`--partition=short`, …).
+#[must_use]
+pub fn script(
+    name: &str,
+    binary: &Path,
+    sweep_file: &Path,
+    dir: &Path,
+    tasks: usize,
+    extra: &[String],
+) -> String {
+    let q = |p: &Path| shell_quote(&p.display().to_string());
+    let mut out = String::from("#!/bin/bash\n");
+    out.push_str(&format!(
+        "#SBATCH --job-name={}\n",
+        shell_quote(&format!("stickslip-{name}"))
+    ));
+    out.push_str(&format!("#SBATCH --array=0-{}\n", tasks.saturating_sub(1)));
+    out.push_str(&format!(
+        "#SBATCH --output={}\n",
+        q(&dir.join("slurm").join("%A_%a.out"))
+    ));
+    for arg in extra {
+        out.push_str(&format!("#SBATCH {arg}\n"));
+    }
+    out.push_str(&format!(
+        "# {tasks} tasks; task i runs the points with index mod {tasks} = i. Rerun failed tasks \
+         by index: sbatch --array=4,8 {}\n",
+        q(&dir.join(SCRIPT))
+    ));
+    out.push_str("set -uo pipefail\n");
+    out.push_str(&format!(
+        "{} sweep run {} --out {} --shard \"${{SLURM_ARRAY_TASK_ID}}/{tasks}\" --jobs \
+         \"${{SLURM_CPUS_PER_TASK:-1}}\" --quiet\n",
+        q(binary),
+        q(sweep_file),
+        q(dir)
+    ));
+    // Exit 4 (the map is complete but has failed points) is a result, not a failed task.
+    out.push_str("status=$?\nif [ \"$status\" -eq 4 ]; then exit 0; fi\nexit \"$status\"\n");
+    out
+}
+
+/// `s` in single quotes for the shell (plain when it needs none).
+#[must_use]
+pub fn shell_quote(s: &str) -> String {
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "/._-+%=:".contains(c))
+    {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}

@@ -1,0 +1,397 @@
+//! `stickslip sweep run | merge | slurm | plot`: friction maps (INTERFACE.md, "Sweeps").
+//!
+//! Exit status: 0 done (a shard whose map is not complete yet also exits 0: it did its part);
+//! 2 a bad sweep file or arguments, or a directory holding another sweep without `--force`;
+//! 4 the map is complete but some points failed numerically or were refused (their rows say
+//! so; the other points are valid results); 5 `merge` of an incomplete sweep; 130
+//! interrupted (finished points are kept, a rerun skips them); 1 an I/O error.
+
+use clap::{Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+use std::sync::atomic::Ordering;
+use stickslip_run::sweep::exec::{self, Merge, SweepOptions, SweepProgress, SweepRunError};
+use stickslip_run::sweep::map::MapJson;
+use stickslip_run::sweep::{Sweep, slurm};
+
+/// Exit status of a complete map with failed or refused points.
+pub const EXIT_FAILED_POINTS: u8 = 4;
+/// Exit status of `merge` while points are missing.
+pub const EXIT_INCOMPLETE: u8 = 5;
+
+/// What to keep of each point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Keep {
+    /// Only the point's record (summary and regime).
+    Summary,
+    /// Also its full output (series.csv, events.csv, … in DIR/runs/<point>/).
+    All,
+}
+
+/// The sweep subcommands.
+#[derive(Debug, Subcommand)]
+pub enum SweepCommand {
+    /// Run the points of a sweep in-process (skipping finished ones) and merge when complete.
+    Run {
+        /// Sweep file (TOML).
+        sweep: PathBuf,
+        /// Sweep directory (points/, map.csv, map.json).
+        #[arg(long)]
+        out: PathBuf,
+        /// Points run in parallel [default: the available cores].
+        #[arg(long, value_name = "J", value_parser = clap::value_parser!(u64).range(1..))]
+        jobs: Option<u64>,
+        /// Run only the points with index mod N = I.
+        #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+        shard: Option<(usize, usize)>,
+        /// What to keep of each point.
+        #[arg(long, value_enum, default_value_t = Keep::Summary)]
+        keep: Keep,
+        /// Replace another sweep's results in the directory.
+        #[arg(long)]
+        force: bool,
+        /// Allow more than 100000 points.
+        #[arg(long)]
+        allow_large: bool,
+        /// No progress display.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Merge the point records of DIR (shards run elsewhere) into map.csv and map.json.
+    Merge {
+        /// Sweep directory.
+        dir: PathBuf,
+    },
+    /// Write DIR/sweep.sbatch, a Slurm job array of N tasks (task i runs shard i/N).
+    Slurm {
+        /// Sweep file (TOML).
+        sweep: PathBuf,
+        /// Sweep directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Number of array tasks.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        tasks: u64,
+        /// Submit with sbatch and print the job id and the merge command.
+        #[arg(long)]
+        submit: bool,
+        /// An extra #SBATCH argument, e.g. --sbatch-arg=--partition=short (repeatable).
+        #[arg(long = "sbatch-arg", value_name = "ARG", allow_hyphen_values = true)]
+        sbatch_arg: Vec<String>,
+        /// Replace another sweep's results in the directory.
+        #[arg(long)]
+        force: bool,
+        /// Allow more than 100000 points.
+        #[arg(long)]
+        allow_large: bool,
+    },
+    /// Render the map of DIR as SVG: regimes as colours and one quantity.
+    Plot {
+        /// Sweep directory (with map.json).
+        dir: PathBuf,
+        /// The quantity of the second panel.
+        #[arg(long, default_value = "recovery", value_parser = clap::builder::PossibleValuesParser::new(stickslip_report::map::QUANTITIES))]
+        quantity: String,
+        /// Output file [default: DIR/map_<quantity>.svg].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("{s:?} is not a shard; allowed: I/N with 0 <= I < N, e.g. 0/4");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) = (
+        i.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    );
+    if n == 0 || i >= n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+fn sweep_error(e: &SweepRunError) -> ExitCode {
+    let code = match e {
+        SweepRunError::Other { .. } | SweepRunError::Missing { .. } => 2,
+        SweepRunError::Io { .. } => 1,
+    };
+    crate::fail(e, code)
+}
+
+/// Prints the merge's outcome; the exit status.
+fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
+    match merge {
+        Merge::Complete {
+            table,
+            statuses,
+            regimes,
+        } => {
+            let regimes: Vec<String> = regimes
+                .iter()
+                .map(|(r, n)| format!("{} {n}", r.name()))
+                .collect();
+            let statuses: Vec<String> = statuses.iter().map(|(s, n)| format!("{s} {n}")).collect();
+            println!(
+                "map: {} points ({}); regimes: {}; written {} and {}",
+                table.rows.len(),
+                statuses.join(", "),
+                regimes.join(", "),
+                dir.join("map.csv").display(),
+                dir.join("map.json").display()
+            );
+            let bad = table
+                .rows
+                .iter()
+                .filter(|r| r.status.name() != "ok")
+                .count();
+            if bad > 0 {
+                eprintln!(
+                    "warning: {bad} points failed or were refused: their rows in map.csv give \
+                     the status and the message (exit {EXIT_FAILED_POINTS})"
+                );
+                return ExitCode::from(EXIT_FAILED_POINTS);
+            }
+            ExitCode::SUCCESS
+        }
+        Merge::Incomplete { missing, points } => {
+            if after_shard {
+                println!(
+                    "{missing} of {points} points still to run (other shards); when they have \
+                     finished: stickslip sweep merge {}",
+                    dir.display()
+                );
+                ExitCode::SUCCESS
+            } else {
+                crate::fail(
+                    format!(
+                        "{missing} of {points} points of {} have no record yet: run the missing \
+                         shards (finished points are skipped), then merge again",
+                        dir.display()
+                    ),
+                    EXIT_INCOMPLETE,
+                )
+            }
+        }
+    }
+}
+
+/// Progress display: a bar on a terminal, else a line every ten seconds.
+struct Display {
+    bar: Option<ProgressBar>,
+    quiet: bool,
+    last_line_s: f64,
+}
+
+impl Display {
+    fn new(quiet: bool) -> Self {
+        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+            let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+            if let Ok(style) = ProgressStyle::with_template(
+                "{elapsed_precise} [{wide_bar}] {pos}/{len} points, {msg}, eta {eta}",
+            ) {
+                bar.set_style(style);
+            }
+            bar
+        });
+        Self {
+            bar,
+            quiet,
+            last_line_s: 0.0,
+        }
+    }
+
+    fn update(&mut self, p: &SweepProgress) {
+        if let Some(bar) = &self.bar {
+            bar.set_length(p.total as u64);
+            bar.set_position(p.done as u64);
+            bar.set_message(format!("{} failed, {} skipped", p.failed, p.skipped));
+        } else if !self.quiet && p.elapsed_s - self.last_line_s >= 10.0 {
+            self.last_line_s = p.elapsed_s;
+            eprintln!(
+                "sweep: {}/{} points, {} failed, {:.0} s",
+                p.done, p.total, p.failed, p.elapsed_s
+            );
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run(
+    path: &Path,
+    dir: &Path,
+    jobs: Option<u64>,
+    shard: Option<(usize, usize)>,
+    keep: Keep,
+    force: bool,
+    allow_large: bool,
+    quiet: bool,
+) -> ExitCode {
+    let sweep = match Sweep::load(path, allow_large) {
+        Ok(s) => s,
+        Err(e) => return crate::fail(e, 2),
+    };
+    if let Err(e) = exec::prepare(&sweep, dir, force) {
+        return sweep_error(&e);
+    }
+    let flag = match crate::interrupt_flag() {
+        Ok(f) => f,
+        Err(e) => return crate::fail(format!("cannot install signal handlers: {e}"), 1),
+    };
+    let jobs = jobs.map_or_else(
+        || std::thread::available_parallelism().map_or(1, usize::from),
+        |j| usize::try_from(j).unwrap_or(1),
+    );
+    let options = SweepOptions {
+        jobs,
+        shard: shard.unwrap_or((0, 1)),
+        keep_all: keep == Keep::All,
+        force,
+    };
+    let mut display = Display::new(quiet);
+    let report = exec::run_shard(&sweep, dir, &options, Some(&flag), &mut |p| {
+        display.update(p)
+    });
+    if let Some(bar) = &display.bar {
+        bar.finish_and_clear();
+    }
+    let report = match report {
+        Ok(r) => r,
+        Err(e) => return sweep_error(&e),
+    };
+    let (i, n) = options.shard;
+    println!(
+        "sweep {}: shard {i}/{n}: {} points run ({} failed, {} refused), {} already done, {:.2} s \
+         on {jobs} jobs",
+        sweep.name, report.ran, report.failed, report.refused, report.skipped, report.wall_s
+    );
+    if report.interrupted || flag.load(Ordering::Relaxed) {
+        eprintln!("interrupted: finished points are kept; rerun the same command to run the rest");
+        return ExitCode::from(crate::EXIT_INTERRUPTED);
+    }
+    match exec::merge(dir) {
+        Ok(m) => report_merge(dir, &m, true),
+        Err(e) => sweep_error(&e),
+    }
+}
+
+fn submit_slurm(
+    path: &Path,
+    dir: &Path,
+    tasks: u64,
+    submit: bool,
+    extra: &[String],
+    force: bool,
+    allow_large: bool,
+) -> ExitCode {
+    let sweep = match Sweep::load(path, allow_large) {
+        Ok(s) => s,
+        Err(e) => return crate::fail(e, 2),
+    };
+    if let Err(e) = exec::prepare(&sweep, dir, force) {
+        return sweep_error(&e);
+    }
+    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let binary = std::env::current_exe().unwrap_or_else(|_| PathBuf::from("stickslip"));
+    let tasks = usize::try_from(tasks).unwrap_or(1);
+    let text = slurm::script(&sweep.name, &binary, &abs(path), &abs(dir), tasks, extra);
+    let script = dir.join(slurm::SCRIPT);
+    if let Err(e) = std::fs::create_dir_all(dir.join("slurm"))
+        .and_then(|()| stickslip_run::atomic::write_atomic(dir, slurm::SCRIPT, text.as_bytes()))
+    {
+        return crate::fail(format!("cannot write {}: {e}", script.display()), 1);
+    }
+    println!(
+        "wrote {} ({} points in {tasks} tasks)",
+        script.display(),
+        sweep.points
+    );
+    if !submit {
+        println!("submit with: sbatch {}", script.display());
+        return ExitCode::SUCCESS;
+    }
+    match Command::new("sbatch")
+        .arg("--parsable")
+        .arg(&script)
+        .output()
+    {
+        Ok(out) if out.status.success() => {
+            let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
+            println!("submitted job {id}");
+            println!(
+                "when it has finished: stickslip sweep merge {}",
+                dir.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Ok(out) => crate::fail(
+            format!(
+                "sbatch failed ({}): {}",
+                out.status,
+                String::from_utf8_lossy(&out.stderr).trim()
+            ),
+            1,
+        ),
+        Err(e) => crate::fail(format!("cannot run sbatch: {e}"), 1),
+    }
+}
+
+fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
+    let json = match MapJson::read(dir) {
+        Ok(j) => j,
+        Err(e) => {
+            return crate::fail(
+                format!("{e}; allowed: a sweep directory with map.json (run or merge it first)"),
+                2,
+            );
+        }
+    };
+    let panels = match stickslip_report::map::panels(&json, quantity) {
+        Ok(p) => p,
+        Err(e) => return crate::fail(e, 2),
+    };
+    let svg = match stickslip_report::plot::render_svg(&panels, 2, 620, 480) {
+        Ok(s) => s,
+        Err(e) => return crate::fail(format!("cannot draw the map: {e}"), 1),
+    };
+    let path = out.unwrap_or_else(|| dir.join(format!("map_{quantity}.svg")));
+    match stickslip_report::write_atomic(&path, svg.as_bytes()) {
+        Ok(()) => {
+            println!("wrote {}", path.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => crate::fail(format!("cannot write {}: {e}", path.display()), 1),
+    }
+}
+
+/// Runs a sweep subcommand.
+pub fn main(cmd: SweepCommand) -> ExitCode {
+    match cmd {
+        SweepCommand::Run {
+            sweep,
+            out,
+            jobs,
+            shard,
+            keep,
+            force,
+            allow_large,
+            quiet,
+        } => run(&sweep, &out, jobs, shard, keep, force, allow_large, quiet),
+        SweepCommand::Merge { dir } => match exec::merge(&dir) {
+            Ok(m) => report_merge(&dir, &m, false),
+            Err(e) => sweep_error(&e),
+        },
+        SweepCommand::Slurm {
+            sweep,
+            out,
+            tasks,
+            submit,
+            sbatch_arg,
+            force,
+            allow_large,
+        } => submit_slurm(&sweep, &out, tasks, submit, &sbatch_arg, force, allow_large),
+        SweepCommand::Plot { dir, quantity, out } => plot(&dir, &quantity, out),
+    }
+}

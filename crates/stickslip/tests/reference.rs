@@ -1,0 +1,109 @@
+//! The repository's reference (`docs/reference.md`) is the output of `stickslip keys
+//! --markdown`, generated from the argument definitions, the key table and the output schema.
+
+mod common;
+
+use common::{run, texts};
+
+#[test]
+fn docs_reference_is_current() {
+    let out = run(&["keys", "--markdown"]);
+    assert!(out.status.success());
+    let generated = texts(&out).0;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/reference.md");
+    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        committed == generated,
+        "docs/reference.md is stale: run `cargo run --release -- keys --markdown > docs/reference.md`"
+    );
+    for key in stickslip_run::keys::KEYS {
+        assert!(
+            generated.contains(&format!("`{}`", key.path)),
+            "{}",
+            key.path
+        );
+    }
+    for command in ["run", "check", "resume", "keys"] {
+        assert!(
+            generated.contains(&format!("### `stickslip {command}`")),
+            "{command}"
+        );
+    }
+}
+
+#[test]
+fn keys_lists_every_key_with_unit_default_and_range() {
+    let out = run(&["keys"]);
+    assert!(out.status.success());
+    let text = texts(&out).0;
+    assert!(
+        text.contains("contact.radius  [m]  default: required"),
+        "{text}"
+    );
+    assert!(text.contains("time.max_events"), "{text}");
+    assert!(
+        text.contains("output.event_recovery  [–]  default: 2"),
+        "{text}"
+    );
+}
+
+#[test]
+fn check_reports_plausibility_and_warns_about_unit_slips() {
+    let scene = common::scene("fig2");
+    let out = run(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        "contact.radius=20",
+        "--set",
+        "contact.nodes=50",
+    ]);
+    let (stdout, stderr) = texts(&out);
+    assert!(out.status.success(), "{stderr}");
+    for needle in [
+        "melting_force = ",
+        "critical_displacement = ",
+        "spring_period = ",
+        "first_onset_estimate = ",
+        "seconds_estimate = ",
+    ] {
+        assert!(stdout.contains(needle), "{needle}: {stdout}");
+    }
+    assert!(
+        stderr.contains("warning: contact.radius = 20 m is outside the usual range"),
+        "{stderr}"
+    );
+    let short = run(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        "time.end=1e-4",
+        "--set",
+        "output.profile_times=[1e-4]",
+        "--set",
+        "contact.nodes=50",
+    ]);
+    assert!(
+        texts(&short)
+            .1
+            .contains("warning: nothing can melt within time.end"),
+        "{}",
+        texts(&short).1
+    );
+    let literal = run(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        "time.scheme=literal",
+        "--set",
+        "time.dt=4e-8",
+        "--set",
+        "contact.nodes=50",
+    ]);
+    let (stdout, stderr) = texts(&literal);
+    assert!(stdout.contains("euler_number = 2.4"), "{stdout}");
+    assert!(
+        stderr.contains("warning: time.dt x 2*gamma*A*b/a = 2.400 > 2"),
+        "{stderr}"
+    );
+}
