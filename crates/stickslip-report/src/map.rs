@@ -120,6 +120,16 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
         }
         seen
     };
+    // One colour scale for every facet, so their colours compare.
+    let range = json
+        .table
+        .rows
+        .iter()
+        .map(|r| r.number(quantity))
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
     let mut out = Vec::new();
     for facet in &facet_values {
         let rows: Vec<&MapRow> = json
@@ -153,6 +163,7 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
             &rows,
             quantity,
             &suffix,
+            range,
         ));
     }
     Ok(out)
@@ -180,6 +191,7 @@ fn pair(
     rows: &[&MapRow],
     quantity: &str,
     suffix: &str,
+    (lo, hi): (f64, f64),
 ) -> Vec<Panel> {
     let xs = if axes[lay.x].log {
         Scale::Log
@@ -260,12 +272,6 @@ fn pair(
     regime.series.push(failed(PointStatus::Refused));
     // The quantity.
     let values: Vec<f64> = rows.iter().map(|r| r.number(quantity)).collect();
-    let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    let (lo, hi) = finite
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
     let log_colour = lo > 0.0 && hi / lo > 10.0;
     let norm = |v: f64| {
         if !(hi > lo) {
@@ -276,8 +282,11 @@ fn pair(
             (v - lo) / (hi - lo)
         }
     };
-    let u = unit(quantity);
-    let title = if u.is_empty() || u == "–" {
+    let u = match unit(quantity) {
+        "–" => "",
+        other => other,
+    };
+    let title = if u.is_empty() {
         quantity.to_string()
     } else {
         format!("{quantity} [{u}]")

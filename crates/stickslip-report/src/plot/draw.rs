@@ -289,10 +289,11 @@ where
                 DARK.stroke_width(2),
             ))
             .map_err(err)?;
+        // Near the bottom: legends sit in the upper corners.
         let ly = if ylog {
-            y1 / (y1 / y0).powf(0.06)
+            y0 * (y1 / y0).powf(0.04)
         } else {
-            y1 - 0.06 * (y1 - y0)
+            y0 + 0.04 * (y1 - y0)
         };
         chart
             .draw_series(std::iter::once(Text::new(

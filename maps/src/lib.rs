@@ -1,0 +1,233 @@
+//! stickslip-maps: the showcase friction maps of `maps/*.toml`, run in-process through the
+//! run library's sweep engine, drawn with the reporting kit, and checked against what physics
+//! says they must show (SPEC §6). `cargo xtask maps` writes `reports/maps.md` and
+//! `reports/maps_*.svg`.
+//!
+//! - [`rigid`]: rigid drive, speed × temperature (A0): sliding for A0 ≤ 0, stick–slip at slow
+//!   speed, the loss of recovery at high speed, the critical speed on paper against the map;
+//! - [`spring`]: spring stiffness × drive speed at the fig2 parameters: equal K·V0/m, equal
+//!   results while time.end ≪ 2π/ω, and where that stops;
+//! - [`model`]: film thickness × substrate modulus, radial against homogeneous model.
+//!
+//! Invariant: every number in the report's prose is computed from the maps it describes;
+//! nothing here steps a simulation (the sweep engine does).
+
+pub mod model;
+pub mod rigid;
+pub mod spring;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use stickslip_report::plot::{Panel, render_svg};
+use stickslip_run::sweep::exec::{self, Merge, SweepOptions};
+use stickslip_run::sweep::map::{MapJson, MapRow};
+use stickslip_run::sweep::{Sweep, value_number};
+
+/// A check of a map: what physics says, the measured value, the verdict.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Check {
+    /// What must hold.
+    pub claim: String,
+    /// What was measured.
+    pub measured: String,
+    /// Whether it holds.
+    pub pass: bool,
+}
+
+/// One map's section of the report.
+#[derive(Debug, Clone)]
+pub struct Section {
+    /// Heading.
+    pub title: String,
+    /// What the map is and what to see in it (computed prose).
+    pub text: String,
+    /// SVG file name in reports/ and its panels.
+    pub figure: (String, Vec<Panel>),
+    /// The checks.
+    pub checks: Vec<Check>,
+}
+
+/// A finished map: the sweep and its table.
+#[derive(Debug, Clone)]
+pub struct Map {
+    /// The resolved sweep with its table.
+    pub json: MapJson,
+}
+
+impl Map {
+    /// The value of axis `key` in `row`, as a number.
+    #[must_use]
+    pub fn axis(&self, row: &MapRow, key: &str) -> f64 {
+        let i = self
+            .json
+            .sweep
+            .axes
+            .iter()
+            .position(|a| a.key == key)
+            .unwrap_or(usize::MAX);
+        row.values
+            .get(i)
+            .and_then(|v| v.parse::<f64>().ok())
+            .unwrap_or(f64::NAN)
+    }
+
+    /// The word of axis `key` in `row`.
+    #[must_use]
+    pub fn word<'a>(&self, row: &'a MapRow, key: &str) -> &'a str {
+        let i = self
+            .json
+            .sweep
+            .axes
+            .iter()
+            .position(|a| a.key == key)
+            .unwrap_or(usize::MAX);
+        row.values.get(i).map_or("", String::as_str)
+    }
+
+    /// The sorted distinct numeric values of axis `key`.
+    #[must_use]
+    pub fn values(&self, key: &str) -> Vec<f64> {
+        self.json
+            .sweep
+            .axes
+            .iter()
+            .find(|a| a.key == key)
+            .map(|a| a.values.iter().map(value_number).collect())
+            .unwrap_or_default()
+    }
+
+    /// The resolved scene of point 0 (the base scene with the axes' first values).
+    ///
+    /// # Errors
+    /// If the scene does not resolve (it did when the sweep ran).
+    pub fn base_scene(&self) -> Result<stickslip_run::ResolvedScene, String> {
+        self.json.sweep.scene(0).map_err(|e| e.to_string())
+    }
+
+    /// The base scene with `[set]` applied and no axis value (its own values of the swept
+    /// keys).
+    ///
+    /// # Errors
+    /// If the scene does not resolve.
+    pub fn unswept_scene(&self) -> Result<stickslip_run::ResolvedScene, String> {
+        stickslip_run::Scene::resolve_table(self.json.sweep.base.clone(), &[] as &[&str])
+            .map_err(|e| e.to_string())
+    }
+}
+
+/// Runs (or finishes) the sweep in `file` into `dir` on `jobs` threads and merges it.
+///
+/// # Errors
+/// A bad sweep file, a failed merge, or I/O errors, as text.
+pub fn run_map(file: &Path, dir: &Path, jobs: usize) -> Result<Map, String> {
+    let sweep = Sweep::load(file, false).map_err(|e| e.to_string())?;
+    exec::prepare(&sweep, dir, true).map_err(|e| e.to_string())?;
+    let options = SweepOptions {
+        jobs,
+        ..SweepOptions::default()
+    };
+    let report =
+        exec::run_shard(&sweep, dir, &options, None, &mut |_| {}).map_err(|e| e.to_string())?;
+    println!(
+        "maps: {}: {} points run, {} already done, {:.1} s",
+        sweep.name, report.ran, report.skipped, report.wall_s
+    );
+    match exec::merge(dir).map_err(|e| e.to_string())? {
+        Merge::Complete { .. } => {}
+        Merge::Incomplete { missing, .. } => return Err(format!("{missing} points missing")),
+    }
+    let json = MapJson::read(dir).map_err(|e| e.to_string())?;
+    Ok(Map { json })
+}
+
+/// What `cargo xtask maps` does.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Workspace root.
+    pub root: PathBuf,
+    /// Points run in parallel.
+    pub jobs: usize,
+}
+
+fn verdict(pass: bool) -> &'static str {
+    if pass { "**pass**" } else { "**FAIL**" }
+}
+
+/// The report's Markdown.
+fn markdown(sections: &[Section]) -> String {
+    let mut out = String::from(
+        "# Friction maps\n\nGenerated by `cargo xtask maps` from the sweeps in `maps/*.toml`: \
+         each point is one in-process run of the driver, reduced to its summary and regime \
+         (SPEC §6; the rules are in the run library's `summary` module). Each map has a \
+         regime panel (colours) and a panel of one continuous quantity; failed or refused \
+         points would be marked with crosses (there are none unless a check says so). The \
+         sweep directories are under `target/maps/`; `stickslip sweep plot DIR --quantity Q` \
+         redraws any quantity.\n\n## Checks\n\n| map | what physics says | measured | verdict |\n\
+         |---|---|---|---|\n",
+    );
+    for s in sections {
+        for c in &s.checks {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} |",
+                s.title,
+                c.claim,
+                c.measured,
+                verdict(c.pass)
+            );
+        }
+    }
+    for s in sections {
+        let _ = write!(
+            out,
+            "\n## {}\n\n![{}]({})\n\n{}\n",
+            s.title, s.title, s.figure.0, s.text
+        );
+    }
+    out
+}
+
+/// Runs every showcase map, writes its SVG and `reports/maps.md`; `Ok(true)` when every
+/// check passes.
+///
+/// # Errors
+/// A map that cannot run or a file that cannot be written, as text.
+pub fn run(opts: &Options) -> Result<bool, String> {
+    let maps_dir = opts.root.join("maps");
+    let out = opts.root.join("target").join("maps");
+    let reports = opts.root.join("reports");
+    let rigid_map = run_map(&maps_dir.join("rigid.toml"), &out.join("rigid"), opts.jobs)?;
+    let spring_map = run_map(
+        &maps_dir.join("spring.toml"),
+        &out.join("spring"),
+        opts.jobs,
+    )?;
+    let model_map = run_map(&maps_dir.join("model.toml"), &out.join("model"), opts.jobs)?;
+    let sections = vec![
+        rigid::section(&rigid_map)?,
+        spring::section(&spring_map)?,
+        model::section(&model_map)?,
+    ];
+    for s in &sections {
+        let cols = 2;
+        let svg = render_svg(&s.figure.1, cols, 620, 480)?;
+        stickslip_report::write_atomic(&reports.join(&s.figure.0), svg.as_bytes())
+            .map_err(|e| format!("{}: {e}", s.figure.0))?;
+    }
+    let md = markdown(&sections);
+    stickslip_report::write_atomic(&reports.join("maps.md"), md.as_bytes())
+        .map_err(|e| format!("maps.md: {e}"))?;
+    let all = sections.iter().flat_map(|s| &s.checks).all(|c| c.pass);
+    for s in &sections {
+        for c in &s.checks {
+            println!(
+                "{} {}: {}",
+                if c.pass { "pass" } else { "FAIL" },
+                s.title,
+                c.measured
+            );
+        }
+    }
+    println!("maps: wrote {}", reports.join("maps.md").display());
+    Ok(all)
+}

@@ -1,0 +1,41 @@
+//! `cargo xtask maps [--jobs J]`: runs the showcase sweeps of `maps/*.toml` in-process (their
+//! directories under `target/maps/`, resumable) and writes `reports/maps.md` and
+//! `reports/maps_*.svg` with the checks as measured verdicts.
+
+use std::process::ExitCode;
+
+/// Runs the maps; exit 0 when every check passes, 1 when one fails, 2 on bad arguments or
+/// errors.
+pub fn main(args: &[String], root: std::path::PathBuf) -> ExitCode {
+    let mut jobs = std::thread::available_parallelism().map_or(1, usize::from);
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match (a.as_str(), it.clone().next()) {
+            ("--jobs", Some(v)) => match v.parse::<usize>() {
+                Ok(n) if n > 0 => {
+                    jobs = n;
+                    it.next();
+                }
+                _ => {
+                    eprintln!("maps: --jobs needs a positive integer, got {v:?}");
+                    return ExitCode::from(2);
+                }
+            },
+            (other, _) => {
+                eprintln!("maps: unknown option {other:?}; allowed: --jobs J");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    match stickslip_maps::run(&stickslip_maps::Options { root, jobs }) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => {
+            eprintln!("maps: a check failed (see reports/maps.md)");
+            ExitCode::FAILURE
+        }
+        Err(e) => {
+            eprintln!("maps: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
