@@ -1,18 +1,24 @@
-//! The paper's claims C1–C10 (SPEC §5) as measured criteria on parsed run outputs.
+//! The paper's claims C1–C10 (SPEC §5) as measured criteria on run outputs read through the
+//! run library's schema ([`RunOutput`]).
 //!
 //! Every claim states its criterion with the threshold, and the reason for the threshold sits
 //! next to the constant. A claim whose runs are missing or failed is a failing claim: nothing
-//! is skipped and no threshold bends to the data.
+//! is skipped and no threshold bends to the data. Statistics come from `stickslip_report::stats`
+//! (one coefficient of variation: the sample one, n − 1), numbers in prose from
+//! `stickslip_report::fmt`.
 
-use crate::data::{RunOutput, interp};
+use crate::facts::Facts;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
+use stickslip_report::fmt;
+use stickslip_report::stats::{cv, diffs, interp, max_ratio};
+use stickslip_run::RunOutput;
 
 /// C1: least number of melting events in fig2 that makes "rises and drops repeatedly".
 /// Reason: two events could be a transient; three give two full stick–slip cycles.
 pub const C1_MIN_EVENTS: usize = 3;
 /// C1: least relative drop of F from its peak in the stick phase to its minimum before the
-/// contact is fully solid again, 1 − F_min/f_peak. Reason: a slip must release most of the
+/// film has recovered (the event's `t_end`), 1 − F_min/f_peak. Reason: a slip must release most of the
 /// stored force; a partial melt that leaves F above half its peak is not a slip in the sense
 /// of the paper's Fig. 2a, where F falls to ≈ 0.
 pub const C1_MIN_DROP: f64 = 0.5;
@@ -23,7 +29,7 @@ pub const C4_EDGE_BAND: f64 = 0.10;
 /// C5: the longest melted spell at any probe radius must be shorter than this fraction of the
 /// shortest interval between successive onsets. Reason: "followed at once by
 /// re-solidification" means the film is solid for almost all of every cycle; 5 % is ≪ 1 and
-/// still 20 probe samples at the shortest interval of fig2 (~45 µs at 0.1 µs sampling).
+/// still many probe samples at the shortest interval of fig2 (fig3 samples every 1e-8 s).
 pub const C5_MAX_MELT_FRACTION: f64 = 0.05;
 /// C6: each homogeneous onset must lie within this fraction of the radial interval ending
 /// at the radial onset. Reason: a relative error on the onset *time* would be meaningless late
@@ -34,17 +40,18 @@ pub const C6_ONSET_TOL: f64 = 0.10;
 /// Reason: with u0 held at 0 on a melted film the model's force is exactly 0; 1e-9 of the
 /// force scale leaves room only for rounding.
 pub const C8_FORCE_TOL: f64 = 1e-9;
-/// C8: max |X − X_free| relative to max X_free. Reason: velocity Verlet's global error here is
-/// ≈ Δt²·ω²V0·t/12 against X ≈ V0ω²t³/6, i.e. Δt²/(2t²) ≈ 5e-9 relative at t = 0.1 ms; 1e-6
-/// is 200× above it and still catches any friction: a force of 2e-8 N over 0.1 ms shifts X by
-/// 1e-6 of its value.
+/// C8: max |X − X_free| relative to max X_free. Reason: velocity Verlet's global error is
+/// ≈ Δt²·ω²V0·t/12 against X ≈ V0ω²t³/6, i.e. Δt²/(2t²) relative (5e-9 at Δt = 1e-8 s and
+/// t = 0.1 ms; the adaptive steps of the melt scene are longer, and the measured error is
+/// reported beside the verdict); 1e-6 still catches any friction: a force of 2e-8 N over
+/// 0.1 ms shifts X by 1e-6 of its value.
 pub const C8_X_TOL: f64 = 1e-6;
 /// C8: least melted area fraction at every recorded time ("complete melting").
 pub const C8_MIN_MELTED: f64 = 1.0 - 1e-9;
 /// C9: largest coefficient of variation of the X-distance between successive fig2 onsets.
 /// Reason: "F(X) periodic" means equal X spacing while the *time* spacing shrinks by a factor
-/// ≈ 3 over the run (CV of the time intervals ≈ 0.4); 5 % is a tenth of that and orders of
-/// magnitude above the detection resolution V·Δt ≈ 1e-14 m.
+/// ≈ 3 over the run (the CV of the time intervals is reported beside); 5 % is a small
+/// fraction of that and orders of magnitude above the resolution of the located onsets.
 pub const C9_MAX_CV_X: f64 = 0.05;
 /// C9: largest ratio last f_peak / first f_peak in fig4 that counts as "damped".
 /// Reason: a 20 % fall is far beyond the resolution of f_peak (< 1 % between N = 100 and 200),
@@ -66,7 +73,7 @@ pub struct Claim {
     /// The measured criterion, with its threshold(s).
     pub criterion: String,
     /// Why the threshold is what it is.
-    pub reason: &'static str,
+    pub reason: String,
     /// The measured numbers (structured, for summary.json).
     pub value: Value,
     /// The measured numbers in a line (for the table).
@@ -118,30 +125,6 @@ impl Runs {
     }
 }
 
-/// Successive differences.
-pub fn diffs(xs: &[f64]) -> Vec<f64> {
-    xs.windows(2).map(|w| w[1] - w[0]).collect()
-}
-
-/// Sample coefficient of variation (standard deviation with n − 1 over the mean); NaN for
-/// fewer than two values.
-pub fn cv(xs: &[f64]) -> f64 {
-    if xs.len() < 2 {
-        return f64::NAN;
-    }
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    var.sqrt() / mean
-}
-
-/// Largest ratio x_{k+1}/x_k (below 1 for a strictly decreasing positive sequence).
-pub fn max_ratio(xs: &[f64]) -> f64 {
-    xs.windows(2)
-        .map(|w| w[1] / w[0])
-        .fold(f64::NEG_INFINITY, f64::max)
-}
-
 fn strictly_decreasing(xs: &[f64]) -> bool {
     xs.windows(2).all(|w| w[1] < w[0])
 }
@@ -154,21 +137,17 @@ fn us_list(ts: &[f64]) -> Vec<f64> {
     ts.iter().map(|&t| us(t)).collect()
 }
 
-fn fmt_list(xs: &[f64], digits: usize) -> String {
-    let items: Vec<String> = xs.iter().map(|x| format!("{x:.digits$}")).collect();
-    format!("[{}]", items.join(", "))
-}
-
-/// Start of stick phase k (0-based): t = start of the record for the first, else the last
-/// return of the contact to fully solid before onset k (`t_end` of the previous event, or the
-/// start of the last all-solid stretch of series.csv before the onset).
+/// Start of stick phase k (0-based): t = start of the record for the first, else the film's
+/// recovery after the previous event (its `t_end`: every node back above the recovery level),
+/// or, if that is missing or not before onset k, the start of the last all-solid stretch of
+/// series.csv before the onset.
 pub fn stick_start_s(run: &RunOutput, k: usize) -> f64 {
     let s = &run.series;
     let t0 = s.t_s.first().copied().unwrap_or(0.0);
     if k == 0 {
         return t0;
     }
-    let ev = &run.events.events;
+    let ev = run.events.events();
     let onset = ev[k].t_onset_s;
     if let Some(t_end) = ev[k - 1].t_end_s
         && t_end < onset
@@ -190,7 +169,7 @@ pub fn stick_rate(run: &RunOutput, y: &[f64], start_s: f64, onset_s: f64) -> f64
     let Some(i_max) = w.clone().max_by(|&a, &b| y[a].total_cmp(&y[b])) else {
         return f64::NAN;
     };
-    let y0 = s.interp(y, start_s);
+    let y0 = interp(&s.t_s, y, start_s);
     (y[i_max] - y0) / (s.t_s[i_max] - start_s)
 }
 
@@ -205,10 +184,10 @@ pub fn amplitude(run: &RunOutput, y: &[f64], t0: f64, t1: f64) -> f64 {
     hi - lo
 }
 
-/// C1 on one run: enough events, and each completed event drops F by at least
-/// [`C1_MIN_DROP`] of its peak.
+/// C1 on one run: enough events, and each completed event (one whose film recovered, `t_end`)
+/// drops F by at least [`C1_MIN_DROP`] of its peak.
 pub fn c1_part(run: &RunOutput) -> Part {
-    let ev = &run.events.events;
+    let ev = run.events.events();
     let s = &run.series;
     let mut drops = Vec::new();
     for (k, e) in ev.iter().enumerate() {
@@ -232,10 +211,10 @@ pub fn c1_part(run: &RunOutput) -> Part {
         value: json!({ "events": ev.len(), "completed_events": drops.len(),
                        "min_drop": min_drop, "drops": drops }),
         text: format!(
-            "{} events ({} completed); smallest F drop {:.1} % of the peak",
+            "{} events ({} completed); smallest F drop {} % of the peak",
             ev.len(),
             drops.len(),
-            100.0 * min_drop
+            fmt::sig(100.0 * min_drop, 4)
         ),
     }
 }
@@ -249,11 +228,11 @@ pub fn c2_part(run: &RunOutput) -> Part {
         pass,
         value: json!({ "intervals_us": us_list(&intervals), "max_ratio": ratio }),
         text: format!(
-            "{}: {} intervals {} µs, largest Δ(k+1)/Δk = {:.3}",
-            run.name,
+            "{}: {} intervals {} µs, largest Δ(k+1)/Δk = {}",
+            run.info.name,
             intervals.len(),
-            fmt_list(&us_list(&intervals), 1),
-            ratio
+            fmt::list(&us_list(&intervals), 1),
+            fmt::sig(ratio, 3)
         ),
     }
 }
@@ -261,9 +240,9 @@ pub fn c2_part(run: &RunOutput) -> Part {
 /// C3 on one run: the first interval is the longest, and the mean growth rates of F and ⟨ε⟩
 /// over the first stick phase are below those of every later stick phase.
 pub fn c3_part(run: &RunOutput) -> Part {
-    let ev = &run.events.events;
+    let ev = run.events.events();
     if ev.len() < 2 {
-        return Part::fail(format!("{}: {} events, need ≥ 2", run.name, ev.len()));
+        return Part::fail(format!("{}: {} events, need ≥ 2", run.info.name, ev.len()));
     }
     let onsets = run.events.onsets_s();
     let t0 = stick_start_s(run, 0);
@@ -289,55 +268,33 @@ pub fn c3_part(run: &RunOutput) -> Part {
             "rate_F_N_per_s": rate_f, "rate_eps_per_s": rate_eps,
         }),
         text: format!(
-            "first interval {:.1} µs vs longest later {:.1} µs; dF/dt first {:.2} N/s vs later \
-             ≥ {:.2} N/s; d⟨ε⟩/dt first {:.0}/s vs later ≥ {:.0}/s",
-            us(first),
-            us(longest_later),
-            rate_f[0],
-            mf,
-            rate_eps[0],
-            me
+            "first interval {} vs longest later {}; dF/dt first {} N/s vs later ≥ {} N/s; \
+             d⟨ε⟩/dt first {}/s vs later ≥ {}/s",
+            fmt::time(first, 4),
+            fmt::time(longest_later, 4),
+            fmt::sig(rate_f[0], 3),
+            fmt::sig(mf, 4),
+            fmt::sig(rate_eps[0], 4),
+            fmt::sig(me, 5)
         ),
     }
 }
 
 /// C4 from events.csv: every first melted node lies in the outer band, and the front reaches
-/// the axis (`t_center`; without that column, the innermost probe) strictly after the onset in
-/// every event.
+/// the axis (`t_center`) strictly after the onset in every event.
 pub fn c4_events_part(run: &RunOutput) -> Part {
-    let ev = &run.events.events;
+    let ev = run.events.events();
     if ev.is_empty() {
-        return Part::fail(format!("{}: no events", run.name));
+        return Part::fail(format!("{}: no events", run.info.name));
     }
-    let a0 = run.info.radius_m;
+    let a0 = run.info.radius_m();
     let edge = (1.0 - C4_EDGE_BAND) * a0;
     let r_first: Vec<f64> = ev.iter().map(|e| e.r_first_m).collect();
     let min_r_first = r_first.iter().copied().fold(f64::INFINITY, f64::min);
-    // The arrival of the front at the axis: `t_center` of events.csv, or, when the file lacks
-    // the front columns, the first melting at the innermost probe.
-    let travel: Vec<Option<f64>> = if run.events.has_front_columns {
-        ev.iter()
-            .map(|e| e.t_center_s.map(|tc| tc - e.t_onset_s))
-            .collect()
-    } else {
-        let Some(p) = &run.probes else {
-            return Part::fail(format!(
-                "{}: events.csv lacks the front columns {:?} and there are no probes",
-                run.name,
-                crate::data::Events::FRONT_COLUMNS
-            ));
-        };
-        let inner = (0..p.radii_m.len()).min_by(|&a, &b| p.radii_m[a].total_cmp(&p.radii_m[b]));
-        let melts = probe_melts(run);
-        (0..ev.len())
-            .map(|k| {
-                melts
-                    .iter()
-                    .find(|m| m.event == k && Some(m.probe) == inner)
-                    .map(|m| m.t_melt_s - ev[k].t_onset_s)
-            })
-            .collect()
-    };
+    let travel: Vec<Option<f64>> = ev
+        .iter()
+        .map(|e| e.t_center_s.map(|tc| tc - e.t_onset_s))
+        .collect();
     let reached = travel.iter().filter(|t| t.is_some_and(|d| d > 0.0)).count();
     let min_travel = travel
         .iter()
@@ -354,19 +311,14 @@ pub fn c4_events_part(run: &RunOutput) -> Part {
             "min_front_travel_us": if min_travel.is_finite() { json!(min_travel * 1e6) } else { Value::Null },
         }),
         text: format!(
-            "{}: min r_first = {:.2} µm = {:.3}·a0; front reached {} after the onset in {}/{} \
-             events (shortest travel {:.2} µs)",
-            run.name,
-            min_r_first * 1e6,
-            min_r_first / a0,
-            if run.events.has_front_columns {
-                "r = 0"
-            } else {
-                "the innermost probe"
-            },
+            "{}: min r_first = {} µm = {}·a0; front reached r = 0 after the onset in {}/{} \
+             events (shortest travel {} µs)",
+            run.info.name,
+            fmt::sig(min_r_first * 1e6, 4),
+            fmt::sig(min_r_first / a0, 3),
             reached,
             ev.len(),
-            min_travel * 1e6
+            fmt::sig(min_travel * 1e6, 2)
         ),
     }
 }
@@ -389,14 +341,13 @@ pub struct ProbeMelt {
 
 /// All probe meltings of `run`, grouped by event window [onset_k, onset_{k+1}).
 ///
-/// With `t_melt@` columns (the located time each probe's node last melted), a melting is a
+/// From the `t_melt@` columns (the located time each probe's node last melted), a melting is a
 /// change of that time, dated exactly; its re-solidification is the first sample from then on
-/// with φ ≥ threshold. Without them, a melting is a run of samples with φ below the threshold.
+/// with φ ≥ threshold. Where they show none in a window, a melting is a run of samples with φ
+/// below the threshold.
 pub fn probe_melts(run: &RunOutput) -> Vec<ProbeMelt> {
-    let Some(p) = &run.probes else {
-        return Vec::new();
-    };
-    let thr = run.info.melt_threshold;
+    let p = &run.probes;
+    let thr = run.info.melt_threshold();
     let onsets = run.events.onsets_s();
     let mut out = Vec::new();
     for (k, &t0) in onsets.iter().enumerate() {
@@ -404,10 +355,11 @@ pub fn probe_melts(run: &RunOutput) -> Vec<ProbeMelt> {
         let a = p.t_s.partition_point(|&t| t < t0);
         let b = p.t_s.partition_point(|&t| t < t1);
         for (j, phi) in p.phi.iter().enumerate() {
-            let melt = match p.t_melt_s.get(j) {
-                Some(t_melt) => located_melt(&p.t_s, phi, t_melt, thr, t0, t1),
-                None => sampled_melt(&p.t_s, phi, thr, a, b),
-            };
+            let melt = p
+                .t_melt_s
+                .get(j)
+                .and_then(|t_melt| located_melt(&p.t_s, phi, t_melt, thr, t0, t1))
+                .or_else(|| sampled_melt(&p.t_s, phi, thr, a, b));
             if let Some((t_melt_s, t_solid_s)) = melt {
                 out.push(ProbeMelt {
                     event: k,
@@ -470,9 +422,10 @@ fn sampled_melt(
 /// C4 from probes: in every event, the probes melt in order from the outermost to the
 /// innermost radius (first-melt times non-decreasing inwards).
 pub fn c4_probes_part(run: &RunOutput) -> Part {
-    let Some(p) = &run.probes else {
-        return Part::fail(format!("{}: no probes.csv", run.name));
-    };
+    let p = &run.probes;
+    if p.radii_m.is_empty() {
+        return Part::fail(format!("{}: no probes in probes.csv", run.info.name));
+    }
     let melts = probe_melts(run);
     let n_events = run.events.len();
     let mut order_violations = 0;
@@ -497,9 +450,9 @@ pub fn c4_probes_part(run: &RunOutput) -> Part {
         text: format!(
             "{}: probes melt outer → inner in every event ({} order violations; outer-to-inner \
              probe delay {} µs)",
-            run.name,
+            run.info.name,
             order_violations,
-            fmt_list(&spans.iter().map(|s| s * 1e6).collect::<Vec<_>>(), 2)
+            fmt::list(&spans.iter().map(|s| s * 1e6).collect::<Vec<_>>(), 2)
         ),
     }
 }
@@ -508,9 +461,10 @@ pub fn c4_probes_part(run: &RunOutput) -> Part {
 /// before the next event, and the longest melted spell is < [`C5_MAX_MELT_FRACTION`] of the
 /// shortest interval between successive onsets.
 pub fn c5_part(run: &RunOutput) -> Part {
-    let Some(p) = &run.probes else {
-        return Part::fail(format!("{}: no probes.csv", run.name));
-    };
+    let p = &run.probes;
+    if p.radii_m.is_empty() {
+        return Part::fail(format!("{}: no probes in probes.csv", run.info.name));
+    }
     let melts = probe_melts(run);
     let intervals = diffs(&run.events.onsets_s());
     let shortest = intervals.iter().copied().fold(f64::INFINITY, f64::min);
@@ -542,16 +496,15 @@ pub fn c5_part(run: &RunOutput) -> Part {
             "ratio": ratio,
         }),
         text: format!(
-            "{} meltings at {} radii; longest melted spell {:.2} µs = {:.4} × the shortest \
-             interval ({:.1} µs); {} not re-solidified before the next event; radii never \
-             melted: {}",
+            "{} meltings at {} radii; longest melted spell {} = {} × the shortest interval \
+             ({}); {} not re-solidified before the next event; radii never melted: {}",
             melts.len(),
             p.radii_m.len(),
-            longest * 1e6,
-            ratio,
-            shortest * 1e6,
+            fmt::time(longest, 3),
+            fmt::sig(ratio, 2),
+            fmt::time(shortest, 3),
             unrecovered,
-            fmt_list(&never, 0)
+            fmt::list(&never, 0)
         ),
     }
 }
@@ -583,7 +536,7 @@ pub fn c6_part(radial: &RunOutput, hom: &RunOutput) -> Part {
     }
     let l2 = rel_l2_force(radial, hom);
     let fp =
-        |run: &RunOutput| -> Vec<f64> { run.events.events.iter().map(|e| e.f_peak_n).collect() };
+        |run: &RunOutput| -> Vec<f64> { run.events.events().iter().map(|e| e.f_peak_n).collect() };
     let (fr, fh) = (fp(radial), fp(hom));
     let fpeak_diff = fr
         .iter()
@@ -600,14 +553,14 @@ pub fn c6_part(radial: &RunOutput, hom: &RunOutput) -> Part {
             "rel_l2_F": l2, "max_rel_f_peak_diff": fpeak_diff,
         }),
         text: format!(
-            "{} vs {} events; largest onset shift {:.2} µs = {:.3} of the interval; relative \
-             L2 difference of F(t) {:.3}; f_peak differs by ≤ {:.1} %",
+            "{} vs {} events; largest onset shift {} = {} of the interval; relative L2 \
+             difference of F(t) {}; f_peak differs by ≤ {} %",
             h.len(),
             r.len(),
-            worst_abs * 1e6,
-            worst,
-            l2,
-            100.0 * fpeak_diff
+            fmt::time(worst_abs, 3),
+            fmt::sig(worst, 2),
+            fmt::sig(l2, 3),
+            fmt::sig(100.0 * fpeak_diff, 2)
         ),
     }
 }
@@ -615,9 +568,9 @@ pub fn c6_part(radial: &RunOutput, hom: &RunOutput) -> Part {
 /// C7 on fig4: f_peak falls event by event, the cycle amplitudes (max − min over
 /// [t_{k−1}, t_k], k ≥ 2) of F, ⟨φ⟩ and ⟨ε⟩ fall, and the intervals still shrink.
 pub fn c7_part(run: &RunOutput) -> Part {
-    let ev = &run.events.events;
+    let ev = run.events.events();
     if ev.len() < 3 {
-        return Part::fail(format!("{}: {} events, need ≥ 3", run.name, ev.len()));
+        return Part::fail(format!("{}: {} events, need ≥ 3", run.info.name, ev.len()));
     }
     let onsets = run.events.onsets_s();
     let f_peak: Vec<f64> = ev.iter().map(|e| e.f_peak_n).collect();
@@ -647,18 +600,21 @@ pub fn c7_part(run: &RunOutput) -> Part {
                             "amp_eps": checks[3], "intervals": checks[4] },
         }),
         text: format!(
-            "f_peak {} mN ({}); ⟨φ⟩ cycle amplitude {:.3} → {:.3} ({}); ⟨ε⟩ {:.3} → {:.3} ({}); \
-             intervals {:.1} → {:.1} µs ({})",
-            fmt_list(&mn(&f_peak), 3),
+            "f_peak {} mN ({}); F cycle amplitude {} → {} mN ({}); ⟨φ⟩ {} → {} ({}); ⟨ε⟩ {} → \
+             {} ({}); intervals {} → {} ({})",
+            fmt::list(&mn(&f_peak), 3),
             word(checks[0]),
-            amp_phi.first().copied().unwrap_or(f64::NAN),
-            amp_phi.last().copied().unwrap_or(f64::NAN),
+            fmt::sig(amp_f.first().copied().unwrap_or(f64::NAN) * 1e3, 3),
+            fmt::sig(amp_f.last().copied().unwrap_or(f64::NAN) * 1e3, 3),
+            word(checks[1]),
+            fmt::sig(amp_phi.first().copied().unwrap_or(f64::NAN), 3),
+            fmt::sig(amp_phi.last().copied().unwrap_or(f64::NAN), 3),
             word(checks[2]),
-            amp_eps.first().copied().unwrap_or(f64::NAN),
-            amp_eps.last().copied().unwrap_or(f64::NAN),
+            fmt::sig(amp_eps.first().copied().unwrap_or(f64::NAN), 4),
+            fmt::sig(amp_eps.last().copied().unwrap_or(f64::NAN), 4),
             word(checks[3]),
-            us(intervals[0]),
-            us(*intervals.last().unwrap_or(&f64::NAN)),
+            fmt::time(intervals[0], 4),
+            fmt::time(intervals.last().copied().unwrap_or(f64::NAN), 3),
             word(checks[4]),
         ),
     }
@@ -678,11 +634,12 @@ pub fn c8_part(run: &RunOutput) -> Part {
     let s = &run.series;
     let info = &run.info;
     let Some(omega) = info.omega_rad_per_s() else {
-        return Part::fail(format!("{}: not a spring drive", run.name));
+        return Part::fail(format!("{}: not a spring drive", run.info.name));
     };
-    let f_scale = info.tau_max_pa * std::f64::consts::PI * info.radius_m.powi(2);
+    // τmax·π·a0², the largest force the film can carry (run.json's derived melting_force).
+    let f_scale = info.derived.melting_force;
     let f_max = s.f_n.iter().map(|f| f.abs()).fold(0.0, f64::max);
-    let v0 = info.velocity_m_per_s;
+    let v0 = info.velocity_m_per_s();
     let x_free = |t: f64| v0 * t - v0 / omega * (omega * t).sin();
     let x_scale = s.t_s.iter().map(|&t| x_free(t).abs()).fold(0.0, f64::max);
     let x_err = s
@@ -699,7 +656,7 @@ pub fn c8_part(run: &RunOutput) -> Part {
         .fold(f64::INFINITY, f64::min);
     let later_events = run
         .events
-        .events
+        .events()
         .iter()
         .filter(|e| e.t_onset_s > s.t_s.first().copied().unwrap_or(0.0))
         .count();
@@ -714,16 +671,19 @@ pub fn c8_part(run: &RunOutput) -> Part {
                        "max_rel_X_error": x_err, "min_melted_fraction": min_melted,
                        "events_after_start": later_events }),
         text: format!(
-            "max|F| = {f_max:.2e} N (tolerance {:.1e} N); max|X − X_free|/max X_free = \
-             {x_err:.1e}; melted fraction ≥ {min_melted:.6}; {later_events} events after t = 0",
-            C8_FORCE_TOL * f_scale
+            "max|F| = {} N (tolerance {} N); max|X − X_free|/max X_free = {}; melted fraction \
+             ≥ {}; {later_events} events after t = 0",
+            fmt::sig(f_max, 3),
+            fmt::sig(C8_FORCE_TOL * f_scale, 2),
+            fmt::sig(x_err, 2),
+            fmt::sig(min_melted, 7)
         ),
     }
 }
 
 /// X-distances between successive onsets, m.
 pub fn x_distances(run: &RunOutput) -> Vec<f64> {
-    let x: Vec<f64> = run.events.events.iter().map(|e| e.x_onset_m).collect();
+    let x: Vec<f64> = run.events.events().iter().map(|e| e.x_onset_m).collect();
     diffs(&x)
 }
 
@@ -737,20 +697,20 @@ pub fn c9_periodic_part(run: &RunOutput) -> Part {
         value: json!({ "x_distances_um": d.iter().map(|x| x * 1e6).collect::<Vec<_>>(),
                        "cv_x": c, "cv_time_intervals": ct }),
         text: format!(
-            "{}: X-distances {} µm, CV {:.4} (time intervals: CV {:.3})",
-            run.name,
-            fmt_list(&d.iter().map(|x| x * 1e6).collect::<Vec<_>>(), 4),
-            c,
-            ct
+            "{}: X-distances {} µm, CV {} (time intervals: CV {})",
+            run.info.name,
+            fmt::list(&d.iter().map(|x| x * 1e6).collect::<Vec<_>>(), 4),
+            fmt::sig(c, 2),
+            fmt::sig(ct, 3)
         ),
     }
 }
 
 /// C9 on fig4: last f_peak / first f_peak.
 pub fn c9_damped_part(run: &RunOutput) -> Part {
-    let ev = &run.events.events;
+    let ev = run.events.events();
     if ev.len() < 2 {
-        return Part::fail(format!("{}: {} events, need ≥ 2", run.name, ev.len()));
+        return Part::fail(format!("{}: {} events, need ≥ 2", run.info.name, ev.len()));
     }
     let ratio = ev[ev.len() - 1].f_peak_n / ev[0].f_peak_n;
     let d = x_distances(run);
@@ -758,10 +718,10 @@ pub fn c9_damped_part(run: &RunOutput) -> Part {
         pass: ratio < C9_MAX_DAMPING_RATIO,
         value: json!({ "last_over_first_f_peak": ratio, "cv_x": cv(&d) }),
         text: format!(
-            "{}: last/first f_peak = {:.3} (X-distance CV {:.3})",
-            run.name,
-            ratio,
-            cv(&d)
+            "{}: last/first f_peak = {} (X-distance CV {})",
+            run.info.name,
+            fmt::sig(ratio, 3),
+            fmt::sig(cv(&d), 2)
         ),
     }
 }
@@ -775,10 +735,10 @@ pub fn c10_part(run: &RunOutput) -> Part {
         pass: intervals.len() >= 2 && c < C10_MAX_CV,
         value: json!({ "events": run.events.len(), "intervals_us": us_list(&intervals), "cv": c }),
         text: format!(
-            "{} events, intervals {} µs, CV {:.2e}",
+            "{} events, intervals {} µs, CV {}",
             run.events.len(),
-            fmt_list(&us_list(&intervals), 2),
-            c
+            fmt::list(&intervals.iter().map(|t| t * 1e6).collect::<Vec<_>>(), 2),
+            fmt::sig(c, 3)
         ),
     }
 }
@@ -787,7 +747,7 @@ fn assemble(
     id: &'static str,
     statement: &'static str,
     criterion: String,
-    reason: &'static str,
+    reason: String,
     parts: Vec<(&'static str, Result<Part, String>)>,
 ) -> Claim {
     let mut value = serde_json::Map::new();
@@ -810,19 +770,47 @@ fn assemble(
     }
 }
 
+/// The probe radii of a run in µm as `2, 4, …, 18 µm`, or `the probe radii` without the run.
+fn probe_radii_text(runs: &Runs, name: &str) -> String {
+    runs.get(name)
+        .ok()
+        .filter(|r| !r.probes.radii_m.is_empty())
+        .map_or_else(
+            || "the probe radii".to_string(),
+            |r| {
+                let um: Vec<String> = r
+                    .probes
+                    .radii_m
+                    .iter()
+                    .map(|x| fmt::sig(x * 1e6, 3))
+                    .collect();
+                format!("r = {} µm", um.join(", "))
+            },
+        )
+}
+
 /// Evaluates C1–C10 on `runs` (fig2, fig3, fig4, homogeneous, melt, rigid).
 pub fn evaluate(runs: &Runs) -> Vec<Claim> {
     let on = |name: &str, f: fn(&RunOutput) -> Part| runs.get(name).map(f);
+    let fig3_probes = probe_radii_text(runs, "fig3");
+    let nodes = runs
+        .get("fig2")
+        .map_or(crate::runner::NODES, |r| r.info.nodes());
+    let rigid_v0 = runs.get("rigid").map_or_else(
+        |_| "?".to_string(),
+        |r| format!("{:e}", r.info.velocity_m_per_s()),
+    );
     vec![
         assemble(
             "C1",
             "Stick–slip: F(t) rises and drops repeatedly (fig2).",
             format!(
                 "fig2 has ≥ {C1_MIN_EVENTS} melting events, and in every completed event F falls \
-                 from its stick-phase peak by ≥ {:.0} % before the contact is solid again",
+                 from its stick-phase peak by ≥ {:.0} % before the film has recovered (the \
+                 event's t_end)",
                 100.0 * C1_MIN_DROP
             ),
-            "three events are two full cycles; a slip releases most of the force (Fig. 2a falls to ≈ 0)",
+            "three events are two full cycles; a slip releases most of the force (Fig. 2a falls to ≈ 0)".into(),
             vec![("fig2", on("fig2", c1_part))],
         ),
         assemble(
@@ -831,7 +819,7 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
             "every interval between successive onsets is shorter than the one before, in fig2 \
              and in fig4 (≥ 3 events each)"
                 .into(),
-            "the paper's statement taken literally: strictly decreasing, no tolerance",
+            "the paper's statement taken literally: strictly decreasing, no tolerance".into(),
             vec![("fig2", on("fig2", c2_part)), ("fig4", on("fig4", c2_part))],
         ),
         assemble(
@@ -839,10 +827,10 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
             "The first interval is the longest, with slower growth of F and ⟨ε⟩ before it.",
             "fig2: 0 → first onset is longer than every later interval, and the mean growth \
              rates (max − start value)/(time to max) of F and ⟨ε⟩ over the first stick phase are \
-             below those of every later stick phase (a stick phase runs from the last return to \
-             fully solid to the next onset)"
+             below those of every later stick phase (a stick phase runs from the film's recovery \
+             after the previous event, its t_end, to the next onset)"
                 .into(),
-            "the paper's statement taken literally: strict inequalities, no tolerance",
+            "the paper's statement taken literally: strict inequalities, no tolerance".into(),
             vec![("fig2", on("fig2", c3_part))],
         ),
         assemble(
@@ -851,10 +839,14 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
             format!(
                 "every event's first melted node has r ≥ {:.2}·a0 and the front reaches r = 0 \
                  strictly after the onset (fig2, fig3 events.csv); in fig3 the probes \
-                 (2…18 µm) melt in order from outer to inner in every event",
+                 ({fig3_probes}) melt in order from outer to inner in every event",
                 1.0 - C4_EDGE_BAND
             ),
-            "outer 10 % of the radius = 20 cells at N = 200: the edge, not the interior",
+            format!(
+                "outer {:.0} % of the radius = {:.0} cells at N = {nodes}: the edge, not the interior",
+                100.0 * C4_EDGE_BAND,
+                C4_EDGE_BAND * nodes as f64
+            ),
             vec![
                 ("fig2", on("fig2", c4_events_part)),
                 ("fig3", on("fig3", c4_events_part)),
@@ -865,12 +857,15 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
             "C5",
             "At every radius melting is followed at once by re-solidification (fig3).",
             format!(
-                "fig3, every probe radius 2…18 µm melts, re-solidifies before the next event, \
+                "fig3, every probe ({fig3_probes}) melts, re-solidifies before the next event, \
                  and its longest melted spell is < {:.0} % of the shortest interval between \
                  successive onsets",
                 100.0 * C5_MAX_MELT_FRACTION
             ),
-            "\"at once\" = solid for almost the whole cycle; 5 % is ≪ 1 yet 20 probe samples",
+            format!(
+                "\"at once\" = solid for almost the whole cycle: {:.0} % is ≪ 1",
+                100.0 * C5_MAX_MELT_FRACTION
+            ),
             vec![("fig3", on("fig3", c5_part))],
         ),
         assemble(
@@ -881,7 +876,7 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
                  radial interval before it; relative L2 difference of F(t) reported",
                 100.0 * C6_ONSET_TOL
             ),
-            "relative to the local interval, not to t: events stay matched one to one",
+            "relative to the local interval, not to t: events stay matched one to one".into(),
             vec![(
                 "homogeneous_vs_fig2",
                 runs.get("fig2")
@@ -896,7 +891,7 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
              between successive onsets) of F, ⟨φ⟩, ⟨ε⟩ strictly decreasing; intervals strictly \
              decreasing"
                 .into(),
-            "the paper's statement taken literally: strict monotonicity, no tolerance",
+            "the paper's statement taken literally: strict monotonicity, no tolerance".into(),
             vec![("fig4", on("fig4", c7_part))],
         ),
         assemble(
@@ -907,7 +902,10 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
                  max|F| ≤ {C8_FORCE_TOL:.0e}·τmax·πa0², max|X − (V0t − (V0/ω) sin ωt)| ≤ \
                  {C8_X_TOL:.0e}·max X"
             ),
-            "F is exactly 0 in the model; Verlet's own error here is ~5e-9 relative, and 2e-8 N of friction would already show as 1e-6",
+            format!(
+                "F is exactly 0 in the model; {C8_X_TOL:.0e} of X lies above the drive \
+                 integrator's own error (measured beside) and below what 2e-8 N of friction would do"
+            ),
             vec![("melt", on("melt", c8_part))],
         ),
         assemble(
@@ -917,7 +915,11 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
                 "fig2: CV of the X-distance between successive onsets < {C9_MAX_CV_X}; fig4: \
                  last f_peak / first f_peak < {C9_MAX_DAMPING_RATIO}"
             ),
-            "time intervals vary with CV ≈ 0.4; equal X spacing means 10× less; a 20 % fall is far above resolution",
+            format!(
+                "equal X spacing while the time intervals vary far more (their CV is shown \
+                 beside); a {:.0} % fall is far above resolution",
+                100.0 * (1.0 - C9_MAX_DAMPING_RATIO)
+            ),
             vec![
                 ("fig2", on("fig2", c9_periodic_part)),
                 ("fig4", on("fig4", c9_damped_part)),
@@ -927,10 +929,13 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
             "C10",
             "Rigid drive: events evenly spaced in time.",
             format!(
-                "rigid drive V0 = 1e-3 m/s: CV of the intervals between successive onsets < \
+                "rigid drive V0 = {rigid_v0} m/s: CV of the intervals between successive onsets < \
                  {C10_MAX_CV} (≥ 3 events)"
             ),
-            "constant speed and identical cycles; 1 % allows only a short transient",
+            format!(
+                "constant speed and identical cycles; {:.0} % allows only a short transient",
+                100.0 * C10_MAX_CV
+            ),
             vec![("rigid", on("rigid", c10_part))],
         ),
     ]

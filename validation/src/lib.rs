@@ -1,20 +1,28 @@
 //! stickslip-validation: the paper's scenes run through the `stickslip` binary, the paper's
-//! claims C1–C10 as measured criteria, and the SVG reports of `cargo xtask validate`.
+//! claims C1–C10 as measured criteria, the hard cases, and the reports of `cargo xtask
+//! validate`.
 //!
-//! Layout: [`runner`] spawns `stickslip run` per scene and [`data`] parses what it wrote;
-//! [`claims`] turns parsed outputs into verdicts; [`figures`] (over [`plot`]) draws the SVGs;
-//! [`report`] writes `reports/index.md` and `reports/summary.json`; [`reduced`] is the small
-//! in-process fig2 run whose features the fast test compares with the committed summary;
-//! [`hard`] runs the hard cases of `validation/hard/` and writes `reports/hard-cases.md`;
-//! [`validate`] ties it together.
+//! Layout: [`runner`] holds the run list and runs scenes through the binary (with
+//! `stickslip_report::binary`), reading every output file through the run library's schema
+//! (`stickslip_run::RunOutput`); [`facts`] reads the scene values and derived numbers of a run
+//! from its run.json; [`claims`] turns outputs into verdicts; [`figures`] draws the SVGs with
+//! `stickslip_report::plot`; [`events_rule`] compares the event lists of the default event
+//! settings with the old merge gap; [`report`] and [`findings`] write `reports/index.md` and
+//! `reports/summary.json`; [`reduced`] is the small fig2 run whose features the fast test
+//! recomputes in-process; [`hard`] runs the hard cases of `validation/hard/` and writes
+//! `reports/hard-cases.md`; [`validate`] ties it together.
 //!
-//! Invariant: the claims read output files only; they know nothing of the runner's internals.
+//! Invariants: the claims read output files only (through the schema); every number in the
+//! reports is computed from the runs it describes; the committed reports hold no wall-clock
+//! times (those belong to reports/performance.md), so an unchanged validation rewrites them
+//! byte for byte.
 
 pub mod claims;
-pub mod data;
+pub mod events_rule;
+pub mod facts;
 pub mod figures;
+pub mod findings;
 pub mod hard;
-pub mod plot;
 pub mod reduced;
 pub mod report;
 pub mod runner;

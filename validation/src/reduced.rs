@@ -1,16 +1,18 @@
-//! The reduced-size fig2 run (N = 30, Δt = 2e-8 s, end = 1 ms) and the qualitative features
-//! taken from it (event count, onsets to 0.1 µs, first radii, step count, verdicts of the
-//! claims computable from fig2 alone).
+//! The reduced-size fig2 run (N = 30, fixed Δt = 2e-8 s, end = 1 ms) and the qualitative
+//! features taken from it (event count, onsets to 0.1 µs, first radii, step count, verdicts of
+//! the claims computable from fig2 alone).
 //!
 //! `cargo xtask validate` runs it through the `stickslip` binary and writes its features into
-//! `reports/summary.json` (block `"reduced"`); the fast test `tests/reduced.rs` recomputes them
-//! in-process with the core and compares, so the committed reports go stale loudly and the
-//! command line is checked against the core on every `cargo test`.
+//! `reports/summary.json` (block `"reduced"`); the fast test `tests/reduced.rs` runs the same
+//! scene and overrides in-process (`stickslip_run::run_in_memory`) and computes the features
+//! with the same [`features`], so the committed reports go stale loudly and the command line
+//! is checked against the run library on every `cargo test`.
 
 use crate::claims::{c1_part, c2_part, c3_part, c4_events_part, c9_periodic_part};
-use crate::data::RunOutput;
+use crate::facts::{Facts, word};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use stickslip_run::RunOutput;
 
 /// Nodes of the reduced run.
 pub const NODES: usize = 30;
@@ -18,14 +20,10 @@ pub const NODES: usize = 30;
 pub const DT_S: f64 = 2e-8;
 /// End time of the reduced run, s.
 pub const END_S: f64 = 1.0e-3;
-/// Merge gap of melting events, s (the scene default).
-pub const MERGE_GAP_S: f64 = 1e-5;
-/// Steps between recorded rows (1e-7 s, the series interval of the scenes).
-pub const RECORD_EVERY: u64 = 5;
 
 /// The `--set` overrides that turn `validation/scenes/fig2.toml` into the reduced run: the
-/// paper's fig2 (accurate scheme, floor noise 1e-6, merge gap 1e-5 s) at N = [`NODES`],
-/// Δt = [`DT_S`], end = [`END_S`], rows every 1e-7 s.
+/// paper's fig2 (accurate scheme, floor noise 1e-6, default event settings) at N = [`NODES`],
+/// fixed steps Δt = [`DT_S`], end = [`END_S`], rows every 1e-7 s.
 pub fn cli_overrides() -> Vec<String> {
     vec![
         format!("contact.nodes={NODES}"),
@@ -35,7 +33,6 @@ pub fn cli_overrides() -> Vec<String> {
         "time.stepping=fixed".into(),
         "lubricant.noise.kind=floor".into(),
         "lubricant.noise.floor=1e-6".into(),
-        format!("output.event_merge_gap={MERGE_GAP_S:e}"),
         format!("output.profile_times=[{END_S:e}]"),
         "output.series_interval=1e-7".into(),
     ]
@@ -63,9 +60,9 @@ pub fn round1(x: f64) -> f64 {
     (x * 10.0).round() / 10.0
 }
 
-/// The features of `run` (a fig2-like run).
+/// The features of `run` (a fig2-like run), from its outputs as the schema reads them.
 pub fn features(run: &RunOutput) -> Features {
-    let ev = &run.events.events;
+    let ev = run.events.events();
     let verdicts = [
         ("C1", c1_part(run).pass),
         ("C2_fig2", c2_part(run).pass),
@@ -78,8 +75,12 @@ pub fn features(run: &RunOutput) -> Features {
     .collect();
     Features {
         setup: format!(
-            "fig2, accurate scheme, N = {}, dt = {:e} s, end = {:e} s",
-            run.info.nodes, run.info.dt_s, run.info.end_s
+            "{}, {} scheme, N = {}, dt = {:e} s, end = {:e} s",
+            run.info.name,
+            word(&run.info.scheme()),
+            run.info.nodes(),
+            run.info.dt_s(),
+            run.info.end_s()
         ),
         steps: run.info.steps,
         events: ev.len(),

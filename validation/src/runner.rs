@@ -1,18 +1,172 @@
-//! Runs the validation scenes with the `stickslip` binary as a subprocess, exactly as a user
-//! would (`stickslip run SCENE --out DIR --quiet --set …`), a few at a time, and parses what
-//! each run wrote.
+//! The validation's runs and their scheduling: which scenes run with which overrides (the run
+//! list of `cargo xtask validate`), and a [`Runner`] that runs one scene through the
+//! `stickslip` binary as a user would, a few at a time. Building and invoking the binary go
+//! through `stickslip_report::binary`; what a run wrote is read through the run library's
+//! schema (a failure from run.json's typed `failure` record, never from stderr). The hard
+//! cases ([`crate::hard::Bench`]) use the same [`Runner`].
 
-use crate::data::RunOutput;
 use std::collections::{BTreeMap, VecDeque};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use std::sync::Mutex;
+use stickslip_report::binary::{Invocation, run_scene};
+use stickslip_run::schema::SchemaError;
+use stickslip_run::schema::run_info::FailureRecord;
+use stickslip_run::{ResolvedScene, RunOutput, RunStatus, Scene, SceneError};
 
-/// Nodes used for every radial scene. The paper used N = 2000; the dense operators make one
-/// fig2 run cost ~10 min there against ~4 s at N = 200, and the fig2 onsets at N = 50, 100 and
-/// 200 agree to ~0.01 µs (measured by the `fig2_n50`/`fig2_n100` runs every time).
+/// Nodes used for every radial scene (the paper used N = 2000). The evidence that this
+/// suffices is measured on every validation: the `fig2_n50` and `fig2_n100` runs against
+/// `fig2` (the report's Resolution section); the cost per N is in reports/performance.md.
 pub const NODES: usize = 200;
+
+/// The old default of `output.event_merge_gap`, s: the event-rule comparison runs every paper
+/// scene with it beside the default settings.
+pub const OLD_MERGE_GAP: &str = "output.event_merge_gap=1e-5";
+
+/// Suffix of the runs with [`OLD_MERGE_GAP`].
+pub const OLD_GAP_SUFFIX: &str = "_gap1e-5";
+
+/// Runs scenes with one `stickslip` binary, outputs under one directory.
+#[derive(Debug, Clone)]
+pub struct Runner {
+    bin: PathBuf,
+    root: PathBuf,
+    out_root: PathBuf,
+}
+
+/// One `stickslip run` and what it left behind (also when it failed).
+#[derive(Debug, Clone)]
+pub struct Attempt {
+    /// Run label (output directory name under the runner's output root).
+    pub label: String,
+    /// The command line, relative to the workspace root, to reproduce the run.
+    pub command: String,
+    /// The same scene and overrides resolved in-process (the typed scene, or the typed error
+    /// the command line reports with exit status 2).
+    pub scene: Result<ResolvedScene, SceneError>,
+    /// The process (exit status, wall time), or why it could not be started.
+    pub process: Result<Invocation, String>,
+    /// The output files read through the schema (also after a numerical failure).
+    pub output: Result<RunOutput, SchemaError>,
+}
+
+impl Runner {
+    /// A runner of `bin` for the workspace at `root`, outputs under `out_root`.
+    pub fn new(bin: PathBuf, root: PathBuf, out_root: PathBuf) -> Self {
+        Self {
+            bin,
+            root,
+            out_root,
+        }
+    }
+
+    /// The binary.
+    pub fn bin(&self) -> &Path {
+        &self.bin
+    }
+
+    /// The workspace root.
+    pub fn root(&self) -> &Path {
+        &self.root
+    }
+
+    /// `path` relative to the workspace root, for commands a reader can paste.
+    pub fn relative(&self, path: &Path) -> String {
+        path.strip_prefix(&self.root)
+            .map_or_else(|_| path.display().to_string(), |p| p.display().to_string())
+    }
+
+    /// `stickslip run <scene> --out <out_root>/<label> --quiet --force --set …` (after removing
+    /// what an earlier run left there, so a refused run never shows stale files), then reads
+    /// the outputs.
+    pub fn run(&self, label: &str, scene: &Path, sets: &[String]) -> Attempt {
+        let dir = self.out_root.join(label);
+        let mut command = format!(
+            "stickslip run {} --out {}",
+            self.relative(scene),
+            self.relative(&dir)
+        );
+        for s in sets {
+            command.push_str(&format!(" --set {s}"));
+        }
+        if dir.exists() {
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+        let resolved = Scene::from_path(scene, sets);
+        let (process, output) = match run_scene(&self.bin, scene, &dir, sets, &[]) {
+            Ok(run) => (Ok(run.process), run.output),
+            Err(e) => (
+                Err(e.clone()),
+                Err(SchemaError::new(&dir.display().to_string(), None, e)),
+            ),
+        };
+        Attempt {
+            label: label.to_string(),
+            command,
+            scene: resolved,
+            process,
+            output,
+        }
+    }
+}
+
+impl Attempt {
+    /// Exit status (None when killed by a signal or not started).
+    pub fn exit_code(&self) -> Option<i32> {
+        self.process.as_ref().ok().and_then(|p| p.code)
+    }
+
+    /// Exit 0, readable outputs and run.json status `ok`.
+    pub fn ok(&self) -> bool {
+        self.exit_code() == Some(0) && self.out().is_some_and(|o| o.info.status == RunStatus::Ok)
+    }
+
+    /// The outputs, if readable.
+    pub fn out(&self) -> Option<&RunOutput> {
+        self.output.as_ref().ok()
+    }
+
+    /// The typed failure record of run.json (a numerical failure or a refusal), if any.
+    pub fn failure(&self) -> Option<&FailureRecord> {
+        self.out().and_then(|o| o.info.failure.as_ref())
+    }
+
+    /// Why the run has no usable outputs: the failure record's message, the typed scene error,
+    /// or the exit status and why the files cannot be read.
+    pub fn error(&self) -> String {
+        if let Some(f) = self.failure() {
+            return format!("exit {}: {}", self.exit_text(), f.message);
+        }
+        if let Err(e) = &self.scene {
+            return format!("exit {}: {e}", self.exit_text());
+        }
+        match (&self.process, &self.output) {
+            (Err(e), _) => e.clone(),
+            (_, Err(e)) => format!("exit {}; {e}", self.exit_text()),
+            (_, Ok(o)) => format!(
+                "exit {}, run.json status {}",
+                self.exit_text(),
+                o.info.status.name()
+            ),
+        }
+    }
+
+    /// The exit status in words (`0`, `3`, `none`).
+    pub fn exit_text(&self) -> String {
+        self.exit_code()
+            .map_or_else(|| "none".to_string(), |c| c.to_string())
+    }
+
+    /// The outputs of a successful run, or [`Attempt::error`].
+    ///
+    /// # Errors
+    /// When the run did not succeed.
+    pub fn result(&self) -> Result<RunOutput, String> {
+        match self.out() {
+            Some(o) if self.ok() => Ok(o.clone()),
+            _ => Err(self.error()),
+        }
+    }
+}
 
 /// Extra `--set` overrides computed from the outputs of an earlier run.
 pub type Derive = fn(&RunOutput) -> Vec<String>;
@@ -21,7 +175,7 @@ pub type Derive = fn(&RunOutput) -> Vec<String>;
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunSpec {
     /// Run name (output directory under `target/validation/`).
-    pub name: &'static str,
+    pub name: String,
     /// Scene file stem in `validation/scenes/`.
     pub scene: &'static str,
     /// `--set` overrides beyond `contact.nodes`.
@@ -29,19 +183,19 @@ pub struct RunSpec {
     /// Nodes (`--set contact.nodes=…`).
     pub nodes: usize,
     /// What the run is for.
-    pub purpose: &'static str,
+    pub purpose: String,
     /// A run that must finish first, and the extra overrides computed from its outputs.
-    pub after: Option<(&'static str, Derive)>,
+    pub after: Option<(String, Derive)>,
 }
 
 impl RunSpec {
-    fn new(name: &'static str, scene: &'static str, purpose: &'static str) -> Self {
+    fn new(name: &str, scene: &'static str, purpose: &str) -> Self {
         Self {
-            name,
+            name: name.to_string(),
             scene,
             sets: Vec::new(),
             nodes: NODES,
-            purpose,
+            purpose: purpose.to_string(),
             after: None,
         }
     }
@@ -52,18 +206,32 @@ impl RunSpec {
         v.extend(self.sets.iter().cloned());
         v
     }
+
+    /// The same run with the old default `output.event_merge_gap` (for the event-rule
+    /// comparison).
+    fn with_old_gap(&self) -> Self {
+        let mut s = self.clone();
+        s.name = format!("{}{OLD_GAP_SUFFIX}", self.name);
+        s.sets.push(OLD_MERGE_GAP.into());
+        s.purpose = format!("event rule: `{}` with {OLD_MERGE_GAP}", self.name);
+        s.after = self
+            .after
+            .as_ref()
+            .map(|(dep, f)| (format!("{dep}{OLD_GAP_SUFFIX}"), *f));
+        s
+    }
 }
 
-/// fig3's overrides from fig2's outputs: probes sampled every step (1e-8 s), and profiles at
-/// 1.3 ms plus six snapshots through the last complete melting of fig2 (1 µs before the
-/// onset, then the onset and four equal steps to the return to fully solid), so Fig. 2b,d can
-/// show the front crossing the contact. fig3 is fig2 with probes: its events are fig2's.
+/// fig3's overrides from fig2's outputs: probes sampled every 1e-8 s, and profiles at the end
+/// plus six snapshots through the last complete melting of fig2 (1 µs before the onset, then
+/// the onset and four equal steps to the film's recovery, `t_end`), so Fig. 2b,d can show the
+/// front crossing the contact. fig3 is fig2 with probes: its events are fig2's.
 pub fn fig3_overrides(fig2: &RunOutput) -> Vec<String> {
-    let mut times = vec![fig2.info.end_s];
-    let end = fig2.info.end_s;
+    let end = fig2.info.end_s();
+    let mut times = vec![end];
     if let Some(e) = fig2
         .events
-        .events
+        .events()
         .iter()
         .rev()
         .find(|e| e.t_end_s.is_some_and(|t| t < end))
@@ -81,10 +249,47 @@ pub fn fig3_overrides(fig2: &RunOutput) -> Vec<String> {
     ]
 }
 
+/// The runs of the event-rule comparison, with the default event settings; each has a partner
+/// run with [`OLD_MERGE_GAP`] ([`old_gap_partner`]).
+pub const EVENT_RULE_RUNS: [&str; 8] = [
+    "fig2",
+    "fig2_literal_default",
+    "fig3",
+    "fig4",
+    "homogeneous",
+    "melt",
+    "rigid",
+    "rigid_fast",
+];
+
+/// The run that repeats `name` with [`OLD_MERGE_GAP`]: `fig2_literal` for the literal scheme
+/// (which the report uses with that gap anyway), else `<name>_gap1e-5`.
+pub fn old_gap_partner(name: &str) -> String {
+    if name == "fig2_literal_default" {
+        "fig2_literal".into()
+    } else {
+        format!("{name}{OLD_GAP_SUFFIX}")
+    }
+}
+
 /// Every run of `cargo xtask validate`, longest first (so two workers finish together).
 pub fn specs() -> Vec<RunSpec> {
-    let mut literal = RunSpec::new("fig2_literal", "fig2", "the paper's algorithm (C4 finding)");
-    literal.sets.push("time.scheme=literal".into());
+    let mut literal = RunSpec::new(
+        "fig2_literal",
+        "fig2",
+        &format!(
+            "the paper's algorithm (C4 finding), with {OLD_MERGE_GAP} so that its axis \
+             precursor and the edge front that follows form one event: literal and accurate \
+             onsets then compare front by front"
+        ),
+    );
+    literal.sets = vec!["time.scheme=literal".into(), OLD_MERGE_GAP.into()];
+    let mut literal_default = RunSpec::new(
+        "fig2_literal_default",
+        "fig2",
+        "the paper's algorithm with the default event settings (axis precursors as events)",
+    );
+    literal_default.sets.push("time.scheme=literal".into());
     let mut n100 = RunSpec::new("fig2_n100", "fig2", "resolution evidence");
     n100.nodes = 100;
     let mut n50 = RunSpec::new("fig2_n50", "fig2", "resolution evidence");
@@ -99,123 +304,71 @@ pub fn specs() -> Vec<RunSpec> {
         .into_iter()
         .filter(|s| !s.starts_with("contact.nodes="))
         .collect();
-    vec![
+    let mut fig3 = RunSpec::new("fig3", "fig3", "Fig. 2b,d snapshots, Fig. 3; C4, C5");
+    fig3.after = Some(("fig2".into(), fig3_overrides));
+    let mut all = vec![
+        literal_default,
+        literal,
         RunSpec::new("fig2", "fig2", "Fig. 2, 5a; C1–C4, C6, C9"),
-        RunSpec {
-            after: Some(("fig2", fig3_overrides)),
-            ..RunSpec::new("fig3", "fig3", "Fig. 2b,d snapshots, Fig. 3; C4, C5")
-        },
+        fig3,
         RunSpec::new("fig4", "fig4", "Fig. 4, 5b; C2, C7, C9"),
         RunSpec::new("rigid", "rigid", "C10"),
         RunSpec::new("rigid_fast", "rigid_fast", "rigid drive at V0 = 1 m/s"),
         n100,
-        literal,
         n50,
         RunSpec::new("melt", "melt", "C8"),
         RunSpec::new("homogeneous", "homogeneous", "C6"),
         reduced,
-    ]
+    ];
+    let partners: Vec<RunSpec> = EVENT_RULE_RUNS
+        .iter()
+        .filter(|name| !all.iter().any(|s| s.name == old_gap_partner(name)))
+        .filter_map(|name| all.iter().find(|s| s.name == *name))
+        .map(RunSpec::with_old_gap)
+        .collect();
+    all.extend(partners);
+    all
 }
 
-/// The outcome of one run.
+/// The outcome of one validation run.
 #[derive(Debug)]
 pub struct RunResult {
-    /// The spec.
+    /// The spec (with the overrides derived from an earlier run, if any).
     pub spec: RunSpec,
-    /// Parsed outputs, or the failure (exit status and stderr, or a parse error).
-    pub output: Result<RunOutput, String>,
-    /// Wall seconds of the subprocess as seen from here.
-    pub wall_seconds: f64,
+    /// What the run did; None when it could not start because the run it needs failed.
+    pub attempt: Option<Attempt>,
+    /// Why it was not run (a run it needs failed).
+    pub skipped: Option<String>,
 }
 
-/// Builds the release binary with `cargo build --release -p stickslip` and returns its path.
-///
-/// # Errors
-/// If cargo fails or the binary is not where it should be.
-pub fn build_binary(root: &Path) -> Result<PathBuf, String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let status = Command::new(cargo)
-        .current_dir(root)
-        .args(["build", "--release", "-p", "stickslip"])
-        .status()
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
-    if !status.success() {
-        return Err(format!(
-            "cargo build --release -p stickslip failed: {status}"
-        ));
-    }
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("target"));
-    let bin = target
-        .join("release")
-        .join(format!("stickslip{}", std::env::consts::EXE_SUFFIX));
-    if bin.is_file() {
-        Ok(bin)
-    } else {
-        Err(format!("{} not found after the build", bin.display()))
+impl RunResult {
+    /// The outputs of a successful run, or why there are none.
+    ///
+    /// # Errors
+    /// When the run failed or was skipped.
+    pub fn output(&self) -> Result<RunOutput, String> {
+        match (&self.attempt, &self.skipped) {
+            (Some(a), _) => a.result(),
+            (None, Some(e)) => Err(e.clone()),
+            (None, None) => Err("not run".into()),
+        }
     }
 }
 
-/// Runs one spec: `bin run <scene> --out <out_root>/<name> --quiet --set …`, then parses.
-pub fn run_one(bin: &Path, scenes: &Path, out_root: &Path, spec: &RunSpec) -> RunResult {
-    let dir = out_root.join(spec.name);
-    let scene = scenes.join(format!("{}.toml", spec.scene));
-    let start = Instant::now();
-    let output = (|| {
-        if !scene.is_file() {
-            return Err(format!("scene file {} missing", scene.display()));
-        }
-        if dir.exists() {
-            std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        }
-        let mut cmd = Command::new(bin);
-        cmd.arg("run")
-            .arg(&scene)
-            .arg("--out")
-            .arg(&dir)
-            .arg("--quiet");
-        for s in spec.overrides() {
-            cmd.arg("--set").arg(s);
-        }
-        let out = cmd
-            .output()
-            .map_err(|e| format!("cannot start {}: {e}", bin.display()))?;
-        if !out.status.success() {
-            let stderr = String::from_utf8_lossy(&out.stderr);
-            return Err(format!(
-                "`stickslip run {}` exited with {}: {}",
-                spec.scene,
-                out.status,
-                stderr.trim()
-            ));
-        }
-        RunOutput::read(&dir, spec.name).map_err(|e| e.to_string())
-    })();
-    RunResult {
-        spec: spec.clone(),
-        output,
-        wall_seconds: start.elapsed().as_secs_f64(),
-    }
-}
-
-/// Runs all `specs` with `jobs` workers, printing progress; results by run name.
+/// Runs all `specs` of `scenes` with `jobs` workers, printing progress; results by run name.
 pub fn run_all(
-    bin: &Path,
+    runner: &Runner,
     scenes: &Path,
-    out_root: &Path,
     specs: Vec<RunSpec>,
     jobs: usize,
 ) -> BTreeMap<String, RunResult> {
     let total = specs.len();
-    let queue: Arc<Mutex<VecDeque<(usize, RunSpec)>>> =
-        Arc::new(Mutex::new(specs.into_iter().enumerate().collect()));
-    let results = Arc::new(Mutex::new(BTreeMap::new()));
+    let queue: Mutex<VecDeque<(usize, RunSpec)>> =
+        Mutex::new(specs.into_iter().enumerate().collect());
+    let results: Mutex<BTreeMap<String, RunResult>> = Mutex::new(BTreeMap::new());
     std::thread::scope(|scope| {
         for _ in 0..jobs.max(1) {
-            let queue = Arc::clone(&queue);
-            let results = Arc::clone(&results);
-            scope.spawn(move || {
+            scope.spawn(|| {
                 loop {
                     let next = {
                         let mut q = queue.lock().expect("queue lock");
@@ -223,14 +376,16 @@ pub fn run_all(
                             break;
                         }
                         let done = results.lock().expect("results lock");
-                        let ready = q.iter().position(|(_, s): &(usize, RunSpec)| {
-                            s.after.is_none_or(|(dep, _)| done.contains_key(dep))
+                        let ready = q.iter().position(|(_, s)| {
+                            s.after
+                                .as_ref()
+                                .is_none_or(|(dep, _)| done.contains_key(dep))
                         });
                         ready.and_then(|p| q.remove(p)).map(|(i, mut spec)| {
                             let mut blocked = None;
-                            if let Some((dep, derive)) = spec.after {
-                                match &done.get(dep).map(|r: &RunResult| &r.output) {
-                                    Some(Ok(o)) => spec.sets.extend(derive(o)),
+                            if let Some((dep, derive)) = spec.after.clone() {
+                                match done.get(&dep).map(RunResult::output) {
+                                    Some(Ok(o)) => spec.sets.extend(derive(&o)),
                                     _ => blocked = Some(format!("needs run `{dep}`, which failed")),
                                 }
                             }
@@ -238,57 +393,48 @@ pub fn run_all(
                         })
                     };
                     let Some((i, spec, blocked)) = next else {
-                        std::thread::sleep(std::time::Duration::from_millis(100));
+                        std::thread::sleep(std::time::Duration::from_millis(50));
                         continue;
                     };
-                    if let Some(e) = blocked {
-                        println!("  [{:>2}/{total}] SKIPPED {:<17} {e}", i + 1, spec.name);
-                        results.lock().expect("results lock").insert(
-                            spec.name.to_string(),
-                            RunResult {
-                                spec,
-                                output: Err(e),
-                                wall_seconds: 0.0,
-                            },
-                        );
-                        continue;
-                    }
-                    println!(
-                        "  [{:>2}/{total}] running {:<17} ({}.toml, N = {}{}) — {}",
-                        i + 1,
-                        spec.name,
-                        spec.scene,
-                        spec.nodes,
-                        if spec.sets.is_empty() {
-                            String::new()
-                        } else {
-                            format!(", {}", spec.sets.join(", "))
-                        },
-                        spec.purpose
-                    );
-                    let r = run_one(bin, scenes, out_root, &spec);
-                    match &r.output {
-                        Ok(o) => println!(
-                            "  [{:>2}/{total}] done    {:<17} {:>3} events, {:>6.1} s",
-                            i + 1,
-                            spec.name,
-                            o.events.len(),
-                            r.wall_seconds
-                        ),
-                        Err(e) => {
-                            println!("  [{:>2}/{total}] FAILED  {:<17} {e}", i + 1, spec.name)
+                    let result = if let Some(e) = blocked {
+                        println!("  [{:>2}/{total}] SKIPPED {:<28} {e}", i + 1, spec.name);
+                        RunResult {
+                            spec,
+                            attempt: None,
+                            skipped: Some(e),
                         }
-                    }
+                    } else {
+                        let scene = scenes.join(format!("{}.toml", spec.scene));
+                        let attempt = runner.run(&spec.name, &scene, &spec.overrides());
+                        match attempt.result() {
+                            Ok(o) => println!(
+                                "  [{:>2}/{total}] done    {:<28} {:>3} events, {:>6.2} s — {}",
+                                i + 1,
+                                spec.name,
+                                o.events.len(),
+                                attempt.process.as_ref().map_or(f64::NAN, |p| p.wall_s),
+                                spec.purpose
+                            ),
+                            Err(e) => println!(
+                                "  [{:>2}/{total}] FAILED  {:<28} {}",
+                                i + 1,
+                                spec.name,
+                                stickslip_report::fmt::first_line(&e)
+                            ),
+                        }
+                        RunResult {
+                            spec,
+                            attempt: Some(attempt),
+                            skipped: None,
+                        }
+                    };
                     results
                         .lock()
                         .expect("results lock")
-                        .insert(spec.name.to_string(), r);
+                        .insert(result.spec.name.clone(), result);
                 }
             });
         }
     });
-    Arc::try_unwrap(results)
-        .expect("workers joined")
-        .into_inner()
-        .expect("results lock")
+    results.into_inner().expect("results lock")
 }

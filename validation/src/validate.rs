@@ -4,12 +4,11 @@
 
 use crate::claims::{Runs, evaluate};
 use crate::hard::HardSummary;
-use crate::report::{
-    Outcome, Resolution, claims_table_text, compare, index_md, summary_json, write_atomic,
-};
-use crate::runner::{build_binary, run_all, specs};
-use std::path::PathBuf;
+use crate::report::{Outcome, Resolution, claims_table_text, compare, index_md, summary_json};
+use crate::runner::{Runner, run_all, specs};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
+use stickslip_report::{binary, write_atomic};
 
 /// What `validate` should do.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,8 +23,13 @@ pub struct Options {
     pub hard_only: bool,
 }
 
+fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    write_atomic(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
+}
+
 /// Runs the validation. `Ok(true)` when every claim passes (and, with `--check`, the fresh
-/// verdicts, event counts and reduced block equal the committed ones).
+/// verdicts, event counts and reduced block equal the committed ones). Unmet hard-case
+/// expectations are printed and shown in reports/hard-cases.md.
 ///
 /// # Errors
 /// When the binary cannot be built or the reports cannot be read or written.
@@ -33,15 +37,13 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     let start = Instant::now();
     let root = &opts.root;
     println!("validate: building the stickslip binary (cargo build --release -p stickslip)");
-    let bin = build_binary(root)?;
-    let build_seconds = start.elapsed().as_secs_f64();
+    let bin = binary::build(root)?;
     if opts.hard_only {
         return hard_cases(&bin, root).map(|h| h.passed == h.total);
     }
     let scenes = root.join("validation").join("scenes");
     let out_root = root.join("target").join("validation");
     std::fs::create_dir_all(&out_root).map_err(|e| format!("{}: {e}", out_root.display()))?;
-    let run_start = Instant::now();
     let specs = specs();
     println!(
         "validate: {} runs, {} at a time, outputs in {}",
@@ -49,25 +51,28 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         opts.jobs,
         out_root.display()
     );
-    let results = run_all(&bin, &scenes, &out_root, specs, opts.jobs);
+    let runner = Runner::new(bin.clone(), root.clone(), out_root);
+    let results = run_all(&runner, &scenes, specs, opts.jobs);
     let mut runs = Runs::default();
     for (name, r) in &results {
-        runs.map.insert(name.clone(), r.output.clone());
+        runs.map.insert(name.clone(), r.output());
     }
     let reduced = runs.get("fig2_reduced_cli").map(crate::reduced::features);
     let resolution = Resolution::of(&runs);
     let claims = evaluate(&runs);
+    let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
     let outcome = Outcome {
         claims: &claims,
         runs: &runs,
         results: &results,
         reduced: reduced.as_ref().map_err(Clone::clone),
         resolution: resolution.as_ref(),
-        wall_seconds: run_start.elapsed().as_secs_f64(),
-        build_seconds,
+        event_rule: &event_rule,
+        event_rule_missing: &event_rule_missing,
     };
     let summary = summary_json(&outcome);
     println!("\nclaims:\n{}", claims_table_text(&claims));
+    println!("{}", crate::events_rule::sentence(&event_rule));
     let all_pass = claims.iter().all(|c| c.pass);
     let reports = root.join("reports");
     if opts.check {
@@ -97,17 +102,17 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     let figures = crate::figures::all(&runs);
     for fig in &figures {
         match &fig.svg {
-            Ok(svg) => write_atomic(&reports.join(fig.file), svg.as_bytes())
-                .map_err(|e| format!("{}: {e}", fig.file))?,
+            Ok(svg) => write(&reports.join(fig.file), svg.as_bytes())?,
             Err(e) => println!("figure {} not drawn: {e}", fig.file),
         }
     }
-    let md = index_md(&outcome, &figures);
-    write_atomic(&reports.join("index.md"), md.as_bytes()).map_err(|e| format!("index.md: {e}"))?;
+    write(
+        &reports.join("index.md"),
+        index_md(&outcome, &figures).as_bytes(),
+    )?;
     let mut json = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
     json.push('\n');
-    write_atomic(&reports.join("summary.json"), json.as_bytes())
-        .map_err(|e| format!("summary.json: {e}"))?;
+    write(&reports.join("summary.json"), json.as_bytes())?;
     hard_cases(&bin, root)?;
     println!(
         "validate: wrote reports/index.md, reports/summary.json, reports/hard-cases.md and {} \
@@ -119,13 +124,17 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
 }
 
 /// Runs the hard cases of `validation/hard/` and writes `reports/hard-cases.md`.
-fn hard_cases(bin: &std::path::Path, root: &std::path::Path) -> Result<HardSummary, String> {
+fn hard_cases(bin: &Path, root: &Path) -> Result<HardSummary, String> {
     println!("validate: hard cases (validation/hard/, outputs in target/hard/)");
+    let started = Instant::now();
     let h = crate::hard::generate(bin, root)?;
     println!(
         "validate: hard cases: {} of {} expected outcomes met, {} findings, {:.0} s; wrote \
          reports/hard-cases.md",
-        h.passed, h.total, h.findings, h.wall_seconds
+        h.passed,
+        h.total,
+        h.findings,
+        started.elapsed().as_secs_f64()
     );
     Ok(h)
 }

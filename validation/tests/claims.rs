@@ -1,42 +1,60 @@
-//! The claims logic on small synthetic outputs: each criterion passes on data that has the
-//! property and fails on data that lacks it; missing runs fail claims instead of panicking.
+//! The claims logic on small synthetic outputs built from the run library's schema types: each
+//! criterion passes on data that has the property and fails on data that lacks it; missing
+//! runs fail claims instead of panicking.
 
+use std::path::Path;
+use std::sync::OnceLock;
+use stickslip_core::sim::events::MeltingEvent;
+use stickslip_report::stats::{cv, diffs};
+use stickslip_run::schema::events::Events;
+use stickslip_run::schema::probes::Probes;
+use stickslip_run::schema::profiles::Profiles;
+use stickslip_run::schema::run_info::RunInfo;
+use stickslip_run::schema::series::Series;
+use stickslip_run::{RunOutput, RunStatus, Scene};
 use stickslip_validation::claims::{
     Runs, c2_part, c4_events_part, c4_probes_part, c5_part, c8_part, c9_periodic_part, c10_part,
-    cv, diffs, evaluate, probe_melts,
+    evaluate, probe_melts,
 };
-use stickslip_validation::data::{Event, Events, Probes, RunInfo, RunOutput, Series, Table};
-use stickslip_validation::plot::decimate;
 
+/// run.json of fig2 at N = 200, end = 1 ms (a0 = 20 µm, spring K = 500 N/m, m = 0.1 kg,
+/// V0 = 1 m/s, τmax = 1e6 Pa), as a finished run.
 fn info() -> RunInfo {
-    RunInfo {
-        radius_m: 2e-5,
-        melt_threshold: 0.01,
-        velocity_m_per_s: 1.0,
-        stiffness_n_per_m: Some(500.0),
-        mass_kg: Some(0.1),
-        tau_max_pa: 1e6,
-        nodes: 200,
-        scheme: "accurate".into(),
-        dt_s: 1e-8,
-        end_s: 1e-3,
-        steps: 100_000,
-        wall_seconds: 1.0,
-        status: "ok".into(),
-    }
+    static INFO: OnceLock<RunInfo> = OnceLock::new();
+    INFO.get_or_init(|| {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/fig2.toml");
+        let scene = Scene::from_path(
+            &path,
+            &[
+                "contact.nodes=200",
+                "time.end=1e-3",
+                "output.profile_times=[1e-3]",
+            ],
+        )
+        .expect("fig2 resolves");
+        let preflight = stickslip_run::check::check(&scene)
+            .expect("fig2 checks")
+            .preflight;
+        let mut info = RunInfo::starting(&scene, &preflight, Vec::new());
+        info.status = RunStatus::Ok;
+        info
+    })
+    .clone()
 }
 
-fn event(k: usize, t: f64, x: f64) -> Event {
-    Event {
+fn event(k: usize, t: f64, x: f64) -> MeltingEvent {
+    MeltingEvent {
         k,
         t_onset_s: t,
         r_first_m: 1.99e-5,
         x_onset_m: x,
         f_peak_n: 1e-3,
-        r_min_m: Some(0.0),
+        r_min_m: 0.0,
         t_center_s: Some(t + 2e-7),
+        max_melted_fraction: 0.07,
         t_end_s: Some(t + 3e-7),
-        max_melted_fraction: Some(0.07),
+        recovery: 1.0,
+        f_mean_n: 5e-4,
     }
 }
 
@@ -55,25 +73,33 @@ fn run(onsets: &[f64], xs: &[f64]) -> RunOutput {
         t_s: t,
     };
     RunOutput {
-        name: "synthetic".into(),
         series,
-        events: Events {
-            events: onsets
+        events: Events(
+            onsets
                 .iter()
                 .zip(xs)
                 .enumerate()
                 .map(|(k, (&t, &x))| event(k + 1, t, x))
                 .collect(),
-            has_front_columns: true,
-        },
-        probes: None,
-        profiles: Vec::new(),
+        ),
+        profiles: Profiles::default(),
+        probes: Probes::new(&[]),
         info: info(),
     }
 }
 
+/// Probes at `radii_m` sampled every µs: φ and t_melt columns as given.
+fn probes(radii_m: &[f64], phi: Vec<Vec<f64>>, t_melt_s: Vec<Vec<f64>>) -> Probes {
+    Probes {
+        radii_m: radii_m.to_vec(),
+        t_s: (0..1000).map(|i| i as f64 * 1e-6).collect(),
+        phi,
+        t_melt_s,
+    }
+}
+
 #[test]
-fn cv_and_diffs() {
+fn cv_and_diffs_of_the_kit_are_the_sample_ones() {
     assert_eq!(diffs(&[1.0, 3.0, 6.0]), vec![2.0, 3.0]);
     assert_eq!(cv(&[2.0, 2.0, 2.0]), 0.0);
     assert!((cv(&[1.0, 3.0]) - 2f64.sqrt() / 2.0).abs() < 1e-15);
@@ -122,20 +148,16 @@ fn c8_flags_any_friction_or_departure_from_the_free_spring() {
 }
 
 #[test]
-fn probe_meltings_are_grouped_by_event_and_timed() {
+fn sampled_meltings_are_grouped_by_event_and_timed() {
+    // No located melting (t_melt = −1 throughout): the meltings are the samples below the
+    // threshold.
     let mut r = run(&[99.5e-6, 499.5e-6], &[1e-7, 2e-7]);
-    let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-6).collect();
-    let mut phi = vec![1.0; t.len()];
+    let mut phi = vec![1.0; 1000];
     phi[100] = 0.005; // event 1: one sample below the threshold
     phi[500] = 0.005; // event 2: three samples, flickering
     phi[501] = 0.02;
     phi[502] = 0.005;
-    r.probes = Some(Probes {
-        radii_m: vec![1e-5],
-        t_s: t,
-        phi: vec![phi],
-        t_melt_s: vec![],
-    });
+    r.probes = probes(&[1e-5], vec![phi], vec![vec![-1.0; 1000]]);
     let m = probe_melts(&r);
     assert_eq!(m.len(), 2);
     assert_eq!(m[0].event, 0);
@@ -149,21 +171,19 @@ fn located_meltings_count_although_sampled_phi_never_drops_below_the_threshold()
     // Instantaneous melting: φ touches the threshold between samples; the t_melt column
     // dates it. Probe 0 (outer) melts at 100.2 µs, probe 1 (inner) at 100.4 µs.
     let mut r = run(&[100.1e-6], &[1e-7]);
-    let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-6).collect();
-    let mut outer = vec![-1.0; t.len()];
-    let mut inner = vec![-1.0; t.len()];
-    for i in 101..t.len() {
+    let mut outer = vec![-1.0; 1000];
+    let mut inner = vec![-1.0; 1000];
+    for i in 101..1000 {
         outer[i] = 100.2e-6;
         inner[i] = 100.4e-6;
     }
-    let mut phi_inner = vec![1.0; t.len()];
+    let mut phi_inner = vec![1.0; 1000];
     phi_inner[101] = 0.5;
-    r.probes = Some(Probes {
-        radii_m: vec![1.8e-5, 2e-6],
-        t_s: t.clone(),
-        phi: vec![vec![1.0; t.len()], phi_inner],
-        t_melt_s: vec![outer, inner.clone()],
-    });
+    r.probes = probes(
+        &[1.8e-5, 2e-6],
+        vec![vec![1.0; 1000], phi_inner],
+        vec![outer, inner.clone()],
+    );
     let m = probe_melts(&r);
     assert_eq!(m.len(), 2);
     assert!((m[0].t_melt_s - 100.2e-6).abs() < 1e-15);
@@ -174,40 +194,33 @@ fn located_meltings_count_although_sampled_phi_never_drops_below_the_threshold()
     );
     assert!(c4_probes_part(&r).pass);
     // Swapped: the inner probe first is an order violation.
-    if let Some(p) = r.probes.as_mut() {
-        p.t_melt_s[0] = inner
-            .iter()
-            .map(|&v| if v > 0.0 { 100.6e-6 } else { v })
-            .collect();
-    }
+    r.probes.t_melt_s[0] = inner
+        .iter()
+        .map(|&v| if v > 0.0 { 100.6e-6 } else { v })
+        .collect();
     assert!(!c4_probes_part(&r).pass);
 }
 
 #[test]
-fn c4_uses_the_innermost_probe_when_events_csv_has_no_front_columns() {
+fn c4_wants_the_edge_first_and_the_front_at_the_axis_later() {
     let mut r = run(&[99.5e-6], &[1e-7]);
-    assert!(
-        c4_events_part(&r).pass,
-        "t_center after the onset, r_first at the edge"
-    );
-    r.events.has_front_columns = false;
-    for e in &mut r.events.events {
-        e.t_center_s = None;
-    }
-    assert!(!c4_events_part(&r).pass, "no front columns and no probes");
-    let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-6).collect();
-    let mut inner = vec![1.0; t.len()];
-    inner[101] = 0.0;
-    r.probes = Some(Probes {
-        radii_m: vec![1.8e-5, 2e-6],
-        t_s: t.clone(),
-        phi: vec![vec![1.0; t.len()], inner],
-        t_melt_s: vec![],
-    });
     let part = c4_events_part(&r);
     assert!(part.pass, "{}", part.text);
-    r.events.events[0].r_first_m = 1e-6;
-    assert!(!c4_events_part(&r).pass, "first melting near the axis");
+    // events.csv with an empty t_center: the front never reached the axis.
+    let text = r.events.to_csv().replace(
+        &format!(",{:e},", r.events.events()[0].t_center_s.unwrap()),
+        ",,",
+    );
+    r.events = Events::parse(&text).expect("events.csv parses");
+    assert_eq!(r.events.events()[0].t_center_s, None);
+    assert!(!c4_events_part(&r).pass, "no arrival at the axis");
+    let mut near_axis = run(&[99.5e-6], &[1e-7]);
+    near_axis.events.0[0].r_first_m = 1e-6;
+    assert!(
+        !c4_events_part(&near_axis).pass,
+        "first melting near the axis"
+    );
+    assert!(!c4_probes_part(&near_axis).pass, "no probes");
 }
 
 #[test]
@@ -216,43 +229,4 @@ fn missing_runs_fail_every_claim_without_panicking() {
     assert_eq!(claims.len(), 10);
     assert!(claims.iter().all(|c| !c.pass));
     assert!(claims[0].value_text.contains("missing"));
-}
-
-#[test]
-fn tables_parse_empty_cells_and_events_keep_optional_columns() {
-    let t = Table::parse("a,b\n1,\n2,3e-1\n", "t.csv").unwrap();
-    assert!(t.get("b").unwrap()[0].is_nan());
-    assert_eq!(t.get("b").unwrap()[1], 0.3);
-    let e = Events::parse(
-        "k,t_onset,r_first,x_onset,f_peak,r_min,t_center,t_end,max_melted_fraction\n\
-         1,1e-4,2e-5,1e-7,1e-3,0e0,,,5e-2\n",
-    )
-    .unwrap();
-    assert!(e.has_front_columns);
-    assert_eq!(e.events[0].t_center_s, None);
-    assert_eq!(e.events[0].r_min_m, Some(0.0));
-    let minimal =
-        Events::parse("k,t_onset,r_first,x_onset,f_peak\n1,1e-4,2e-5,1e-7,1e-3\n").unwrap();
-    assert!(!minimal.has_front_columns);
-    assert!(Table::parse("a,b\n1\n", "t.csv").is_err());
-}
-
-#[test]
-fn decimation_keeps_the_extremes() {
-    let pts: Vec<(f64, f64)> = (0..100_000)
-        .map(|i| {
-            (
-                i as f64,
-                if i == 54_321 {
-                    -5.0
-                } else {
-                    (i as f64 * 0.01).sin()
-                },
-            )
-        })
-        .collect();
-    let d = decimate(&pts, 500);
-    assert!(d.len() <= 1002);
-    assert!(d.iter().any(|&(x, y)| x == 54_321.0 && y == -5.0));
-    assert!(d.windows(2).all(|w| w[0].0 <= w[1].0));
 }

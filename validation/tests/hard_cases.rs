@@ -1,8 +1,9 @@
 //! Hard cases (validation/hard/*.toml) through the release `stickslip` binary, one test per case:
-//! the literal scheme may fail but only loudly (exit 3 naming time, step and node), the accurate
-//! scheme must survive with bounded, finite, converging results. The checks are those of
-//! `stickslip_validation::hard` (the same ones reports/hard-cases.md shows); case 6 also feeds
-//! the flat-punch stress straight to the core's MDR operators at N = 1, 2, 3 and 8000.
+//! the literal scheme may fail but only loudly (exit 3, run.json's failure record naming time,
+//! step and node), the accurate scheme must survive with bounded, finite, converging results.
+//! The checks are those of `stickslip_validation::hard` (the same ones reports/hard-cases.md
+//! shows); case 6 also feeds the flat-punch stress straight to the core's MDR operators at
+//! N = 1, 2, 3 and 8000.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -18,13 +19,13 @@ fn root() -> PathBuf {
         .to_path_buf()
 }
 
-/// One release build of `stickslip` per test process (`cargo build --release -p stickslip`);
-/// outputs under target/hard-tests/.
+/// One release build of `stickslip` per test process (`cargo build --release -p stickslip`,
+/// through the reporting kit); outputs under target/hard-tests/.
 fn bench() -> &'static Bench {
     static BENCH: OnceLock<Bench> = OnceLock::new();
     BENCH.get_or_init(|| {
         let root = root();
-        let bin = stickslip_validation::runner::build_binary(&root)
+        let bin = stickslip_report::binary::build(&root)
             .unwrap_or_else(|e| panic!("cannot build the stickslip binary: {e}"));
         let out = root.join("target").join("hard-tests");
         std::fs::create_dir_all(&out).expect("target/hard-tests is writable");
@@ -37,9 +38,15 @@ fn case1_soft_substrate_literal_refuses_accurate_converges() {
     let c = hard::soft_substrate(bench());
     assert_checks(&c);
     // The refusal names the contraction factor; ρ ≈ 4.65 at N = 200 (≈ 10 × fig2's 0.47).
-    let f = c.literal.failure().expect("a parsed failure");
-    assert!((3.0..7.0).contains(&f.value), "ρ = {}", f.value);
-    assert!(c.literal.stderr.contains("time.scheme = \"accurate\""));
+    let f = c.literal.failure().expect("run.json's failure record");
+    let rho = hard::failure_value(&c.literal).expect("a number");
+    assert!((3.0..7.0).contains(&rho), "ρ = {rho}");
+    assert_eq!(f.step, 0);
+    assert!(
+        f.reason.contains("time.scheme = \"accurate\""),
+        "{}",
+        f.reason
+    );
 }
 
 #[test]
@@ -48,7 +55,7 @@ fn case2_stiff_kinetics_literal_blows_up_loudly_accurate_is_stable() {
     assert_checks(&c);
     for r in &c.runs {
         // euler_number = Δt·2γ·A·b/a = 1e-8·2γ·1.5e6·2 = 0.06·γ.
-        let e = r.euler_number.expect("check prints euler_number");
+        let e = r.euler_number().expect("the preflight has euler_number");
         assert!(
             (e / (0.06 * r.gamma) - 1.0).abs() < 1e-9,
             "euler_number {e}"
@@ -74,11 +81,12 @@ fn case5_near_critical_strain_is_smooth_across_eps_c() {
     assert_checks(&c);
     // εc = 2 exactly, reached exactly by the strain at the profile time 2^-12 s.
     let exact = &c.variants[1].accurate;
-    assert_eq!(exact.derived("eps_c"), Some(2.0));
-    assert_eq!(exact.derived("A"), Some(hard::NEAR_CRITICAL_A0_PA));
+    let derived = hard::derived(exact).expect("run.json");
+    assert_eq!(derived.eps_c, 2.0);
+    assert_eq!(derived.a, hard::NEAR_CRITICAL_A0_PA);
     let profile = exact
         .out()
-        .and_then(|o| o.profile_near(hard::NEAR_CRITICAL_PROFILE_S))
+        .and_then(|o| o.profiles.nearest(hard::NEAR_CRITICAL_PROFILE_S))
         .expect("profile at 2^-12 s");
     assert_eq!(profile.t_s, hard::NEAR_CRITICAL_PROFILE_S);
     assert_eq!(profile.eps[0], 2.0, "the ramp lands exactly on εc");
@@ -211,14 +219,20 @@ fn case8_fast_rigid_drive_events_are_evenly_spaced() {
 }
 
 #[test]
-fn failure_messages_parse_and_the_report_renders() {
-    // The parser against the engine's message format, and the report from a measured case.
+fn failure_records_are_typed_and_the_report_renders() {
+    // run.json's failure record of an explicit-Euler blow-up, and the report from a measured
+    // case (with no wall-clock time in it).
     let c = hard::large_dt(bench());
-    let f = c.literal.failure().expect("exit 3 message parses");
+    let f = c.literal.failure().expect("run.json's failure record");
     assert_eq!(f.quantity, "phi");
-    assert!(f.step >= 1 && f.t_s > 0.0, "{f:?}");
+    assert!(f.step >= 1 && f.time_s > 0.0, "{f:?}");
+    assert!(hard::failure_value(&c.literal).is_some_and(|v| v < 0.0));
     let cases: Vec<Box<dyn Case>> = vec![Box::new(c)];
-    let md = hard::report_md(&cases, 1.0);
+    let md = hard::report_md(&cases);
+    assert!(
+        !md.contains("wall") && !md.contains(" took "),
+        "no wall-clock time in the report"
+    );
     assert!(md.contains("| **3 Δt far too large (1e-6 s)**"), "{md}");
     assert!(md.contains("stickslip run validation/hard/large_dt.toml"));
 }

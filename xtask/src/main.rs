@@ -1,4 +1,7 @@
-//! `cargo xtask …`: the project's automation entry point (validate, convergence, bench).
+//! `cargo xtask …`: the project's automation entry point (validate, convergence, bench, maps).
+
+mod maps;
+mod slurm;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -21,6 +24,12 @@ Commands:
                 write reports/performance.{md,json} and reports/performance_*.svg
       --quick   smoke run (few, short runs; not for the report)
       --repeats N, --max-nodes N, --out DIR   (see crates/stickslip-convergence/src/bin/performance.rs)
+  maps          run the showcase friction maps (maps/*.toml) and write reports/maps.md and
+                reports/maps_*.svg with their checks; exits 1 if a check fails
+      --jobs J  points run in parallel (default: the available cores)
+  slurm-check   start a one-node Slurm here (installs slurm-wlm and munge with apt-get when
+                missing), run maps/slurm-check.toml as a job array, merge, compare with a
+                local run, stop the daemons it started; exits 1 on a mismatch
 ";
 
 fn workspace_root() -> PathBuf {
@@ -143,6 +152,8 @@ fn main() -> ExitCode {
         Some("validate") => validate(&args[1..]),
         Some("convergence") => convergence(&args[1..]),
         Some("bench") => bench(&args[1..]),
+        Some("maps") => maps::main(&args[1..], workspace_root()),
+        Some("slurm-check") => slurm::main(workspace_root()),
         Some(other) => {
             eprintln!("unknown xtask command `{other}`\n\n{HELP}");
             ExitCode::from(2)

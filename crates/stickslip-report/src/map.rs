@@ -274,7 +274,7 @@ fn pair(
     let values: Vec<f64> = rows.iter().map(|r| r.number(quantity)).collect();
     let log_colour = lo > 0.0 && hi / lo > 10.0;
     let norm = |v: f64| {
-        if !(hi > lo) {
+        if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
             0.5
         } else if log_colour {
             (v / lo).ln() / (hi / lo).ln()

@@ -162,6 +162,9 @@ pub struct Progress {
     pub events: usize,
 }
 
+/// A callback that receives a run's notes and warnings before its first step.
+pub type OnStart = dyn FnMut(&[Finding]);
+
 /// How the caller steers a run.
 #[derive(Default)]
 pub struct Control<'a> {
@@ -173,7 +176,7 @@ pub struct Control<'a> {
     /// Called after every step with the simulation (studies that need more than the rows).
     pub observer: Option<&'a mut dyn FnMut(&Simulation)>,
     /// Called once before the first step of a fresh run with its notes and warnings.
-    pub on_start: Option<&'a mut dyn FnMut(&[Finding])>,
+    pub on_start: Option<&'a mut OnStart>,
     /// Regime thresholds of the summary.
     pub thresholds: RegimeThresholds,
 }

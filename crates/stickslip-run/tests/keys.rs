@@ -227,12 +227,12 @@ fn values_outside_a_keys_own_range_are_rejected_naming_the_key() {
                 insert(&mut t, "temperature.law", "relaxation".into());
                 insert(&mut t, "temperature.A0", 1.5e6.into());
             }
-            p if p.starts_with("contact.g") || p.starts_with("contact.nu") => {
-                if p != "contact.g_eff" {
-                    t["contact"].as_table_mut().unwrap().remove("g_eff");
-                    for (k, v) in [("g1", 1e9), ("nu1", 0.3), ("g2", 1e9), ("nu2", 0.3)] {
-                        insert(&mut t, &format!("contact.{k}"), v.into());
-                    }
+            p if (p.starts_with("contact.g") || p.starts_with("contact.nu"))
+                && p != "contact.g_eff" =>
+            {
+                t["contact"].as_table_mut().unwrap().remove("g_eff");
+                for (k, v) in [("g1", 1e9), ("nu1", 0.3), ("g2", 1e9), ("nu2", 0.3)] {
+                    insert(&mut t, &format!("contact.{k}"), v.into());
                 }
             }
             _ => {}

@@ -199,7 +199,6 @@ fn run(scene: &Path, out: &Path, set: &[String], quiet: bool, options: &DirOptio
     let mut warn = |findings: &[Finding]| print_findings(findings, false);
     control.on_start = Some(&mut warn);
     let result = stickslip_run::run_to_dir(&resolved, out, options, &mut control);
-    drop(control);
     bar.finish();
     match result {
         Ok(outcome) => report(&resolved.name, out, &outcome),
@@ -220,7 +219,6 @@ fn resume(dir: &Path, quiet: bool, checkpoint_every: Option<f64>) -> ExitCode {
         ..Default::default()
     };
     let result = stickslip_run::resume(dir, checkpoint_every, &mut control);
-    drop(control);
     bar.finish();
     match result {
         Ok((scene, outcome)) => report(&scene.name, dir, &outcome),

@@ -89,6 +89,9 @@ fn ranges(panel: &Panel) -> Range2 {
 /// 1, 2, 5 × 10^k inside [lo, hi] (only 10^k when the range spans more than four decades).
 fn decade_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let mut out = Vec::new();
+    if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+        return out;
+    }
     let mantissas: &[f64] = if hi / lo > 1e4 {
         &[1.0]
     } else {
@@ -143,11 +146,18 @@ fn panel<DB: DrawingBackend>(
         .margin_right(26)
         .x_label_area_size(50)
         .y_label_area_size(76);
-    let xt = panel
-        .x_ticks
-        .clone()
-        .unwrap_or_else(|| decade_ticks(x0, x1));
-    let yt = decade_ticks(y0, y1);
+    // Key points only matter on log axes (a linear axis may start at 0).
+    let xt = match panel.x_scale {
+        Scale::Log => panel
+            .x_ticks
+            .clone()
+            .unwrap_or_else(|| decade_ticks(x0, x1)),
+        Scale::Linear => Vec::new(),
+    };
+    let yt = match panel.y_scale {
+        Scale::Log => decade_ticks(y0, y1),
+        Scale::Linear => Vec::new(),
+    };
     match (panel.x_scale, panel.y_scale) {
         (Scale::Linear, Scale::Linear) => fill(
             builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?,

@@ -80,7 +80,7 @@ pub enum SweepError {
         /// Its axis values, `key = value, …`.
         values: String,
         /// The scene's error (names the key).
-        error: SceneError,
+        error: Box<SceneError>,
     },
     /// The base scene (with `[set]`) does not resolve.
     #[error("sweep base scene {path} (with [set]): {error}")]
@@ -88,7 +88,7 @@ pub enum SweepError {
         /// The scene path.
         path: String,
         /// The scene's error.
-        error: SceneError,
+        error: Box<SceneError>,
     },
 }
 

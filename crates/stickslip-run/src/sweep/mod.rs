@@ -341,7 +341,7 @@ impl Sweep {
         })?;
         let mut base = Scene::parse_table(&text).map_err(|error| SweepError::Base {
             path: scene_path.display().to_string(),
-            error,
+            error: Box::new(error),
         })?;
         let mut set = Vec::new();
         flatten(&file.set, "", &mut set);
@@ -388,7 +388,7 @@ impl Sweep {
         }
         Scene::resolve_table(base.clone(), &[] as &[&str]).map_err(|error| SweepError::Base {
             path: scene_path.display().to_string(),
-            error,
+            error: Box::new(error),
         })?;
         let sweep = Self {
             name,
@@ -404,7 +404,7 @@ impl Sweep {
             sweep.scene(p).map_err(|error| SweepError::Point {
                 point: p,
                 values: sweep.describe(p),
-                error,
+                error: Box::new(error),
             })?;
         }
         Ok(sweep)

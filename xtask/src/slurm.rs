@@ -1,0 +1,291 @@
+//! `cargo xtask slurm-check`: a real one-node Slurm on this machine runs a small sweep as a
+//! job array through `stickslip sweep slurm … --submit`, and its merged map.csv must equal a
+//! local run's in every column but `wall_s`.
+//!
+//! Steps: install Debian's `slurm-wlm` and `munge` with apt-get when missing (and say so);
+//! start `munged` unless a munge daemon answers already; write a slurm.conf naming this host
+//! under `target/slurm-check/`; start `slurmctld` and `slurmd` in the foreground as children;
+//! wait for the node; submit; wait for the array; merge; run the same sweep locally; compare;
+//! stop the daemons this command started, by pid (also on failure).
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
+use stickslip_run::sweep::map::MapTable;
+
+/// The sweep the check runs.
+const SWEEP: &str = "maps/slurm-check.toml";
+/// Array tasks.
+const TASKS: &str = "3";
+/// Longest wait for the node or the jobs.
+const PATIENCE: Duration = Duration::from_secs(180);
+
+/// Daemons started here, stopped by pid when dropped.
+struct Daemons(Vec<(String, Child)>);
+
+impl Drop for Daemons {
+    fn drop(&mut self) {
+        for (name, child) in self.0.iter_mut().rev() {
+            let pid = child.id();
+            let _ = Command::new("kill")
+                .args(["-TERM", &pid.to_string()])
+                .status();
+            let start = Instant::now();
+            while start.elapsed() < Duration::from_secs(10) {
+                if child.try_wait().ok().flatten().is_some() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            if child.try_wait().ok().flatten().is_none() {
+                let _ = child.kill();
+                let _ = child.wait();
+            }
+            println!("slurm-check: stopped {name} (pid {pid})");
+        }
+    }
+}
+
+fn have(cmd: &str) -> bool {
+    Command::new("sh")
+        .args(["-c", &format!("command -v {cmd} >/dev/null 2>&1")])
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+fn run(cmd: &mut Command) -> Result<String, String> {
+    let out = cmd
+        .output()
+        .map_err(|e| format!("cannot run {cmd:?}: {e}"))?;
+    if out.status.success() {
+        Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+    } else {
+        Err(format!(
+            "{cmd:?} failed ({}): {}{}",
+            out.status,
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        ))
+    }
+}
+
+fn install_if_missing() -> Result<(), String> {
+    if ["slurmctld", "slurmd", "sbatch", "squeue", "munged"]
+        .iter()
+        .all(|c| have(c))
+    {
+        return Ok(());
+    }
+    println!("slurm-check: installing Debian's slurm-wlm and munge with apt-get (missing here)");
+    let started = Instant::now();
+    let env = [("DEBIAN_FRONTEND", "noninteractive")];
+    run(Command::new("apt-get").args(["update", "-q"]).envs(env))?;
+    run(Command::new("apt-get")
+        .args([
+            "install",
+            "-y",
+            "-q",
+            "--no-install-recommends",
+            "slurm-wlm",
+            "munge",
+        ])
+        .envs(env))?;
+    println!(
+        "slurm-check: installed in {:.0} s",
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn wait_for(what: &str, mut ready: impl FnMut() -> bool) -> Result<(), String> {
+    let start = Instant::now();
+    while !ready() {
+        if start.elapsed() > PATIENCE {
+            return Err(format!(
+                "timed out after {} s waiting for {what}",
+                PATIENCE.as_secs()
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    }
+    Ok(())
+}
+
+fn spawn(name: &str, cmd: &mut Command, log: &Path, daemons: &mut Daemons) -> Result<(), String> {
+    let file = std::fs::File::create(log).map_err(|e| format!("{}: {e}", log.display()))?;
+    let err = file.try_clone().map_err(|e| e.to_string())?;
+    let child = cmd
+        .stdin(Stdio::null())
+        .stdout(file)
+        .stderr(err)
+        .spawn()
+        .map_err(|e| format!("cannot start {name}: {e}"))?;
+    println!("slurm-check: started {name} (pid {})", child.id());
+    daemons.0.push((name.to_string(), child));
+    Ok(())
+}
+
+fn munge_answers() -> bool {
+    Command::new("sh")
+        .args(["-c", "munge -n 2>/dev/null | unmunge >/dev/null 2>&1"])
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+fn slurm_conf(dir: &Path, host: &str, cpus: usize) -> String {
+    let d = dir.display();
+    format!(
+        "# Written by cargo xtask slurm-check: a one-node cluster on this host.\n\
+         ClusterName=stickslip-check\nSlurmctldHost={host}\nSlurmUser=root\nSlurmdUser=root\n\
+         AuthType=auth/munge\nCredType=cred/munge\nProctrackType=proctrack/linuxproc\n\
+         TaskPlugin=task/none\nSelectType=select/cons_tres\nSelectTypeParameters=CR_CPU\n\
+         ReturnToService=2\nMpiDefault=none\nJobCompType=jobcomp/none\n\
+         AccountingStorageType=accounting_storage/none\nSchedulerType=sched/backfill\n\
+         StateSaveLocation={d}/state\nSlurmdSpoolDir={d}/spool\n\
+         SlurmctldPidFile={d}/slurmctld.pid\nSlurmdPidFile={d}/slurmd.pid\n\
+         SlurmctldLogFile={d}/slurmctld.log\nSlurmdLogFile={d}/slurmd.log\n\
+         SlurmctldPort=16817\nSlurmdPort=16818\n\
+         NodeName={host} CPUs={cpus} State=UNKNOWN\n\
+         PartitionName=check Nodes=ALL Default=YES MaxTime=INFINITE State=UP\n"
+    )
+}
+
+/// Map rows without the wall-clock column.
+fn without_wall(dir: &Path) -> Result<Vec<String>, String> {
+    let table = MapTable::read(dir).map_err(|e| e.to_string())?;
+    let wall = table
+        .header()
+        .iter()
+        .position(|h| h == "wall_s")
+        .ok_or("no wall_s column")?;
+    Ok(table
+        .to_csv()
+        .lines()
+        .map(|l| {
+            let mut c: Vec<&str> = l.split(',').collect();
+            c.remove(wall);
+            c.join(",")
+        })
+        .collect())
+}
+
+fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
+    install_if_missing()?;
+    let bin = stickslip_report::binary::build(root)?;
+    let dir = root.join("target").join("slurm-check");
+    let _ = std::fs::remove_dir_all(&dir);
+    for sub in ["state", "spool", "out"] {
+        std::fs::create_dir_all(dir.join(sub)).map_err(|e| e.to_string())?;
+    }
+    let host = run(Command::new("hostname").arg("-s"))?.trim().to_string();
+    let cpus = std::thread::available_parallelism().map_or(1, usize::from);
+    let conf = dir.join("slurm.conf");
+    std::fs::write(&conf, slurm_conf(&dir, &host, cpus)).map_err(|e| e.to_string())?;
+    if munge_answers() {
+        println!("slurm-check: a munge daemon answers already; using it");
+    } else {
+        let _ = std::fs::create_dir_all("/run/munge");
+        let _ = run(Command::new("chown").args(["munge:munge", "/run/munge"]));
+        if !Path::new("/etc/munge/munge.key").exists() {
+            run(Command::new("mungekey").arg("--create"))?;
+        }
+        spawn(
+            "munged",
+            Command::new("munged").args(["--foreground", "--force"]),
+            &dir.join("munged.out"),
+            daemons,
+        )?;
+        wait_for("munged", munge_answers)?;
+    }
+    let conf_arg = conf.display().to_string();
+    spawn(
+        "slurmctld",
+        Command::new("slurmctld").args(["-D", "-f", &conf_arg]),
+        &dir.join("slurmctld.out"),
+        daemons,
+    )?;
+    spawn(
+        "slurmd",
+        Command::new("slurmd").args(["-D", "-f", &conf_arg]),
+        &dir.join("slurmd.out"),
+        daemons,
+    )?;
+    let slurm = |cmd: &str, args: &[&str]| {
+        let mut c = Command::new(cmd);
+        c.args(args).env("SLURM_CONF", &conf);
+        c
+    };
+    wait_for("the node to be idle", || {
+        run(&mut slurm("sinfo", &["-h", "-o", "%T"])).is_ok_and(|s| s.trim() == "idle")
+    })?;
+    let sweep = root.join(SWEEP);
+    let out = dir.join("out").join("slurm");
+    let submitted = run(&mut slurm(
+        bin.to_str().unwrap_or("stickslip"),
+        &[
+            "sweep",
+            "slurm",
+            sweep.to_str().unwrap_or(SWEEP),
+            "--out",
+            out.to_str().unwrap_or(""),
+            "--tasks",
+            TASKS,
+            "--submit",
+        ],
+    ))?;
+    print!("{submitted}");
+    let started = Instant::now();
+    wait_for("the job array to finish", || {
+        run(&mut slurm("squeue", &["-h", "-n", "stickslip-slurm-check"]))
+            .is_ok_and(|s| s.trim().is_empty())
+    })?;
+    println!(
+        "slurm-check: the array ran in {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    let merged = run(&mut slurm(
+        bin.to_str().unwrap_or("stickslip"),
+        &["sweep", "merge", out.to_str().unwrap_or("")],
+    ))?;
+    print!("{merged}");
+    let local = dir.join("out").join("local");
+    let ran = run(Command::new(&bin).args([
+        "sweep",
+        "run",
+        sweep.to_str().unwrap_or(SWEEP),
+        "--out",
+        local.to_str().unwrap_or(""),
+        "--quiet",
+    ]))?;
+    print!("{ran}");
+    let (a, b) = (without_wall(&out)?, without_wall(&local)?);
+    if a != b {
+        return Err(format!(
+            "the Slurm map.csv differs from the local one (beyond wall_s): {} against {} rows",
+            a.len(),
+            b.len()
+        ));
+    }
+    println!(
+        "slurm-check: map.csv from {TASKS} Slurm tasks equals the local run's in every column \
+         but wall_s ({} points)",
+        a.len() - 1
+    );
+    Ok(())
+}
+
+/// Runs the check; exit 0 on success, 1 on a failed check or error.
+pub fn main(root: PathBuf) -> ExitCode {
+    let mut daemons = Daemons(Vec::new());
+    let result = check(&root, &mut daemons);
+    drop(daemons);
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("slurm-check: {e}");
+            let dir = root.join("target").join("slurm-check");
+            eprintln!("slurm-check: logs in {}", dir.display());
+            ExitCode::FAILURE
+        }
+    }
+}
