@@ -15,73 +15,74 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     let p = &report.preflight;
     let d = &p.derived;
     let c = &scene.config;
-    println!("# resolved scene (defaults filled in)");
-    print!("{}", scene.resolved.to_toml_string());
-    println!();
-    println!("# derived parameters");
-    println!("b = {:e} Pa", d.b_pa);
-    println!("A = {:e} Pa", d.a_coeff_pa);
-    println!("eps_c = {}", d.eps_c);
-    println!("phi0 = {}", d.phi0);
-    println!("omega = {} rad/s", d.omega_rad_per_s);
-    println!("g_eff = {:e} Pa", c.contact.g_eff_pa);
-    println!("nodes = {}", c.simulated_nodes());
-    println!("steps = {}", scene.steps);
-    println!(
+    say!("# resolved scene (defaults filled in)");
+    say_raw!("{}", scene.resolved.to_toml_string());
+    say!();
+    say!("# derived parameters");
+    say!("b = {:e} Pa", d.b_pa);
+    say!("A = {:e} Pa", d.a_coeff_pa);
+    say!("eps_c = {}", d.eps_c);
+    say!("phi0 = {}", d.phi0);
+    say!("omega = {} rad/s", d.omega_rad_per_s);
+    say!("g_eff = {:e} Pa", c.contact.g_eff_pa);
+    say!("nodes = {}", c.simulated_nodes());
+    say!("steps = {}", scene.steps);
+    say!(
         "lagged_sweep_contraction = {:.4} (rho of the paper's lagged elastic sweep at t = 0; \
          the literal scheme needs < 1)",
         p.lagged_sweep_contraction
     );
     if let Some(e) = p.euler_number {
-        println!("euler_number = {e} (literal scheme: gamma*dt*2*A*b/a, stable below 2)");
+        say!("euler_number = {e} (literal scheme: gamma*dt*2*A*b/a, stable below 2)");
     }
-    println!();
-    println!("# plausibility");
-    println!(
+    say!();
+    say!("# plausibility");
+    say!(
         "melting_force = {:e} N (tau_max*pi*a0^2: the largest friction force the film carries)",
         p.melting_force_n
     );
-    println!(
+    say!(
         "critical_displacement = {:e} m (eps_c*h0: stamp advance to the first melting)",
         p.critical_displacement_m
     );
     if let Some(period) = p.spring_period_s {
-        println!(
+        say!(
             "spring_period = {period:e} s (2*pi/omega; time.end = {:e} s is {:.3} of it)",
             c.time.end_s,
             c.time.end_s / period
         );
     }
-    println!(
+    say!(
         "stamp_travel = {:e} m (free stamp at time.end, no friction)",
         p.stamp_travel_m
     );
     match p.first_onset_estimate_s {
-        Some(t) => println!(
+        Some(t) => say!(
             "first_onset_estimate = {t:e} s (quasi-static: the free stamp reaches eps_c*h0; \
              later at high speed)"
         ),
-        None => println!("first_onset_estimate = none before time.end"),
+        None => say!("first_onset_estimate = none before time.end"),
     }
     let cost = &report.cost;
-    println!();
-    println!("# cost estimate");
-    println!(
+    say!();
+    say!("# cost estimate");
+    say!(
         "seconds_per_step = {:.3e} s (measured on {} steps of this scene)",
-        cost.seconds_per_step, cost.probe_steps
+        cost.seconds_per_step,
+        cost.probe_steps
     );
-    println!("steps_estimate = {:.0} ({})", cost.steps, cost.basis);
-    println!("seconds_estimate = {:.3} s", cost.seconds);
+    say!("steps_estimate = {:.0} ({})", cost.steps, cost.basis);
+    say!("seconds_estimate = {:.3} s", cost.seconds);
     if !report.warnings.is_empty() {
-        println!();
-        println!("# warnings");
+        say!();
+        say!("# warnings");
         for f in &report.warnings {
             let tag = match f.severity {
                 Severity::Note => "note",
                 Severity::Warning => "warning",
                 Severity::Refusal => "refused",
             };
-            println!("{tag}: {} ({})", f.message, f.key);
+            say!("{tag}: {} ({})", f.message, f.key);
         }
     }
     crate::print_findings(&report.warnings, false);

@@ -10,6 +10,23 @@
 //! failed or refused points, 5 `sweep merge` with points missing, 130 interrupted (SIGINT/SIGTERM; a checkpoint is written, `resume` finishes the run).
 //! Messages go to stderr, prefixed `error: `.
 
+/// `println!` that ignores a closed stdout (e.g. `stickslip check … | head`) instead of
+/// panicking: output nobody reads is not an error of the run.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
+/// `print!` that ignores a closed stdout (see `say!`).
+macro_rules! say_raw {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
 mod check;
 mod progress;
 mod reference;
@@ -161,7 +178,7 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
             )
         }
         StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent => {
-            println!(
+            say!(
                 "{name}: {} steps to t = {:e} s, {} melting events, {:.2} s wall; output in {}",
                 outcome.counts.steps,
                 outcome.t_final_s,
@@ -169,7 +186,7 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
                 outcome.wall_seconds,
                 dir.display()
             );
-            println!("summary: {}", outcome.summary_line());
+            say!("summary: {}", outcome.summary_line());
             ExitCode::SUCCESS
         }
     }
@@ -223,7 +240,7 @@ fn resume(dir: &Path, quiet: bool, checkpoint_every: Option<f64>) -> ExitCode {
     match result {
         Ok((scene, outcome)) => report(&scene.name, dir, &outcome),
         Err(RunError::Checkpoint(e @ CheckpointError::Finished { .. })) if e.exit_code() == 0 => {
-            println!("{e}");
+            say!("{e}");
             ExitCode::SUCCESS
         }
         Err(e) => run_error(&e),
@@ -262,9 +279,9 @@ fn main() -> ExitCode {
         Command::Sweep(cmd) => sweep::main(cmd),
         Command::Keys { markdown } => {
             if markdown {
-                print!("{}", reference::markdown());
+                say_raw!("{}", reference::markdown());
             } else {
-                print!("{}", stickslip_run::keys::table_text());
+                say_raw!("{}", stickslip_run::keys::table_text());
             }
             ExitCode::SUCCESS
         }

@@ -134,7 +134,7 @@ fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
                 .map(|(r, n)| format!("{} {n}", r.name()))
                 .collect();
             let statuses: Vec<String> = statuses.iter().map(|(s, n)| format!("{s} {n}")).collect();
-            println!(
+            say!(
                 "map: {} points ({}); regimes: {}; written {} and {}",
                 table.rows.len(),
                 statuses.join(", "),
@@ -158,7 +158,7 @@ fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
         }
         Merge::Incomplete { missing, points } => {
             if after_shard {
-                println!(
+                say!(
                     "{missing} of {points} points still to run (other shards); when they have \
                      finished: stickslip sweep merge {}",
                     dir.display()
@@ -262,10 +262,15 @@ fn run(
         Err(e) => return sweep_error(&e),
     };
     let (i, n) = options.shard;
-    println!(
+    say!(
         "sweep {}: shard {i}/{n}: {} points run ({} failed, {} refused), {} already done, {:.2} s \
          on {jobs} jobs",
-        sweep.name, report.ran, report.failed, report.refused, report.skipped, report.wall_s
+        sweep.name,
+        report.ran,
+        report.failed,
+        report.refused,
+        report.skipped,
+        report.wall_s
     );
     if report.interrupted || flag.load(Ordering::Relaxed) {
         eprintln!("interrupted: finished points are kept; rerun the same command to run the rest");
@@ -303,13 +308,13 @@ fn submit_slurm(
     {
         return crate::fail(format!("cannot write {}: {e}", script.display()), 1);
     }
-    println!(
+    say!(
         "wrote {} ({} points in {tasks} tasks)",
         script.display(),
         sweep.points
     );
     if !submit {
-        println!("submit with: sbatch {}", script.display());
+        say!("submit with: sbatch {}", script.display());
         return ExitCode::SUCCESS;
     }
     match Command::new("sbatch")
@@ -319,8 +324,8 @@ fn submit_slurm(
     {
         Ok(out) if out.status.success() => {
             let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
-            println!("submitted job {id}");
-            println!(
+            say!("submitted job {id}");
+            say!(
                 "when it has finished: stickslip sweep merge {}",
                 dir.display()
             );
@@ -359,7 +364,7 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
     let path = out.unwrap_or_else(|| dir.join(format!("map_{quantity}.svg")));
     match stickslip_report::write_atomic(&path, svg.as_bytes()) {
         Ok(()) => {
-            println!("wrote {}", path.display());
+            say!("wrote {}", path.display());
             ExitCode::SUCCESS
         }
         Err(e) => crate::fail(format!("cannot write {}: {e}", path.display()), 1),

@@ -90,6 +90,13 @@ pub struct SimState {
     /// Length of the last step taken, s (0 before the first): scales the extrapolation of u3D.
     #[serde(default)]
     pub last_dt_s: f64,
+    /// Substrate displacement two steps earlier, m (empty before the second step): with
+    /// `u3d_prev_m` and `u3d_m` it gives the coupling solve a quadratic first guess.
+    #[serde(default)]
+    pub u3d_prev2_m: Vec<f64>,
+    /// Length of the step before the last one, s (0 before the second step).
+    #[serde(default)]
+    pub prev_dt_s: f64,
     /// Adaptive stepping: the step to try next, s (0 = start from `time.dt`).
     #[serde(default)]
     pub next_dt_s: f64,
@@ -178,6 +185,10 @@ pub struct Simulation {
     whole_step: Option<Box<SimState>>,
     /// Fraction of the last step at which the first node melted (1 = at its end).
     first_melt_fraction: f64,
+    /// Contraction factor ρ of the lagged sweep at t = 0 (see
+    /// [`Simulation::lagged_sweep_contraction`]): bounds K's spectrum for the coupling solve's
+    /// relaxation of accepted guesses.
+    rho0: f64,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -250,6 +261,8 @@ impl Simulation {
             events: EventTracker::new(config.events),
             coupling_iterations: 0,
             last_dt_s: 0.0,
+            u3d_prev2_m: Vec::new(),
+            prev_dt_s: 0.0,
             next_dt_s: 0.0,
             accepted_steps: 0,
             rejected_steps: 0,
@@ -281,7 +294,9 @@ impl Simulation {
             saved: None,
             whole_step: None,
             first_melt_fraction: 1.0,
+            rho0: 0.0,
         };
+        sim.rho0 = sim.lagged_sweep_contraction();
         sim.observe_events();
         Ok(sim)
     }
@@ -671,7 +686,8 @@ impl Simulation {
                 *u0 = 0.0;
             }
         }
-        self.solve_coupling(self.state.step + 1, t0 + dt_s, ratio)?;
+        self.solve_coupling(self.state.step + 1, t0 + dt_s, dt_s)?;
+        self.state.prev_dt_s = self.state.last_dt_s;
         self.state.last_dt_s = dt_s;
         self.update_strain_and_stress();
         self.state.force_n = self.force_3d();
@@ -691,12 +707,49 @@ impl Simulation {
         }
     }
 
-    fn solve_coupling(
-        &mut self,
-        step: u64,
-        t_s: f64,
-        step_ratio: f64,
-    ) -> Result<(), NumericalFailure> {
+    /// First guess of u3D at the end of a step of `dt_s`, written into `u3d_m` while the
+    /// history shifts (u3d_prev2 ← u3d_prev ← u3d): the quadratic through the last three
+    /// values when there are three (an error of O(Δt³), which in the stick phase already meets
+    /// the coupling tolerance, so the solve only checks it), else the linear one.
+    fn extrapolate_u3d(&mut self, dt_s: f64) {
+        let s = &mut self.state;
+        let n = s.u3d_m.len();
+        let (h_last, h_prev) = (s.last_dt_s, s.prev_dt_s);
+        if s.u3d_prev2_m.len() != n {
+            s.u3d_prev2_m = s.u3d_prev_m.clone();
+        }
+        let quadratic = h_last > 0.0 && h_prev > 0.0;
+        // Lagrange weights at t_n + x from t_n, t_n − a, t_n − b.
+        let (x, a, b) = (dt_s, h_last, h_last + h_prev);
+        let (w0, w1, w2) = if quadratic {
+            (
+                (x + a) * (x + b) / (a * b),
+                -x * (x + b) / (a * (b - a)),
+                x * (x + a) / (b * (b - a)),
+            )
+        } else if h_last > 0.0 {
+            (1.0 + x / a, -x / a, 0.0)
+        } else {
+            (1.0, 0.0, 0.0)
+        };
+        for i in 0..n {
+            let (u, prev, prev2) = (s.u3d_m[i], s.u3d_prev_m[i], s.u3d_prev2_m[i]);
+            s.u3d_m[i] = w0 * u + w1 * prev + w2 * prev2;
+            s.u3d_prev2_m[i] = prev;
+            s.u3d_prev_m[i] = u;
+        }
+    }
+
+    fn solve_coupling(&mut self, step: u64, t_s: f64, dt_s: f64) -> Result<(), NumericalFailure> {
+        if matches!(
+            self.contact,
+            Contact::Radial {
+                solver: Some(_),
+                ..
+            }
+        ) {
+            self.extrapolate_u3d(dt_s);
+        }
         match &mut self.contact {
             Contact::Radial {
                 ops,
@@ -705,16 +758,6 @@ impl Simulation {
                 for (p2, &p) in self.phi_sq.iter_mut().zip(&self.state.phi) {
                     *p2 = p * p;
                 }
-                for (u, prev) in self
-                    .state
-                    .u3d_m
-                    .iter_mut()
-                    .zip(self.state.u3d_prev_m.iter_mut())
-                {
-                    let current = *u;
-                    *u = current + step_ratio * (current - *prev);
-                    *prev = current;
-                }
                 let report = solver.solve(
                     ops,
                     &self.phi_sq,
@@ -722,6 +765,7 @@ impl Simulation {
                     &self.state.u0_m,
                     &mut self.state.u3d_m,
                     self.config.numerics.coupling_tol,
+                    self.rho0,
                 );
                 self.state.coupling_iterations += report.iterations as u64;
                 if !report.converged {
@@ -812,7 +856,11 @@ impl Simulation {
     /// The physics of this configuration before it runs (derived and stability numbers,
     /// estimates, the verdict); computes the lagged-sweep contraction factor from the state now.
     pub fn preflight(&mut self) -> crate::preflight::Preflight {
-        let rho = self.lagged_sweep_contraction();
+        let rho = if self.state.step == 0 {
+            self.rho0
+        } else {
+            self.lagged_sweep_contraction()
+        };
         crate::preflight::Preflight::of(&self.config, rho)
     }
 
