@@ -26,7 +26,7 @@ use crate::grid::Grid;
 use crate::landau::{PhiStepper, rhs};
 use crate::mdr::{MdrOperators, Quadrature};
 use crate::noise::{NoiseSource, NoiseState};
-use coupling::CouplingSolver;
+use coupling::{CouplingSolver, CouplingTolerance};
 use events::{EventTracker, MeltingEvent, StepSample};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -764,8 +764,10 @@ impl Simulation {
                     self.kappa,
                     &self.state.u0_m,
                     &mut self.state.u3d_m,
-                    self.config.numerics.coupling_tol,
-                    self.rho0,
+                    CouplingTolerance {
+                        rel_tol: self.config.numerics.coupling_tol,
+                        spectral_bound: self.rho0,
+                    },
                 );
                 self.state.coupling_iterations += report.iterations as u64;
                 if !report.converged {
