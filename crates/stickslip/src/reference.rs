@@ -1,5 +1,6 @@
 //! `docs/reference.md`, generated: the command line (from the argument definitions), the
-//! scene keys (from the run library's key table) and the output columns (from its schema).
+//! scene keys (from the run library's key table), the output columns (from its schema) and
+//! the sweeps (file keys, map.csv, regime rules; from the sweep module).
 //! A test keeps the committed file equal to this text.
 
 use clap::CommandFactory;
@@ -65,5 +66,7 @@ pub fn markdown() -> String {
     out.push_str(&stickslip_run::keys::markdown());
     out.push('\n');
     out.push_str(&stickslip_run::schema::markdown());
+    out.push('\n');
+    out.push_str(&stickslip_run::sweep::reference::markdown());
     out
 }

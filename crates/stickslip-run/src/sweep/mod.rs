@@ -7,7 +7,8 @@
 //! - [`record`]: one record per finished point, `DIR/points/<point>.json`, written atomically;
 //! - [`map`]: `map.csv` and `map.json`, writer and reader;
 //! - [`exec`]: running points (jobs, shards, resumable, interruptible) and the merge;
-//! - [`slurm`]: the job-array script.
+//! - [`slurm`]: the job-array script;
+//! - [`reference`]: the sweeps part of `docs/reference.md`, from these definitions.
 //!
 //! Points are numbered 0 … P−1 in the order of the cartesian product, the last axis fastest.
 //! A shard I/N runs the points with index mod N = I. Results do not depend on jobs or shards:
@@ -17,6 +18,7 @@ pub mod exec;
 pub mod file;
 pub mod map;
 pub mod record;
+pub mod reference;
 pub mod slurm;
 
 pub use file::SweepError;

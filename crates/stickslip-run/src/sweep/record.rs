@@ -53,6 +53,9 @@ pub struct PointRecord {
     pub summary: RunSummary,
     /// Wall-clock seconds of the point (resolution, run, record).
     pub wall_s: f64,
+    /// Of those, the seconds of the run itself (building the simulation and stepping it).
+    #[serde(default)]
+    pub run_s: f64,
     /// The failure or refusal, in one line (empty when ok).
     pub message: String,
 }
@@ -60,7 +63,13 @@ pub struct PointRecord {
 impl PointRecord {
     /// The record of point `point` with `values` from its run's outcome.
     #[must_use]
-    pub fn of(point: usize, values: Vec<toml::Value>, outcome: &RunOutcome, wall_s: f64) -> Self {
+    pub fn of(
+        point: usize,
+        values: Vec<toml::Value>,
+        outcome: &RunOutcome,
+        wall_s: f64,
+        run_s: f64,
+    ) -> Self {
         let status = match outcome.stop {
             StopReason::Refused => PointStatus::Refused,
             StopReason::Failure => PointStatus::Failed,
@@ -77,6 +86,7 @@ impl PointRecord {
             status,
             summary: outcome.summary.clone(),
             wall_s,
+            run_s,
             message,
         }
     }

@@ -1,0 +1,124 @@
+//! The sweeps part of `docs/reference.md`: the sweep file's keys, the table's columns and the
+//! regime rules, written from the definitions they describe (the thresholds' defaults, the
+//! summary columns, the point limit), so the reference cannot drift from the code.
+
+use super::MAX_POINTS;
+use super::map::{CSV_FILE, JSON_FILE, SUMMARY_COLUMNS};
+use super::record::PointStatus;
+use crate::summary::{Regime, RegimeThresholds};
+
+/// Markdown: `## Sweeps` with the file, the table and the regimes.
+#[must_use]
+pub fn markdown() -> String {
+    let t = RegimeThresholds::default();
+    let mut out = String::from("## Sweeps\n\n");
+    out.push_str(
+        "A sweep file (TOML) runs one scene over the cartesian product of its axes, the last \
+         axis fastest, points numbered 0 … P−1 (`stickslip sweep run`, `stickslip.sweep` from \
+         Python). Every point is validated before the first one runs; a bad file exits 2 \
+         naming the key, the value and what is allowed.\n\n",
+    );
+    out.push_str("### Sweep file\n\n| key | meaning |\n|---|---|\n");
+    let rows: [(&str, String); 9] = [
+        ("name", "name of the sweep (required)".into()),
+        (
+            "scene",
+            "the base scene file, relative to the sweep file (required)".into(),
+        ),
+        (
+            "[set]",
+            "`\"section.key\" = value` applied to every point, like `--set`".into(),
+        ),
+        (
+            "[[axis]] key",
+            "a scene key (`section.key`, see Scene keys); one axis per key".into(),
+        ),
+        (
+            "[[axis]] values",
+            "the axis values: numbers, or words for a choice key".into(),
+        ),
+        (
+            "[[axis]] range",
+            "instead of `values`: `{ from, to, count, scale }`, `scale` `\"linear\"` (default) \
+             or `\"log\"` (from and to > 0), count ≥ 1"
+                .into(),
+        ),
+        (
+            "[regime] stick_slip_recovery",
+            format!(
+                "R at or above which two or more events are `stick_slip` (default {})",
+                t.stick_slip_recovery
+            ),
+        ),
+        (
+            "[regime] smooth_recovery",
+            format!(
+                "R below which two or more events are `smooth` (default {}); in between: \
+                 `partial`",
+                t.smooth_recovery
+            ),
+        ),
+        (
+            "[regime] sliding_fraction",
+            format!(
+                "share of the time after the first onset with no solid node at or above which \
+                 the run is `sliding` (default {})",
+                t.sliding_fraction
+            ),
+        ),
+    ];
+    for (key, meaning) in rows {
+        out.push_str(&format!("| `{key}` | {meaning} |\n"));
+    }
+    out.push_str(&format!(
+        "\nMore than {MAX_POINTS} points need `--allow-large` (`allow_large=True` in Python).\n"
+    ));
+
+    out.push_str(&format!(
+        "\n### `{CSV_FILE}`\n\nOne row per point, in point order; `{JSON_FILE}` holds the \
+         sweep as resolved, the same table, the regime thresholds and the program version. \
+         Results do not depend on `--jobs` or `--shard` (only `wall_s` differs).\n\n\
+         | column | unit | meaning |\n|---|---|---|\n\
+         | `point` | – | point number |\n\
+         | `<axis key>` | the key's unit | one column per axis, named by its key |\n"
+    ));
+    let statuses: Vec<String> = [PointStatus::Ok, PointStatus::Failed, PointStatus::Refused]
+        .iter()
+        .map(|s| format!("`{}`", s.name()))
+        .collect();
+    out.push_str(&format!(
+        "| `status` | – | {} (a failing point is a row, the sweep goes on) |\n",
+        statuses.join(" \\| ")
+    ));
+    for c in SUMMARY_COLUMNS {
+        out.push_str(&format!("| `{}` | {} | {} |\n", c.name, c.unit, c.meaning));
+    }
+    out.push_str("| `message` | – | the failure or refusal, in one line (empty when ok) |\n");
+
+    out.push_str(
+        "\n### Regimes\n\nDecided in this order (R: the largest area-weighted ⟨φ⟩/√(A/a) over \
+         the last complete cycle, `recovery` above):\n\n| regime | rule |\n|---|---|\n",
+    );
+    for r in Regime::ALL {
+        let rule = match r {
+            Regime::Sliding => format!(
+                "A(0) ≤ 0, or no node solid for at least {} of the time after the first onset",
+                t.sliding_fraction
+            ),
+            Regime::NoMelting => "no event".to_string(),
+            Regime::Transient => {
+                "one event (one open event whose own recovery stays below the smooth threshold \
+                 is `smooth`)"
+                    .to_string()
+            }
+            Regime::StickSlip => format!("two or more events, R ≥ {}", t.stick_slip_recovery),
+            Regime::Partial => format!(
+                "two or more events, {} ≤ R < {}",
+                t.smooth_recovery, t.stick_slip_recovery
+            ),
+            Regime::Smooth => format!("two or more events, R < {}", t.smooth_recovery),
+        };
+        out.push_str(&format!("| `{}` | {rule} |\n", r.name()));
+    }
+    out
+}
