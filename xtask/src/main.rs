@@ -1,7 +1,10 @@
-//! `cargo xtask …`: the project's automation entry point (validate, convergence, bench, maps).
+//! `cargo xtask …`: the project's automation entry point (test, validate, convergence, bench,
+//! maps, slurm-check, python-test).
 
 mod maps;
+mod python;
 mod slurm;
+mod test_all;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -10,6 +13,10 @@ const HELP: &str = "\
 cargo xtask <command>
 
 Commands:
+  test          every test, the command CI runs: cargo test --release --workspace (less the
+                criterion benches), then python-test and slurm-check; a timed summary at the
+                end; exits 1 if any stage failed
+      --no-python, --no-slurm   skip that stage
   validate      simulate the paper's scenes, check claims C1–C10, write reports/
                 (index.md, summary.json, SVG figures); exits 1 if a claim fails
       --check   rerun and compare verdicts, event counts and the reduced block with the
@@ -30,6 +37,9 @@ Commands:
   slurm-check   start a one-node Slurm here (installs slurm-wlm and munge with apt-get when
                 missing), run maps/slurm-check.toml as a job array, merge, compare with a
                 local run, stop the daemons it started; exits 1 on a mismatch
+  python-test   build the Python package (pip install ./crates/stickslip-py) into the venv
+                target/python-venv and run its pytest suite; prints install and test times
+      --fresh   recreate the venv;  -- ARGS  passed to pytest
 ";
 
 fn workspace_root() -> PathBuf {
@@ -154,6 +164,8 @@ fn main() -> ExitCode {
         Some("bench") => bench(&args[1..]),
         Some("maps") => maps::main(&args[1..], workspace_root()),
         Some("slurm-check") => slurm::main(workspace_root()),
+        Some("test") => test_all::main(&args[1..], &workspace_root()),
+        Some("python-test") => python::main(&args[1..], workspace_root()),
         Some(other) => {
             eprintln!("unknown xtask command `{other}`\n\n{HELP}");
             ExitCode::from(2)

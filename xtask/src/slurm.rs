@@ -276,16 +276,22 @@ fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
 
 /// Runs the check; exit 0 on success, 1 on a failed check or error.
 pub fn main(root: PathBuf) -> ExitCode {
-    let mut daemons = Daemons(Vec::new());
-    let result = check(&root, &mut daemons);
-    drop(daemons);
-    match result {
+    match check_all(&root) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("slurm-check: {e}");
-            let dir = root.join("target").join("slurm-check");
-            eprintln!("slurm-check: logs in {}", dir.display());
             ExitCode::FAILURE
         }
     }
+}
+
+/// The whole check; the daemons it started are stopped before it returns, also on failure.
+pub fn check_all(root: &Path) -> Result<(), String> {
+    let mut daemons = Daemons(Vec::new());
+    let result = check(root, &mut daemons);
+    drop(daemons);
+    result.map_err(|e| {
+        let dir = root.join("target").join("slurm-check");
+        format!("{e} (logs in {})", dir.display())
+    })
 }

@@ -54,7 +54,7 @@ fn ci_runs_exactly_the_readme_test_command() {
     let root = workspace_root();
     let readme = std::fs::read_to_string(root.join("README.md")).expect("README.md");
     let ci = std::fs::read_to_string(root.join(".ci/run")).expect(".ci/run");
-    let command = "cargo test --workspace";
+    let command = "cargo xtask test";
     assert!(readme.contains(command), "README.md must show `{command}`");
     assert!(
         readme.contains("cargo xtask validate"),

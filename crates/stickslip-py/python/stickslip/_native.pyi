@@ -1,0 +1,107 @@
+# Type stubs of the native module stickslip._native (Rust, PyO3). Use the `stickslip`
+# package: it re-exports Scene and the mdr functions and wraps run and sweep.
+
+import os
+from typing import Any, Dict, Literal, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_ArrayLike = Union[npt.NDArray[np.floating[Any]], Sequence[float]]
+_Form = Literal["dense", "fast"]
+_Quadrature = Literal["product", "literal"]
+
+class Scene:
+    """A validated scene (INTERFACE.md keys, SI units), immutable. Build one with
+    ``Scene.load``, ``Scene.from_dict`` or ``Scene.from_toml``; ``with_overrides`` gives a
+    new one. A bad scene raises ``stickslip.SceneError`` (``.key`` names the key)."""
+
+    @staticmethod
+    def load(
+        path: Union[str, os.PathLike[str]],
+        overrides: Optional[Mapping[str, Any]] = None,
+    ) -> Scene:
+        """Reads and validates a scene file (TOML), then applies ``overrides``
+        (``{"section.key": value}``, like ``--set``)."""
+    @staticmethod
+    def from_dict(d: Mapping[str, Any]) -> Scene:
+        """A scene from a dict nested like the TOML file; dotted keys
+        (``{"contact.nodes": 200}``) are accepted at any level; None values are left out."""
+    @staticmethod
+    def from_toml(text: str) -> Scene:
+        """A scene from the text of a scene file."""
+    def with_overrides(self, overrides: Mapping[str, Any]) -> Scene:
+        """A new scene: this one as written with ``overrides`` applied (``None`` removes a
+        key so its default applies)."""
+    def to_dict(self, *, resolved: bool = True) -> Dict[str, Any]:
+        """The scene as a nested dict: every default filled in, or as written."""
+    def to_toml(self, *, resolved: bool = True) -> str:
+        """The scene as TOML text: every default filled in, or as written."""
+    @property
+    def name(self) -> str:
+        """The scene's ``name``."""
+    @property
+    def nodes(self) -> int:
+        """Nodes simulated (``contact.nodes``; 1 for the homogeneous model)."""
+    @property
+    def end_s(self) -> float:
+        """``time.end``, s."""
+    def __eq__(self, other: object) -> bool: ...
+
+def run(scene: Scene) -> Dict[str, Any]:
+    """Internal: runs ``scene`` in memory (GIL released) and returns the parts of a
+    ``RunResult``. Use ``stickslip.run``."""
+
+def sweep(
+    sweep: Union[str, os.PathLike[str], Mapping[str, Any]],
+    jobs: Optional[int] = None,
+    *,
+    out: Union[str, os.PathLike[str], None] = None,
+    force: bool = False,
+    allow_large: bool = False,
+) -> Dict[str, np.ndarray]:
+    """Internal: runs a sweep and returns map.csv as arrays. Use ``stickslip.sweep``."""
+
+def forward(
+    tau: _ArrayLike,
+    radius: float,
+    *,
+    form: _Form = "dense",
+    quadrature: _Quadrature = "product",
+) -> npt.NDArray[np.float64]:
+    """Eq. 13: q(x) = 2∫ₓ^a0 rτ/√(r² − x²) dr. tau in Pa at r_i = i·radius/N, radius in m;
+    returns q in N/m at the same nodes."""
+
+def back(
+    u1d: _ArrayLike,
+    radius: float,
+    *,
+    form: _Form = "dense",
+    quadrature: _Quadrature = "product",
+) -> npt.NDArray[np.float64]:
+    """Eq. 15: u3D(r) = (2/π)∫₀^r u1D/√(r² − x²) dx. u1d in m at x_i = i·radius/N, radius
+    in m; returns u3D in m."""
+
+def compliance(
+    tau: _ArrayLike,
+    radius: float,
+    g_eff: float,
+    *,
+    form: _Form = "dense",
+    quadrature: _Quadrature = "product",
+) -> npt.NDArray[np.float64]:
+    """u3D = back(forward(τ))/G*: tau in Pa at r_i = i·radius/N, radius in m, g_eff G* in
+    Pa; returns u3D in m."""
+
+def force(
+    tau: _ArrayLike,
+    radius: float,
+    *,
+    quadrature: _Quadrature = "product",
+) -> float:
+    """Eq. 16: F = 2π∫₀^a0 τ r dr in N, tau in Pa at r_i = i·radius/N, radius in m."""
+
+def radii(radius: float, n: int) -> npt.NDArray[np.float64]:
+    """The node radii r_i = i·radius/N, i = 0 … N−1, in m."""

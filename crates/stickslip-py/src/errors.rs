@@ -1,0 +1,88 @@
+//! Rust errors as the Python exception classes of `stickslip._errors` (`SceneError`,
+//! `SweepError`; `NumericalFailure` is raised by the Python layer, which attaches the partial
+//! result).
+
+use pyo3::exceptions::{PyOSError, PyRuntimeError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use stickslip_run::SceneError;
+use stickslip_run::sweep::SweepError;
+
+/// An instance of `stickslip._errors.<class>(message, **kwargs)` as a `PyErr`.
+fn make(class: &str, message: String, kwargs: &[(&str, serde_json::Value)]) -> PyErr {
+    Python::attach(|py| {
+        let build = || -> PyResult<PyErr> {
+            let cls = py.import("stickslip._errors")?.getattr(class)?;
+            let kw = PyDict::new(py);
+            for (k, v) in kwargs {
+                kw.set_item(k, crate::convert::json_to_py(py, v)?)?;
+            }
+            let value = cls.call((message.clone(),), Some(&kw))?;
+            Ok(PyErr::from_value(value))
+        };
+        build().unwrap_or_else(|e| e)
+    })
+}
+
+/// Key, value and allowed range of a scene error, where it has them.
+fn parts(e: &SceneError) -> [(&'static str, serde_json::Value); 3] {
+    let (value, allowed) = match e {
+        SceneError::UnknownKey { value, allowed, .. }
+        | SceneError::WrongType { value, allowed, .. }
+        | SceneError::Invalid { value, allowed, .. }
+        | SceneError::Contradictory { value, allowed, .. } => {
+            (Some(value.clone()), Some(allowed.clone()))
+        }
+        SceneError::MissingKey { allowed, .. } => (None, Some(allowed.clone())),
+        SceneError::Override { arg, .. } => (Some(arg.clone()), None),
+        SceneError::Read { .. } | SceneError::Syntax { .. } => (None, None),
+    };
+    [
+        ("key", e.key().into()),
+        ("value", value.into()),
+        ("allowed", allowed.into()),
+    ]
+}
+
+/// `stickslip.SceneError` for a bad scene.
+pub fn scene(e: &SceneError) -> PyErr {
+    make("SceneError", e.to_string(), &parts(e))
+}
+
+/// `stickslip.SweepError` for a bad sweep.
+pub fn sweep(e: &SweepError) -> PyErr {
+    let (value, allowed) = match e {
+        SweepError::Invalid { value, allowed, .. } => {
+            (value.as_str().into(), allowed.as_str().into())
+        }
+        SweepError::Point { error, .. } | SweepError::Base { error, .. } => {
+            let [_, (_, v), (_, a)] = parts(error);
+            (v, a)
+        }
+        SweepError::Read { .. } => (serde_json::Value::Null, serde_json::Value::Null),
+    };
+    let point = match e {
+        SweepError::Point { point, .. } => (*point).into(),
+        _ => serde_json::Value::Null,
+    };
+    make(
+        "SweepError",
+        e.to_string(),
+        &[
+            ("key", e.key().into()),
+            ("value", value),
+            ("allowed", allowed),
+            ("point", point),
+        ],
+    )
+}
+
+/// A run that could not start.
+pub fn start(e: &stickslip_run::driver::StartError) -> PyErr {
+    use stickslip_run::driver::StartError;
+    match e {
+        StartError::Config(c) => scene(&SceneError::from(c.clone())),
+        StartError::Io(io) => PyOSError::new_err(io.to_string()),
+        StartError::State(s) => PyRuntimeError::new_err(s.clone()),
+    }
+}

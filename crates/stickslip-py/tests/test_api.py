@@ -1,0 +1,171 @@
+"""The Python surface of INTERFACE.md: Scene (load, from_dict, overrides, to_dict, to_toml),
+run and its RunResult, to_pandas, the GIL released during a run."""
+
+from __future__ import annotations
+
+import copy
+import pickle
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stickslip
+from conftest import SCENES
+
+SMALL = {"contact.nodes": 50, "time.end": 7e-4, "output.profile_times": [7e-4]}
+
+
+@pytest.fixture(scope="module")
+def small_result() -> stickslip.RunResult:
+    return stickslip.run(stickslip.Scene.load(SCENES / "fig2.toml", SMALL))
+
+
+def test_version_and_exports() -> None:
+    assert stickslip.__version__.count(".") == 2
+    for name in ("Scene", "run", "sweep", "mdr", "SceneError", "SweepError", "NumericalFailure"):
+        assert hasattr(stickslip, name), name
+    assert issubclass(stickslip.SceneError, ValueError)
+    assert issubclass(stickslip.SweepError, stickslip.SceneError)
+    assert stickslip.Scene.__doc__ and "Pa" in stickslip.Scene.__doc__
+    assert "N/m" in stickslip.mdr.forward.__doc__
+
+
+def test_package_ships_stubs_and_marker() -> None:
+    pkg = Path(stickslip.__file__).parent
+    assert (pkg / "py.typed").is_file()
+    assert (pkg / "_native.pyi").is_file()
+    assert any(p.name.startswith("_native") and p.suffix in (".so", ".pyd") for p in pkg.iterdir())
+
+
+def test_load_and_overrides_give_new_scenes(fig2_path: Path) -> None:
+    base = stickslip.Scene.load(fig2_path)
+    assert base.name == "fig2" and base.nodes == 2000 and base.end_s == 1.3e-3
+    small = base.with_overrides({"contact.nodes": 200, "time.dt": 2e-8})
+    assert small.nodes == 200 and base.nodes == 2000, "a scene never changes"
+    d = small.to_dict()
+    assert d["contact"]["nodes"] == 200 and d["time"]["dt"] == 2e-8
+    # Defaults are filled in the resolved dict, not in the dict as written.
+    assert "stepping" in d["time"]
+    assert "stepping" not in small.to_dict(resolved=False)["time"]
+    # Load with overrides is the same as load, then with_overrides.
+    assert stickslip.Scene.load(fig2_path, {"contact.nodes": 200, "time.dt": 2e-8}) == small
+    # None removes a key: its default applies again.
+    back = small.with_overrides({"time.dt": None})
+    assert back.to_dict()["time"]["dt"] == 1e-8
+    # Derived defaults follow: time.dt_max = time.end / 1000.
+    shorter = base.with_overrides({"time.end": 1e-3, "output.profile_times": [1e-3]})
+    assert shorter.to_dict()["time"]["dt_max"] == pytest.approx(1e-6)
+
+
+def test_from_dict_nested_and_dotted(fig2_path: Path) -> None:
+    nested = stickslip.Scene.load(fig2_path).to_dict(resolved=False)
+    a = stickslip.Scene.from_dict(nested)
+    assert a == stickslip.Scene.load(fig2_path)
+    dotted = dict(nested)
+    contact = dict(dotted.pop("contact"))
+    nodes = contact.pop("nodes")
+    dotted["contact"] = contact
+    dotted["contact.nodes"] = nodes
+    assert stickslip.Scene.from_dict(dotted) == a
+    flat = {"name": "flat"}
+    for section, keys in nested.items():
+        if isinstance(keys, dict):
+            for k, v in keys.items():
+                flat[f"{section}.{k}"] = v
+    assert stickslip.Scene.from_dict(flat).to_dict()["contact"] == a.to_dict()["contact"]
+    # NumPy values are accepted.
+    b = stickslip.Scene.from_dict(
+        {**nested, "output": {**nested["output"], "probe_radii": np.array([2e-6, 4e-6])}}
+    )
+    assert b.to_dict()["output"]["probe_radii"] == [2e-6, 4e-6]
+    c = a.with_overrides({"contact.nodes": np.int64(100), "drive.velocity": np.float32(0.5)})
+    assert c.nodes == 100 and c.to_dict()["drive"]["velocity"] == 0.5
+
+
+def test_toml_round_trip_and_pickle(fig2_path: Path) -> None:
+    s = stickslip.Scene.load(fig2_path).with_overrides({"contact.nodes": 123})
+    assert stickslip.Scene.from_toml(s.to_toml()) == s
+    assert stickslip.Scene.from_toml(s.to_toml(resolved=False)) == s
+    assert "nodes = 123" in s.to_toml()
+    assert pickle.loads(pickle.dumps(s)) == s
+    assert copy.deepcopy(s) is s
+    assert "fig2" in repr(s)
+
+
+def test_run_result_tables(small_result: stickslip.RunResult) -> None:
+    r = small_result
+    assert r.status == "ok" and r.stop == "end"
+    assert list(r.series) == ["t", "X", "V", "F", "phi_mean", "eps_mean", "melted_fraction", "F_1d"]
+    assert list(r.events)[:5] == ["k", "t_onset", "r_first", "x_onset", "f_peak"]
+    assert list(r.profiles) == ["t", "r", "phi", "eps", "tau", "u0", "u3d"]
+    assert list(r.probes)[0] == "t" and list(r.probes)[1].startswith("phi@")
+    for table in (r.series, r.profiles, r.probes):
+        for name, col in table.items():
+            assert isinstance(col, np.ndarray) and col.dtype == np.float64 and col.ndim == 1
+            assert col.flags.c_contiguous and col.flags.writeable
+    assert r.events["k"].dtype == np.int64
+    n = len(r.series["t"])
+    assert n == r.run_info["series_rows"] and all(len(c) == n for c in r.series.values())
+    assert len(r.profiles["r"]) == 50
+    assert r.series["t"][0] == 0.0 and r.series["t"][-1] == 7e-4
+    assert r.summary["n_events"] == len(r.events["k"]) == r.run_info["events"] == 1
+    assert r.summary["regime"] == "transient"
+    assert r.run_info["scene"]["contact"]["nodes"] == 50
+    assert r.run_info["columns"]["series.csv"]["F"] == "N"
+    assert r.units["profiles"]["tau"] == "Pa"
+    assert "summary" not in r.run_info
+    assert "regime transient" in repr(r)
+
+
+def test_run_accepts_paths_dicts_and_overrides(fig2_path: Path) -> None:
+    a = stickslip.run(str(fig2_path), overrides=SMALL)
+    b = stickslip.run(stickslip.Scene.load(fig2_path).to_dict(resolved=False), overrides=SMALL)
+    assert np.array_equal(a.series["F"], b.series["F"])
+    with pytest.raises(TypeError):
+        stickslip.run(42)  # type: ignore[arg-type]
+
+
+def test_to_pandas(small_result: stickslip.RunResult, monkeypatch: pytest.MonkeyPatch) -> None:
+    try:
+        import pandas as pd  # noqa: F401
+    except ImportError:
+        pd = None
+    if pd is not None:
+        frames = small_result.to_pandas()
+        assert set(frames) == {"series", "events", "profiles", "probes"}
+        df = small_result.to_pandas("series")
+        assert list(df.columns) == list(small_result.series)
+        assert np.array_equal(df["F"].to_numpy(), small_result.series["F"])
+        with pytest.raises(ValueError):
+            small_result.to_pandas("nope")
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError, match="pip install pandas"):
+        small_result.to_pandas()
+
+
+def test_the_gil_is_released_during_a_run(fig2_path: Path) -> None:
+    scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 200})
+    ticks = []
+    done = threading.Event()
+
+    def tick() -> None:
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.005)
+
+    t = threading.Thread(target=tick)
+    t.start()
+    start = time.perf_counter()
+    try:
+        stickslip.run(scene)
+    finally:
+        done.set()
+        t.join()
+    during = [x for x in ticks if x > start + 0.02]
+    elapsed = time.perf_counter() - start
+    # A thread that cannot get the GIL would not tick at all while Rust runs.
+    assert len(during) >= max(3, int(0.3 * elapsed / 0.005)), (len(during), elapsed)

@@ -1,0 +1,24 @@
+"""examples/fig2.py runs (quick sizes; plots only when matplotlib is installed)."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from conftest import ROOT
+
+
+def test_example_script_runs(tmp_path: Path) -> None:
+    has_mpl = importlib.util.find_spec("matplotlib") is not None
+    args = [sys.executable, str(ROOT / "examples" / "fig2.py"), "--out", str(tmp_path)]
+    if not has_mpl:
+        args.append("--no-plot")
+    env = dict(os.environ, STICKSLIP_EXAMPLE_QUICK="1", MPLBACKEND="Agg")
+    done = subprocess.run(args, env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert "fig2, N = 50" in done.stdout and "friction map: 4 points" in done.stdout
+    if has_mpl:
+        assert (tmp_path / "fig2.png").is_file() and (tmp_path / "friction_map.png").is_file()

@@ -1,0 +1,152 @@
+"""stickslip.sweep: a small friction map from a dict, a file and a Scene, as map.csv's columns,
+the same numbers as `stickslip sweep run`; bad sweeps raise SweepError."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stickslip
+from conftest import SCENES, read_csv, same_bits
+
+SWEEP_TOML = """\
+name = "tiny"
+scene = "{scene}"
+
+[set]
+"contact.nodes" = 20
+"time.end" = 6e-4
+"time.max_events" = 2
+"output.profile_times" = [6e-4]
+
+[[axis]]
+key = "drive.velocity"
+values = [1e-3, 3e-3]
+
+[[axis]]
+key = "temperature.A0"
+range = {{ from = -1e5, to = 1.5e6, count = 3, scale = "linear" }}
+"""
+
+COLUMNS = [
+    "point", "drive.velocity", "temperature.A0", "status", "regime", "n_events",
+    "t_first_onset", "period_last", "x_period_last", "f_peak_first", "f_peak_last", "f_mean",
+    "recovery", "melted_time_fraction", "wall_s", "message",
+]
+
+
+def sweep_dict(scene) -> dict:
+    return {
+        "name": "tiny",
+        "scene": scene,
+        "set": {"contact.nodes": 20, "time.end": 6e-4, "time.max_events": 2,
+                "output.profile_times": [6e-4]},
+        "axis": [
+            {"key": "drive.velocity", "values": [1e-3, 3e-3]},
+            {"key": "temperature.A0", "range": {"from": -1e5, "to": 1.5e6, "count": 3}},
+        ],
+    }
+
+
+@pytest.fixture(scope="module")
+def sweep_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    d = tmp_path_factory.mktemp("sweep")
+    path = d / "tiny.toml"
+    path.write_text(SWEEP_TOML.format(scene=(SCENES / "rigid.toml").as_posix()))
+    return path
+
+
+@pytest.fixture(scope="module")
+def table(sweep_file: Path) -> dict:
+    return stickslip.sweep(sweep_file, jobs=2)
+
+
+def test_columns_and_types(table: dict) -> None:
+    assert list(table) == COLUMNS
+    assert table["point"].dtype == np.int64 and list(table["point"]) == list(range(6))
+    assert table["n_events"].dtype == np.int64
+    assert list(table["drive.velocity"]) == [1e-3] * 3 + [3e-3] * 3
+    assert list(table["temperature.A0"]) == [-1e5, 7e5, 1.5e6] * 2
+    assert table["status"].dtype == object and set(table["status"]) == {"ok"}
+    assert set(table["regime"]) <= {"sliding", "no_melting", "transient", "stick_slip",
+                                    "partial", "smooth"}
+    # A0 < 0: complete melting, sliding.
+    assert table["regime"][0] == "sliding"
+    for name in ("t_first_onset", "f_mean", "wall_s"):
+        assert table[name].dtype == np.float64
+    assert all(isinstance(m, str) for m in table["message"])
+
+
+def test_same_numbers_as_the_cli(table: dict, sweep_file: Path, cli: Path, tmp_path: Path) -> None:
+    out = tmp_path / "map"
+    subprocess.run(
+        [str(cli), "sweep", "run", str(sweep_file), "--out", str(out), "--jobs", "1", "--quiet"],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
+    text = (out / "map.csv").read_text().splitlines()
+    assert text[0].split(",") == COLUMNS
+    rows = [line.split(",") for line in text[1:]]
+    for j, name in enumerate(COLUMNS):
+        cells = [r[j] for r in rows]
+        if name in ("status", "regime", "message"):
+            assert list(table[name]) == cells, name
+        elif name != "wall_s":
+            written = np.array([float(c) if c else np.nan for c in cells])
+            assert same_bits(table[name].astype(np.float64), written), name
+
+
+def test_dict_and_scene_object_give_the_same_map(table: dict, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(SCENES.parent.parent)  # a dict's scene path is relative to the cwd
+    from_dict = stickslip.sweep(sweep_dict("validation/scenes/rigid.toml"), jobs=1)
+    from_scene = stickslip.sweep(sweep_dict(stickslip.Scene.load(SCENES / "rigid.toml")))
+    for other in (from_dict, from_scene):
+        assert list(other) == COLUMNS
+        for name in COLUMNS:
+            if name != "wall_s":
+                assert np.array_equal(other[name], table[name]) or same_bits(
+                    other[name], table[name]
+                ), name
+
+
+def test_out_directory_is_kept_and_resumed(sweep_file: Path, tmp_path: Path) -> None:
+    out = tmp_path / "kept"
+    first = stickslip.sweep(sweep_file, jobs=1, out=out)
+    assert (out / "map.csv").is_file() and len(list((out / "points").iterdir())) == 6
+    again = stickslip.sweep(sweep_file, jobs=1, out=out)  # every point skipped
+    assert np.array_equal(again["wall_s"], first["wall_s"])
+    other = sweep_dict(stickslip.Scene.load(SCENES / "rigid.toml"))
+    other["axis"][0]["values"] = [2e-3]
+    with pytest.raises(OSError, match="another sweep.*force=True"):
+        stickslip.sweep(other, out=out)
+    assert len(stickslip.sweep(other, out=out, force=True)["point"]) == 3
+
+
+def test_bad_sweeps() -> None:
+    scene = stickslip.Scene.load(SCENES / "rigid.toml")
+    bad = sweep_dict(scene)
+    bad["axis"][0]["key"] = "drive.speed"
+    with pytest.raises(stickslip.SweepError) as e:
+        stickslip.sweep(bad)
+    assert e.value.key == "axis[0].key" and isinstance(e.value, ValueError)
+    bad = sweep_dict(scene)
+    bad["axis"][1]["range"]["count"] = 0
+    with pytest.raises(stickslip.SweepError, match="count"):
+        stickslip.sweep(bad)
+    bad = sweep_dict(scene)
+    bad["axes"] = bad.pop("axis")
+    with pytest.raises(stickslip.SweepError) as e:
+        stickslip.sweep(bad)
+    assert e.value.key == "axes"
+    bad = sweep_dict(scene)
+    bad["set"]["contact.nodes"] = 0
+    with pytest.raises(stickslip.SceneError) as e:
+        stickslip.sweep(bad)
+    assert e.value.key == "contact.nodes"
+    with pytest.raises(stickslip.SweepError):
+        stickslip.sweep("does/not/exist.toml")
+    with pytest.raises(ValueError):
+        stickslip.sweep(sweep_dict(scene), jobs=0)

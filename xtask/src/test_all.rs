@@ -1,0 +1,112 @@
+//! `cargo xtask test`: every test of the project, the command CI runs (`.ci/run`).
+//!
+//! Stages, each timed and all run even when one fails (the summary names every failure):
+//! 1. **rust build**: `cargo test --release --workspace --exclude stickslip-benches --no-run`,
+//!    in the release profile that `cargo xtask validate` has already built, so after the main
+//!    job only the test targets compile (the criterion benches are `cargo xtask bench`'s and
+//!    clippy's business, not the test command's);
+//! 2. **rust tests**: the same command running the tests;
+//! 3. **python**: `cargo xtask python-test` (venv, `pip install ./crates/stickslip-py`, pytest);
+//! 4. **slurm**: `cargo xtask slurm-check` (a one-node Slurm runs a sweep as a job array).
+//!
+//! Exits 0 when every stage passed, 1 otherwise.
+
+use std::path::Path;
+use std::process::{Command, ExitCode};
+use std::time::Instant;
+
+const USAGE: &str = "\
+cargo xtask test [--no-python] [--no-slurm]
+
+  every test: Rust (cargo test --release --workspace), Python (python-test), Slurm (slurm-check)
+  --no-python   skip the Python package's tests
+  --no-slurm    skip the Slurm check";
+
+/// The cargo arguments of the Rust stages (before `--no-run`).
+const CARGO_TEST: [&str; 5] = [
+    "test",
+    "--release",
+    "--workspace",
+    "--exclude",
+    "stickslip-benches",
+];
+
+fn cargo(root: &Path, extra: &[&str]) -> Result<(), String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let mut cmd = Command::new(&cargo);
+    cmd.current_dir(root).args(CARGO_TEST).args(extra);
+    match cmd.status() {
+        Ok(s) if s.success() => Ok(()),
+        Ok(s) => Err(format!("`cargo {}` failed ({s})", CARGO_TEST.join(" "))),
+        Err(e) => Err(format!("cannot start {cargo}: {e}")),
+    }
+}
+
+/// `cargo xtask test [--no-python] [--no-slurm]`.
+pub fn main(args: &[String], root: &Path) -> ExitCode {
+    let (mut python, mut slurm) = (true, true);
+    for a in args {
+        match a.as_str() {
+            "--no-python" => python = false,
+            "--no-slurm" => slurm = false,
+            "-h" | "--help" => {
+                println!("{USAGE}");
+                return ExitCode::SUCCESS;
+            }
+            other => {
+                eprintln!("unknown option `{other}` for test\n\n{USAGE}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    type Stage<'a> = (&'static str, Box<dyn Fn() -> Result<(), String> + 'a>);
+    let mut stages: Vec<Stage> = vec![
+        ("rust build", Box::new(|| cargo(root, &["--no-run"]))),
+        ("rust tests", Box::new(|| cargo(root, &[]))),
+    ];
+    if python {
+        stages.push((
+            "python",
+            Box::new(|| crate::python::stages(root, false, &[])),
+        ));
+    }
+    if slurm {
+        stages.push(("slurm", Box::new(|| crate::slurm::check_all(root))));
+    }
+    let start = Instant::now();
+    let mut lines = Vec::new();
+    let mut failed = Vec::new();
+    for (name, stage) in &stages {
+        eprintln!("xtask test: {name} …");
+        let t = Instant::now();
+        let result = stage();
+        let secs = t.elapsed().as_secs_f64();
+        match result {
+            Ok(()) => lines.push(format!("  {name:<11} ok      {secs:7.1} s")),
+            Err(e) => {
+                lines.push(format!("  {name:<11} FAILED  {secs:7.1} s  {e}"));
+                failed.push(*name);
+            }
+        }
+    }
+    eprintln!("\nxtask test: summary");
+    for l in &lines {
+        eprintln!("{l}");
+    }
+    eprintln!(
+        "  {:<11} {}  {:7.1} s",
+        "total",
+        if failed.is_empty() {
+            "ok    "
+        } else {
+            "FAILED"
+        },
+        start.elapsed().as_secs_f64()
+    );
+    if failed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        eprintln!("xtask test: failed: {}", failed.join(", "));
+        ExitCode::FAILURE
+    }
+}
