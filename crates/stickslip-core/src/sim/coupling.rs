@@ -4,7 +4,8 @@
 //! the substrate displacement satisfies (I + K)·u3D = K·u0. The paper's lagged sweep
 //! u3D ← K·(u0 − u3D_prev) is a fixed-point iteration of this system: it contracts only when
 //! the spectral radius ρ(K) < 1. The accurate scheme instead solves the system with BiCGSTAB
-//! (faer's matrix-free solver), warm-started from the previous step: K has a non-negative
+//! (faer's matrix-free solver), starting from the quadratic extrapolation of the last three
+//! steps, which often meets the tolerance already and is then only checked: K has a non-negative
 //! spectrum (C is an elastic compliance), so I + K has eigenvalues in [1, 1 + ρ] and the
 //! solve converges whatever ρ is.
 
