@@ -1,6 +1,7 @@
 //! `cargo xtask …`: the project's automation entry point (test, validate, convergence, bench,
 //! maps, slurm-check, python-test).
 
+mod build_timing;
 mod maps;
 mod python;
 mod slurm;
@@ -27,7 +28,7 @@ Commands:
   convergence   run the full convergence study (crate stickslip-convergence, release build)
                 and write reports/convergence.{md,json} and reports/convergence_*.svg;
                 options are passed on (`cargo xtask convergence --help`)
-  bench         run the headline performance comparisons T1–T4 on the release binary and
+  bench         run the headline performance targets P1–P5 (and T3–T4) on the release binary and
                 write reports/performance.{md,json} and reports/performance_*.svg
       --quick   smoke run (few, short runs; not for the report)
       --repeats N, --max-nodes N, --out DIR   (see crates/stickslip-convergence/src/bin/performance.rs)
@@ -37,6 +38,9 @@ Commands:
   slurm-check   start a one-node Slurm here (installs slurm-wlm and munge with apt-get when
                 missing), run maps/slurm-check.toml as a job array, merge, compare with a
                 local run, stop the daemons it started; exits 1 on a mismatch
+  build-timing  clone HEAD into target/build-timing/clone and time the README's two commands
+                there (validate, then test with its stages) as on a fresh machine; writes
+                reports/build-timing.json, which `bench` reports as P4 (several minutes)
   python-test   build the Python package (pip install ./crates/stickslip-py) into the venv
                 target/python-venv and run its pytest suite; prints install and test times
       --fresh   recreate the venv;  -- ARGS  passed to pytest
@@ -165,6 +169,7 @@ fn main() -> ExitCode {
         Some("maps") => maps::main(&args[1..], workspace_root()),
         Some("slurm-check") => slurm::main(workspace_root()),
         Some("test") => test_all::main(&args[1..], &workspace_root()),
+        Some("build-timing") => build_timing::main(&workspace_root()),
         Some("python-test") => python::main(&args[1..], workspace_root()),
         Some(other) => {
             eprintln!("unknown xtask command `{other}`\n\n{HELP}");

@@ -14,6 +14,7 @@
 use std::path::Path;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
+use stickslip_report::build_timing::{STAGE_TIMES_ENV, StageTime, StageTimes};
 
 const USAGE: &str = "\
 cargo xtask test [--no-python] [--no-slurm]
@@ -76,11 +77,17 @@ pub fn main(args: &[String], root: &Path) -> ExitCode {
     let start = Instant::now();
     let mut lines = Vec::new();
     let mut failed = Vec::new();
+    let mut times = StageTimes { stages: Vec::new() };
     for (name, stage) in &stages {
         eprintln!("xtask test: {name} …");
         let t = Instant::now();
         let result = stage();
         let secs = t.elapsed().as_secs_f64();
+        times.stages.push(StageTime {
+            name: (*name).to_string(),
+            seconds: secs,
+            ok: result.is_ok(),
+        });
         match result {
             Ok(()) => lines.push(format!("  {name:<11} ok      {secs:7.1} s")),
             Err(e) => {
@@ -103,6 +110,13 @@ pub fn main(args: &[String], root: &Path) -> ExitCode {
         },
         start.elapsed().as_secs_f64()
     );
+    // `cargo xtask build-timing` asks for the stage times as data.
+    if let Some(path) = std::env::var_os(STAGE_TIMES_ENV)
+        && let Err(e) = times.write(Path::new(&path))
+    {
+        eprintln!("xtask test: cannot record the stage times: {e}");
+        return ExitCode::FAILURE;
+    }
     if failed.is_empty() {
         ExitCode::SUCCESS
     } else {

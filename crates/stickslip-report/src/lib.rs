@@ -7,12 +7,15 @@
 //! - [`map`]: friction-map panels (regime colours, a continuous quantity) from a sweep;
 //! - [`binary`]: builds the `stickslip` binary and runs scenes through it as a user would,
 //!   reading what it wrote through the run library's schema;
+//! - [`build_timing`]: the schema of `reports/build-timing.json` (a fresh clone's build and
+//!   test times) and of the stage times `cargo xtask test` records;
 //! - [`write_atomic`]: the run library's atomic writer, re-exported (there is one).
 //!
 //! Invariant: no physics and no time loop here; reports are computed from data they are
 //! handed.
 
 pub mod binary;
+pub mod build_timing;
 pub mod fmt;
 pub mod map;
 pub mod palette;

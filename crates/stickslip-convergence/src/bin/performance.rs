@@ -1,4 +1,4 @@
-//! `performance`: the headline benchmarks of `cargo xtask bench` (T1–T4, reports/performance.*).
+//! `performance`: the headline benchmarks of `cargo xtask bench` (P1–P5 and T3–T4, reports/performance.*).
 //!
 //! Options: see [`HELP`].
 
@@ -10,9 +10,11 @@ use stickslip_convergence::performance::{BenchSettings, measure, write_report};
 const HELP: &str = "\
 cargo xtask bench [options]
 
-Runs the headline performance comparisons T1-T4 on the release stickslip binary (every run a
+Runs the headline performance targets P1-P5 (and T3-T4) on the release stickslip binary (every run a
 subprocess, read back through run.json and events.csv) and writes reports/performance.md,
-performance.json, performance_cost.svg and performance_work_precision.svg.
+performance.json, performance_cost.svg and performance_work_precision.svg. P4 (a fresh
+clone's build and test times) is read from reports/build-timing.json, which
+`cargo xtask build-timing` writes.
 
 Options:
   --quick          a smoke run of about a minute (few, short runs; not for the report)
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
         reference_nodes: 1000,
         reference_tolerance: 1e-6,
         quick: false,
+        reports_dir: root.join("reports"),
     };
     let mut out = root.join("reports");
     let mut it = args.iter();

@@ -1,4 +1,5 @@
-//! `cargo xtask bench`: the headline performance comparisons (issue "performance", T1–T4),
+//! `cargo xtask bench`: the performance targets P1–P5 (issue 14) and the supporting
+//! measurements T3–T4,
 //! measured end to end on the release `stickslip` binary and written to
 //! `reports/performance.{md,json}` with two SVG figures ([`report`]).
 //!
@@ -9,16 +10,24 @@
 //! runs, thread count set with `RAYON_NUM_THREADS`), and every accuracy figure is a
 //! difference to a converged reference computed in the same run — nothing is copied in.
 //!
-//! - **T1** fig2 with the default accurate settings (adaptive steps, default tolerance) at
-//!   N = [`T1_NODES`]: wall time on 1 and 2 threads, largest onset error against the reference.
-//! - **literal** the paper's scheme at its own settings (the scene's N and Δt) timed on a
-//!   window of the run and extrapolated per simulated second (the window is stated).
-//! - **T2** the paper's N with fixed steps of the paper's Δt, the whole run (run in full when a
-//!   window projects ≤ `full_run_limit_s`, else extrapolated and marked so).
+//! - **P1** fig2 as shipped (the scene's N = 2000, default adaptive accurate scheme) against
+//!   the paper's literal scheme at its own settings (the scene's N and Δt), the latter timed on
+//!   a window of the run and extrapolated per simulated second (the window is stated); onsets
+//!   against a reference at the same N with a 100× tighter tolerance.
+//! - **P2** the paper's N with fixed steps of the paper's Δt, the whole run (run in full when a
+//!   window projects ≤ `full_run_limit_s`, else extrapolated and marked so), elastic against
+//!   rigid substrate; the profile on a window (rigid, elastic, coupling iterations).
+//! - **P3** fig2 with the default settings at N = [`T1_NODES`]: wall time on 1 and 2 threads,
+//!   largest onset error against the reference.
+//! - **P4** a fresh clone's build and test times, read from `reports/build-timing.json`
+//!   (`cargo xtask build-timing` measures them; too long to rerun here).
+//! - **P5** a 32 × 32 friction map at N = 50 with 1 and 2 jobs ([`sweep`]).
 //! - **T3** loop time per step against N (fixed steps, fast and dense operators), log–log slope.
 //! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`].
 
 pub mod report;
+pub mod sweep;
+mod targets;
 
 pub use report::write_report;
 
@@ -42,6 +51,20 @@ pub const ONSET_GOAL_US: f64 = 0.1;
 pub const SPEEDUP_GOAL: f64 = 300.0;
 /// T2: the goal for the whole run at the paper's resolution, s.
 pub const T2_GOAL_S: f64 = 10.0;
+/// P1: the goal for fig2 as shipped against the literal scheme.
+pub const P1_SPEEDUP_GOAL: f64 = 300.0;
+/// P1: onsets of fig2 as shipped within this of the reference, µs.
+pub const P1_ONSET_GOAL_US: f64 = 0.01;
+/// P1: the reference's tolerance (the default's hundredth).
+pub const P1_REFERENCE_TOLERANCE: f64 = 1e-6;
+/// P2: the goal for elastic over rigid substrate at fixed steps.
+pub const P2_RATIO_GOAL: f64 = 1.5;
+/// P3: the goal for fig2 at N = [`T1_NODES`], whole process, s.
+pub const P3_GOAL_S: f64 = 0.15;
+/// P4: the test command after validate, at most this times validate's time.
+pub const P4_TEST_RATIO_GOAL: f64 = 1.0;
+/// P4: validate on a fresh clone, s.
+pub const P4_VALIDATE_GOAL_S: f64 = 180.0;
 /// T3: the goal for the slope of time per step against N.
 pub const SLOPE_GOAL: f64 = 1.2;
 /// T4: nodes of the work–precision runs.
@@ -72,6 +95,8 @@ pub struct BenchSettings {
     pub reference_tolerance: f64,
     /// Fewer and shorter runs (smoke test of the pipeline, not for the report).
     pub quick: bool,
+    /// Where `build-timing.json` is read from (P4).
+    pub reports_dir: PathBuf,
 }
 
 /// The time stepping and operator a run resolved to (run.json's `scene`).
@@ -378,6 +403,18 @@ pub struct Performance {
     /// Largest onset difference of the reference to a half-resolution, 10× looser run, µs:
     /// an upper estimate of the reference's own error.
     pub reference_uncertainty_us: f64,
+    /// P1: fig2 as shipped (the scene's own N, default adaptive accurate settings), 2 threads.
+    pub shipped: Timed,
+    /// P1: settings of its reference (same N, tighter tolerance).
+    pub shipped_reference_settings: Vec<String>,
+    /// P1: fig2_literal_extrapolated_s / shipped.wall_s.
+    pub shipped_speedup: f64,
+    /// P2: the whole fixed-step run with a rigid substrate (when T2 ran in full).
+    pub rigid_full: Option<Timed>,
+    /// P4: a fresh clone's build and test times, if measured (`cargo xtask build-timing`).
+    pub build: Option<stickslip_report::build_timing::BuildTiming>,
+    /// P5: the friction-map sweep.
+    pub sweep: sweep::SweepBench,
     /// Total time of the benchmark, s.
     pub total_s: f64,
     /// Machine note.
@@ -436,6 +473,24 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let t1_two = timed(s, "t1", &t1_sets, 2, s.repeats, r)?;
     let t1_one = timed(s, "t1", &t1_sets, 1, s.repeats, r)?;
 
+    // P1: fig2 as shipped, and its reference at the same N.
+    let shipped_nodes = if s.quick { 250 } else { paper_nodes };
+    progress(&format!(
+        "P1: fig2 as shipped (N = {shipped_nodes}) and its reference"
+    ));
+    let shipped_sets = vec![set("contact.nodes", shipped_nodes)];
+    let mut shipped_reference_settings = shipped_sets.clone();
+    shipped_reference_settings.push(set("time.tolerance", format!("{P1_REFERENCE_TOLERANCE:e}")));
+    let shipped_reference = run_cli(s, "p1_reference", &shipped_reference_settings, 2)?;
+    let shipped = timed(
+        s,
+        "p1",
+        &shipped_sets,
+        2,
+        s.repeats.min(3),
+        &shipped_reference.onsets_s,
+    )?;
+
     // The paper's algorithm at its own settings, on a window.
     let literal_window_s = if s.quick { 5e-6 } else { 3.4e-5 };
     progress(&format!("literal N = {paper_nodes} window"));
@@ -484,6 +539,14 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         } else {
             (projected, false, planned_steps)
         };
+    let rigid_full = if full_resolution_measured {
+        progress("P2: full run, rigid substrate");
+        let mut sets = full_sets.clone();
+        sets.push(set("contact.substrate", "rigid"));
+        Some(timed(s, "p2_rigid_full", &sets, 2, 1, &[])?)
+    } else {
+        None
+    };
 
     // T3.
     let mut cost_per_step = Vec::new();
@@ -565,8 +628,19 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
             rejected_steps: 0,
         });
     }
+    progress("P5: friction-map sweep, 1 and 2 jobs");
+    let rigid_scene = s.scene.with_file_name("rigid.toml");
+    let sweep = sweep::measure(s, &rigid_scene)?;
+    let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
+    let shipped_speedup = fig2_literal_extrapolated_s / shipped.wall_s;
     Ok(Performance {
+        shipped,
+        shipped_reference_settings,
+        shipped_speedup,
+        rigid_full,
+        build,
+        sweep,
         paper_nodes,
         paper_dt_s,
         scene_end_s,

@@ -1,0 +1,307 @@
+//! The P1–P5 rows of the performance table and the P1, P4 and P5 sections of
+//! `performance.md` (P2 and P3 are in [`super::report`]). Every number comes from the
+//! measurements in [`Performance`] or the goals of [`super`].
+
+use super::report::{seconds, verdict};
+use super::sweep::{EFFICIENCY_GOAL, OVERHEAD_GOAL};
+use super::{
+    P1_ONSET_GOAL_US, P1_SPEEDUP_GOAL, P2_RATIO_GOAL, P3_GOAL_S, P4_TEST_RATIO_GOAL,
+    P4_VALIDATE_GOAL_S, Performance, T1_NODES, T2_GOAL_S,
+};
+use std::fmt::Write as _;
+use stickslip_report::fmt::{sig, tick};
+
+/// The rows P1–P5 of the targets table.
+pub(super) fn targets_table(m: &mut String, p: &Performance) {
+    let sh = &p.shipped;
+    let _ = writeln!(
+        m,
+        "| P1 fig2 as shipped (N = {}, default adaptive accurate scheme) against the literal \
+         scheme (N = {}, dt = {:e} s) | ≥ {}×, onsets within {} µs | {}× ({} s against {} s \
+         extrapolated); largest onset error {} µs | {} |",
+        sh.resolved.nodes,
+        p.paper_nodes,
+        p.paper_dt_s,
+        tick(P1_SPEEDUP_GOAL),
+        tick(P1_ONSET_GOAL_US),
+        sig(p.shipped_speedup, 3),
+        sig(sh.wall_s, 3),
+        sig(p.fig2_literal_extrapolated_s, 3),
+        sig(sh.max_onset_error_us, 2),
+        verdict(p.shipped_speedup >= P1_SPEEDUP_GOAL && sh.max_onset_error_us <= P1_ONSET_GOAL_US)
+    );
+    let ratio = p
+        .rigid_full
+        .as_ref()
+        .map(|r| p.full_resolution_s / r.wall_s);
+    let _ = writeln!(
+        m,
+        "| P2 N = {}, fixed dt = {:e} s: elastic against rigid substrate, whole run | ≤ {}×, \
+         ≤ {} s | {}; {} s ({}) | {} |",
+        p.paper_nodes,
+        p.paper_dt_s,
+        tick(P2_RATIO_GOAL),
+        tick(T2_GOAL_S),
+        ratio.map_or_else(
+            || "ratio not measured".into(),
+            |r| format!("{}×", sig(r, 3))
+        ),
+        sig(p.full_resolution_s, 3),
+        if p.full_resolution_measured {
+            "measured in full".to_string()
+        } else {
+            format!(
+                "extrapolated from a {} µs window",
+                sig(p.full_resolution_window_s * 1e6, 2)
+            )
+        },
+        verdict(ratio.is_some_and(|r| r <= P2_RATIO_GOAL) && p.full_resolution_s <= T2_GOAL_S)
+    );
+    let _ = writeln!(
+        m,
+        "| P3 fig2, default settings, N = {T1_NODES}, whole process | ≤ {} s | {} s (2 threads), \
+         {} s (1 thread); largest onset error {} µs | {} |",
+        tick(P3_GOAL_S),
+        sig(p.fig2_accurate_s, 3),
+        sig(p.fig2_accurate_1thread_s, 3),
+        sig(p.fig2_accurate_max_onset_error_us, 2),
+        verdict(p.fig2_accurate_s <= P3_GOAL_S)
+    );
+    match &p.build {
+        Some(b) => {
+            let ratio = b.test_s / b.validate_s;
+            let _ = writeln!(
+                m,
+                "| P4 fresh clone: the test command after `cargo xtask validate`; validate itself \
+                 | ≤ {}× validate, validate ≤ {} s | {} s = {}× validate ({} s){} | {} |",
+                tick(P4_TEST_RATIO_GOAL),
+                tick(P4_VALIDATE_GOAL_S),
+                sig(b.test_s, 3),
+                sig(ratio, 2),
+                sig(b.validate_s, 3),
+                if b.validate_ok && b.test_ok {
+                    ""
+                } else {
+                    "; a command FAILED"
+                },
+                verdict(
+                    b.validate_ok
+                        && b.test_ok
+                        && ratio <= P4_TEST_RATIO_GOAL
+                        && b.validate_s <= P4_VALIDATE_GOAL_S
+                )
+            );
+        }
+        None => {
+            let _ = writeln!(
+                m,
+                "| P4 fresh clone: test command after validate | ≤ {}× validate, validate ≤ {} s \
+                 | not measured (`cargo xtask build-timing`) | **not measured** |",
+                tick(P4_TEST_RATIO_GOAL),
+                tick(P4_VALIDATE_GOAL_S)
+            );
+        }
+    }
+    let sw = &p.sweep;
+    let overhead = sw.run(1).map_or(f64::NAN, super::sweep::SweepRun::overhead);
+    let _ = writeln!(
+        m,
+        "| P5 friction map, {} points at N = {} | overhead ≤ {} %, parallel efficiency ≥ {} \
+         | {} ms per point (2 jobs), overhead {} %, efficiency {} | {} |",
+        sw.points,
+        sw.nodes,
+        tick(100.0 * OVERHEAD_GOAL),
+        tick(EFFICIENCY_GOAL),
+        sig(1e3 * sw.cost_per_point_s(), 3),
+        sig(100.0 * overhead, 2),
+        sig(sw.efficiency(), 3),
+        verdict(overhead <= OVERHEAD_GOAL && sw.efficiency() >= EFFICIENCY_GOAL)
+    );
+}
+
+/// P1: fig2 as shipped, the literal window, and what bounds the ratio.
+pub(super) fn p1_section(m: &mut String, p: &Performance) {
+    let sh = &p.shipped;
+    let lit = &p.literal_window_run;
+    let accepted = sh.steps / 2;
+    let setup_s = sh.wall_s - sh.loop_s;
+    let evaluations = 3 * accepted + 3 * sh.rejected_steps;
+    let lit_us = 1e6 * lit.loop_s / lit.steps.max(1) as f64;
+    let needed_s = p.fig2_literal_extrapolated_s / P1_SPEEDUP_GOAL;
+    let _ = writeln!(
+        m,
+        "## P1 — fig2 as shipped against the paper's algorithm\n\n\
+         `stickslip run validation/scenes/fig2.toml` as shipped (N = {}, the {} scheme with {} \
+         steps, operator `{}`), whole process, {} runs on 2 threads: [{}] s; {} accepted steps \
+         ({} half steps kept), {} rejected, {} events; largest onset difference to the \
+         reference ({}) {} µs.\n\n\
+         The literal scheme was timed on t ∈ [0, {} µs] ({} steps, loop {} s, {} µs per step, \
+         process {} s) and extrapolated per simulated second to {} ms: {} s. The ratio is {}×; \
+         {}× needs the shipped run in {} s.\n\n\
+         What bounds it: of the shipped run's {} s, {} s is start-up (the scene, the MDR \
+         operators of N = {} built and compressed) and {} s the time loop. Each accepted \
+         adaptive step costs three step evaluations (one full step and two half steps for the \
+         error estimate), and so does each rejected attempt: about {} evaluations, {} µs each, \
+         where one step of the literal scheme costs {} µs.\n",
+        sh.resolved.nodes,
+        sh.resolved.scheme,
+        sh.resolved.stepping,
+        sh.resolved.operator,
+        sh.walls_s.len(),
+        seconds(&sh.walls_s),
+        accepted,
+        sh.steps,
+        sh.rejected_steps,
+        sh.events,
+        p.shipped_reference_settings.join(", "),
+        sig(sh.max_onset_error_us, 2),
+        sig(p.literal_window_s * 1e6, 3),
+        lit.steps,
+        sig(lit.loop_s, 3),
+        sig(lit_us, 3),
+        sig(lit.wall_s, 3),
+        tick(p.scene_end_s * 1e3),
+        sig(p.fig2_literal_extrapolated_s, 3),
+        sig(p.shipped_speedup, 3),
+        tick(P1_SPEEDUP_GOAL),
+        sig(needed_s, 3),
+        sig(sh.wall_s, 3),
+        sig(setup_s, 2),
+        sh.resolved.nodes,
+        sig(sh.loop_s, 3),
+        evaluations,
+        sig(1e6 * sh.loop_s / evaluations.max(1) as f64, 3),
+        sig(lit_us, 3)
+    );
+}
+
+/// P4: the fresh clone's times, stage by stage.
+pub(super) fn p4_section(m: &mut String, p: &Performance) {
+    let _ = writeln!(m, "## P4 — a fresh clone's build\n");
+    let Some(b) = &p.build else {
+        let _ = writeln!(
+            m,
+            "Not measured: `cargo xtask build-timing` writes reports/build-timing.json.\n"
+        );
+        return;
+    };
+    let _ = writeln!(
+        m,
+        "`cargo xtask build-timing` cloned commit `{}` into an empty directory (its own empty \
+         `target/`; the cargo registry's sources {} on a machine with {} logical CPUs) and ran \
+         the README's two commands there: `cargo xtask validate` {} s ({}), then `cargo xtask \
+         test` {} s ({}), {}× validate's time. The test command's stages:\n\n\
+         | stage | s | share | result |\n|---|---|---|---|",
+        &b.commit[..b.commit.len().min(10)],
+        if b.registry_warm {
+            "were already downloaded"
+        } else {
+            "were downloaded too"
+        },
+        b.cpus,
+        sig(b.validate_s, 3),
+        if b.validate_ok { "ok" } else { "FAILED" },
+        sig(b.test_s, 3),
+        if b.test_ok { "ok" } else { "FAILED" },
+        sig(b.test_s / b.validate_s, 2)
+    );
+    for s in &b.test_stages {
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} % | {} |",
+            s.name,
+            sig(s.seconds, 3),
+            sig(100.0 * s.seconds / b.test_s, 2),
+            if s.ok { "ok" } else { "FAILED" }
+        );
+    }
+    let _ = writeln!(
+        m,
+        "\nOne build serves both commands: everything is built in the release profile (xtask, \
+         the CLI that validation runs, `cargo test --release`, and maturin's build of the \
+         Python extension), and the crate `stickslip-unify` pins the features of the \
+         dependencies that the commands' graphs would otherwise resolve differently, so the \
+         test command compiles only test targets and the extension's own crates.\n"
+    );
+}
+
+/// P5: the sweep's cost, overhead and parallel efficiency, and what larger maps take.
+pub(super) fn p5_section(m: &mut String, p: &Performance) {
+    let sw = &p.sweep;
+    let _ = writeln!(
+        m,
+        "## P5 — friction maps: cost per point and scaling\n\n\
+         A {} × {} map of the rigid drive (maps/rigid.toml's axes: V0 log-spaced over 1e-3 … \
+         3 m/s × A0 over −3e5 … 1.5e6 Pa; N = {}; regimes: {}) run by `stickslip sweep run` \
+         in-process with 1 and 2 jobs:\n\n\
+         | jobs | wall (s) | Σ run (s) | Σ point (s) | overhead | points not ok |\n\
+         |---|---|---|---|---|---|",
+        (sw.points as f64).sqrt().round(),
+        (sw.points as f64).sqrt().round(),
+        sw.nodes,
+        sw.regimes
+            .iter()
+            .map(|(r, n)| format!("{r} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for r in &sw.runs {
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} | {} | {} % | {} |",
+            r.jobs,
+            sig(r.wall_s, 3),
+            sig(r.sum_run_s, 3),
+            sig(r.sum_point_wall_s, 3),
+            sig(100.0 * r.overhead(), 2),
+            r.not_ok
+        );
+    }
+    let per_point = sw.core_s_per_point();
+    let eff = sw.efficiency();
+    let _ = writeln!(
+        m,
+        "\nOverhead = (jobs × wall − Σ run) / Σ run: everything beyond building and stepping the \
+         simulations (process start, resolving and validating all points first, records, \
+         merge, a worker idle at the end). Parallel efficiency = wall(1 job) / (2 × wall(2 \
+         jobs)) = {}.\n\n\
+         Points are independent and the per-point cost does not depend on the map's size, so \
+         a map costs points × {} core-seconds (this map's mean; it depends on the axes: slow \
+         drives and long `time.end` cost more, sliding points less). On this machine (2 \
+         cores, efficiency {}):\n\n\
+         | points | 2 cores here | cluster of K nodes × c cores |\n|---|---|---|",
+        sig(eff, 3),
+        sig(per_point, 3),
+        sig(eff, 3)
+    );
+    for points in [1e4_f64, 1e5, 1e6] {
+        let here_s = points * per_point / (2.0 * eff);
+        let _ = writeln!(
+            m,
+            "| {} | {} | {} h / (K·c) (e.g. K = 10 nodes × c = 32 cores: {}) |",
+            tick(points),
+            duration(here_s),
+            sig(points * per_point / 3600.0, 3),
+            duration(points * per_point / 320.0)
+        );
+    }
+    let _ = writeln!(
+        m,
+        "\nOn a cluster, `stickslip sweep slurm --tasks T` splits the points into T shards of \
+         an array job; each task runs its shard with all its cores, so the time is the largest \
+         shard's: for T ≥ K·c the estimate above holds when the shards balance (points are \
+         dealt round-robin, index mod T, so neighbours in the map — similar costs — land in \
+         different shards). Merging reads one small record per point.\n"
+    );
+}
+
+/// A duration in s, min or h with three significant digits.
+fn duration(s: f64) -> String {
+    if s < 120.0 {
+        format!("{} s", sig(s, 3))
+    } else if s < 7200.0 {
+        format!("{} min", sig(s / 60.0, 3))
+    } else {
+        format!("{} h", sig(s / 3600.0, 3))
+    }
+}
