@@ -377,6 +377,18 @@ impl Driver {
         }
     }
 
+    /// Puts the run back to an earlier snapshot's states in place (the operators are kept):
+    /// a benchmark repeating a window of steps.
+    ///
+    /// # Errors
+    /// A state that does not fit this simulation.
+    pub fn rewind(&mut self, sim_state: SimState, state: DriverState) -> Result<(), String> {
+        self.sim.restore(sim_state)?;
+        self.state = state;
+        self.failure = None;
+        Ok(())
+    }
+
     /// From now on, fixed steps of `dt_s` to the end (a study's change of step).
     pub fn set_fixed_dt(&mut self, dt_s: f64) {
         self.state.schedule = FixedSchedule {

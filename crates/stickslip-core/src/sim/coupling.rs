@@ -278,7 +278,10 @@ impl CouplingSolver {
         for (i, u) in u3d.iter_mut().enumerate() {
             *u += self.sol[(i, 0)] * from_unit;
         }
-        let scale = |r: f64| r * r_norm / u_norm.max(f64::MIN_POSITIVE);
+        // faer's residual is relative to ‖r‖; the criterion is relative to the solution's
+        // norm (not the guess's, which is 0 at the first step).
+        let u_final = u3d.iter().map(|u| u * u).sum::<f64>().sqrt();
+        let scale = |r: f64| r * r_norm / u_final.max(f64::MIN_POSITIVE);
         match result {
             Ok(info) => CouplingReport {
                 iterations: info.iter_count.max(1),
@@ -357,6 +360,8 @@ mod tests {
         let tiny = f64::from_bits((1023 - 470) << 52);
         let (ordinary, report) = solve_scaled(1e-9);
         assert!(report.converged && report.iterations > 0, "{report:?}");
+        // From a zero guess the residual is relative to the solution, not to the guess.
+        assert!(report.rel_residual <= 1e-10, "{report:?}");
         let (small, report) = solve_scaled(1e-9 * tiny);
         assert!(report.converged, "tiny scale did not converge: {report:?}");
         for (i, (&a, &b)) in ordinary.iter().zip(&small).enumerate() {
