@@ -13,7 +13,10 @@ import pytest
 from conftest import SCENES
 
 CHILD = r"""
-import sys, threading, time
+import signal, sys, threading, time
+# Ctrl-C as in a terminal. A parent that ignores SIGINT (a shell's background job, some CI
+# runners) passes that on, and Python then installs no KeyboardInterrupt handler at all.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import stickslip
 what = sys.argv[1]
 ticks = [0]
