@@ -119,8 +119,13 @@ impl Map {
 ///
 /// # Errors
 /// A bad sweep file, a failed merge, or I/O errors, as text.
-pub fn run_map(file: &Path, dir: &Path, jobs: usize) -> Result<Map, String> {
+pub fn run_map(file: &Path, dir: &Path, jobs: usize, resume: bool) -> Result<Map, String> {
     let sweep = Sweep::load(file, false).map_err(|e| e.to_string())?;
+    // A report shows what this build computes: points another build left behind (the sweep's
+    // fingerprint knows the version number, not the commit) are only reused when asked.
+    if !resume && dir.exists() {
+        std::fs::remove_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
     exec::prepare(&sweep, dir, true).map_err(|e| e.to_string())?;
     let options = SweepOptions {
         jobs,
@@ -147,6 +152,8 @@ pub struct Options {
     pub root: PathBuf,
     /// Points run in parallel.
     pub jobs: usize,
+    /// Keep the points an earlier, interrupted `cargo xtask maps` finished (else start afresh).
+    pub resume: bool,
 }
 
 fn verdict(pass: bool) -> &'static str {
@@ -196,13 +203,24 @@ pub fn run(opts: &Options) -> Result<bool, String> {
     let maps_dir = opts.root.join("maps");
     let out = opts.root.join("target").join("maps");
     let reports = opts.root.join("reports");
-    let rigid_map = run_map(&maps_dir.join("rigid.toml"), &out.join("rigid"), opts.jobs)?;
+    let rigid_map = run_map(
+        &maps_dir.join("rigid.toml"),
+        &out.join("rigid"),
+        opts.jobs,
+        opts.resume,
+    )?;
     let spring_map = run_map(
         &maps_dir.join("spring.toml"),
         &out.join("spring"),
         opts.jobs,
+        opts.resume,
     )?;
-    let model_map = run_map(&maps_dir.join("model.toml"), &out.join("model"), opts.jobs)?;
+    let model_map = run_map(
+        &maps_dir.join("model.toml"),
+        &out.join("model"),
+        opts.jobs,
+        opts.resume,
+    )?;
     let sections = vec![
         rigid::section(&rigid_map)?,
         spring::section(&spring_map)?,

@@ -35,6 +35,7 @@ Commands:
   maps          run the showcase friction maps (maps/*.toml) and write reports/maps.md and
                 reports/maps_*.svg with their checks; exits 1 if a check fails
       --jobs J  points run in parallel (default: the available cores)
+      --resume  keep the points an interrupted `cargo xtask maps` finished (default: afresh)
   slurm-check   start a one-node Slurm here (installs slurm-wlm and munge with apt-get when
                 missing), run maps/slurm-check.toml as a job array, merge, compare with a
                 local run, stop the daemons it started; exits 1 on a mismatch

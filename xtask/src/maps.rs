@@ -1,5 +1,6 @@
-//! `cargo xtask maps [--jobs J]`: runs the showcase sweeps of `maps/*.toml` in-process (their
-//! directories under `target/maps/`, resumable) and writes `reports/maps.md` and
+//! `cargo xtask maps [--jobs J] [--resume]`: runs the showcase sweeps of `maps/*.toml`
+//! in-process (their directories under `target/maps/`, afresh unless `--resume` keeps the
+//! points an interrupted run finished) and writes `reports/maps.md` and
 //! `reports/maps_*.svg` with the checks as measured verdicts.
 
 use std::process::ExitCode;
@@ -8,9 +9,11 @@ use std::process::ExitCode;
 /// errors.
 pub fn main(args: &[String], root: std::path::PathBuf) -> ExitCode {
     let mut jobs = std::thread::available_parallelism().map_or(1, usize::from);
+    let mut resume = false;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match (a.as_str(), it.clone().next()) {
+            ("--resume", _) => resume = true,
             ("--jobs", Some(v)) => match v.parse::<usize>() {
                 Ok(n) if n > 0 => {
                     jobs = n;
@@ -22,12 +25,12 @@ pub fn main(args: &[String], root: std::path::PathBuf) -> ExitCode {
                 }
             },
             (other, _) => {
-                eprintln!("maps: unknown option {other:?}; allowed: --jobs J");
+                eprintln!("maps: unknown option {other:?}; allowed: --jobs J, --resume");
                 return ExitCode::from(2);
             }
         }
     }
-    match stickslip_maps::run(&stickslip_maps::Options { root, jobs }) {
+    match stickslip_maps::run(&stickslip_maps::Options { root, jobs, resume }) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => {
             eprintln!("maps: a check failed (see reports/maps.md)");
