@@ -81,6 +81,15 @@ fn path_with(bin: &Path) -> std::ffi::OsString {
     std::env::join_paths(paths).unwrap_or_default()
 }
 
+/// Creates the venv and its test dependencies if needed (downloads and unpacking: little CPU,
+/// so `cargo xtask test` does it while the Rust tests compile).
+///
+/// # Errors
+/// No suitable Python, or pip failed.
+pub fn prepare_venv(root: &Path) -> Result<(), String> {
+    venv(root, false).map(|_| ())
+}
+
 /// Runs the stages; the first error ends it.
 pub fn stages(root: &Path, fresh: bool, pytest_args: &[String]) -> Result<(), String> {
     let mut times: Vec<(String, f64)> = Vec::new();

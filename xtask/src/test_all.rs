@@ -7,6 +7,8 @@
 //!    clippy's business, not the test command's);
 //! 2. **rust tests**: the same command running the tests;
 //! 3. **python**: `cargo xtask python-test` (venv, `pip install ./crates/stickslip-py`, pytest);
+//!    the venv and its test dependencies are prepared in a thread from the start, overlapping
+//!    the Rust build (pip's downloads and unpacking barely compete with the compiler);
 //! 4. **slurm**: `cargo xtask slurm-check` (a one-node Slurm runs a sweep as a job array).
 //!
 //! Exits 0 when every stage passed, 1 otherwise.
@@ -60,6 +62,29 @@ pub fn main(args: &[String], root: &Path) -> ExitCode {
             }
         }
     }
+    // The venv's downloads and unpacking overlap the Rust build (which is CPU-bound); the
+    // Python stage waits for them.
+    let venv_prep = python.then(|| {
+        let root = root.to_path_buf();
+        std::sync::Mutex::new(Some(std::thread::spawn(move || {
+            let t = Instant::now();
+            crate::python::prepare_venv(&root).map(|()| t.elapsed().as_secs_f64())
+        })))
+    });
+    let wait_for_venv = || -> Result<(), String> {
+        let handle = venv_prep
+            .as_ref()
+            .and_then(|m| m.lock().ok().and_then(|mut h| h.take()));
+        match handle.map(std::thread::JoinHandle::join) {
+            Some(Ok(Ok(secs))) => {
+                eprintln!("xtask test: the Python venv was ready after {secs:.1} s (overlapped)");
+                Ok(())
+            }
+            Some(Ok(Err(e))) => Err(e),
+            Some(Err(_)) => Err("preparing the Python venv panicked".into()),
+            None => Ok(()),
+        }
+    };
     type Stage<'a> = (&'static str, Box<dyn Fn() -> Result<(), String> + 'a>);
     let mut stages: Vec<Stage> = vec![
         ("rust build", Box::new(|| cargo(root, &["--no-run"]))),
@@ -68,7 +93,10 @@ pub fn main(args: &[String], root: &Path) -> ExitCode {
     if python {
         stages.push((
             "python",
-            Box::new(|| crate::python::stages(root, false, &[])),
+            Box::new(|| {
+                wait_for_venv()?;
+                crate::python::stages(root, false, &[])
+            }),
         ));
     }
     if slurm {
