@@ -185,7 +185,22 @@ impl AtomicFile {
     ///
     /// # Errors
     /// If any of these fails.
-    pub fn commit(mut self) -> io::Result<()> {
+    pub fn commit(self) -> io::Result<()> {
+        self.finish(Durability::Rename)
+    }
+
+    /// Renames the file into place as [`commit`](Self::commit) does, with its content synced
+    /// first but without syncing the directory: after a power loss the file may be missing
+    /// again, never partly written. For files whose loss costs only recomputation (a sweep's
+    /// point records: a missing point is run again), at half the fsyncs.
+    ///
+    /// # Errors
+    /// As [`commit`](Self::commit).
+    pub fn commit_content(self) -> io::Result<()> {
+        self.finish(Durability::Content)
+    }
+
+    fn finish(mut self, durability: Durability) -> io::Result<()> {
         let Some(writer) = self.writer.take() else {
             return Ok(());
         };
@@ -195,7 +210,8 @@ impl AtomicFile {
         file.sync_all()?;
         drop(file);
         std::fs::rename(&self.tmp, &self.target)?;
-        if let Some(dir) = self.target.parent()
+        if durability == Durability::Rename
+            && let Some(dir) = self.target.parent()
             && let Ok(d) = File::open(dir)
         {
             // Directory fsync makes the rename durable; not every platform allows it.
@@ -241,6 +257,26 @@ pub fn write_atomic(dir: &Path, name: &str, bytes: &[u8]) -> io::Result<()> {
     let mut f = AtomicFile::create(dir, name)?;
     f.write_all(bytes)?;
     f.commit()
+}
+
+/// As [`write_atomic`], committed with [`AtomicFile::commit_content`]: the content is durable
+/// before the file appears, the file's appearance is not (a recomputable file).
+///
+/// # Errors
+/// If the file cannot be written or renamed.
+pub fn write_atomic_recomputable(dir: &Path, name: &str, bytes: &[u8]) -> io::Result<()> {
+    let mut f = AtomicFile::create(dir, name)?;
+    f.write_all(bytes)?;
+    f.commit_content()
+}
+
+/// What a commit makes durable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Durability {
+    /// The content and the rename (the directory is synced too).
+    Rename,
+    /// The content only.
+    Content,
 }
 
 /// Writes `bytes` to `path` atomically, creating its directory if needed.

@@ -218,8 +218,9 @@ fn run_point(
         return Ok(None);
     }
     let mut record = PointRecord::of(p, sweep.values(p), &outcome, 0.0, run_s);
-    // The point's wall time includes writing its record; measured just before, the write's
-    // own cost (a rename and fsyncs, well under a millisecond) is the only part left out.
+    // The point's wall time is measured just before its record is written; the write's own
+    // cost (one fsync and a rename, about half a millisecond here) is the part left out, and
+    // the sweep's overhead in `cargo xtask bench` (P5) counts it.
     record.wall_s = start.elapsed().as_secs_f64();
     record
         .write(dir)

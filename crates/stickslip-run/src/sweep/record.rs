@@ -1,7 +1,7 @@
 //! One record per finished point: `DIR/points/<point>.json`, written atomically. A rerun
 //! skips the points that have one; the merge reads them all.
 
-use crate::atomic::write_atomic;
+use crate::atomic::write_atomic_recomputable;
 use crate::outcome::{RunOutcome, StopReason};
 use crate::summary::RunSummary;
 use serde::{Deserialize, Serialize};
@@ -97,14 +97,17 @@ impl PointRecord {
         dir.join("points").join(format!("{point:07}.json"))
     }
 
-    /// Writes the record atomically.
+    /// Writes the record atomically, its content synced but not its directory: after a power
+    /// loss a finished point may be missing (and is run again), never half-written. The
+    /// directory fsync it skips cost about half a millisecond per point here, a tenth of a
+    /// small point's run.
     ///
     /// # Errors
     /// If it cannot be written.
     pub fn write(&self, dir: &Path) -> io::Result<()> {
         let points = dir.join("points");
         let text = serde_json::to_string(self).map_err(io::Error::other)?;
-        write_atomic(&points, &format!("{:07}.json", self.point), text.as_bytes())
+        write_atomic_recomputable(&points, &format!("{:07}.json", self.point), text.as_bytes())
     }
 
     /// Reads point `point`'s record; `None` if there is none.
