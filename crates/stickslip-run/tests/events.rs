@@ -6,7 +6,7 @@
 //! threshold. A classical RK4 integration here (not the core's stepper) gives the first onset
 //! and the period; the stamp advance per cycle is V0 times the period.
 
-mod common;
+use crate::common;
 
 use stickslip_run::{Control, ResolvedScene, Scene, run_in_memory};
 

@@ -1,8 +1,6 @@
 //! The key table agrees with the scene file's serde structs, with the resolved defaults and
 //! with the engine's own checks.
 
-mod common;
-
 use stickslip_run::keys::{DefaultValue, KEYS, Range, ValueType};
 use stickslip_run::scene::{Scene, SceneError};
 

@@ -8,7 +8,7 @@
 //! `scene_resolution.rs` already feeds 3000 TOML-ish ASCII strings and single-byte mutations;
 //! this adds arbitrary bytes, typed values at real keys and checks of the messages.
 
-mod common;
+use crate::common;
 
 use proptest::prelude::*;
 use proptest::test_runner::Config;

@@ -1,7 +1,7 @@
 //! The output schema: every file written and read back keeps every bit, and a run kept in
 //! memory equals the same run written to a directory and read back through the schema.
 
-mod common;
+use crate::common;
 
 use stickslip_run::schema::events::Events;
 use stickslip_run::schema::probes::Probes;

@@ -2,7 +2,7 @@
 //! consistency, where melting starts, variants, restoring a snapshot, stability guards,
 //! adaptive steps and located melting.
 
-mod common;
+use crate::common;
 
 use stickslip_core::drive::{Drive, free_spring_exact};
 use stickslip_run::driver::{Control, Driver, Limit, NullSink};

@@ -1,7 +1,7 @@
 //! Bad scenes and bad `--set` arguments: each exits 2 with an `error: ` message naming the key,
 //! the value and the allowed range, and writes nothing into the --out directory.
 
-mod common;
+use crate::common;
 
 use common::{run, texts};
 

@@ -1,7 +1,7 @@
 //! The repository's reference (`docs/reference.md`) is the output of `stickslip keys
 //! --markdown`, generated from the argument definitions, the key table and the output schema.
 
-mod common;
+use crate::common;
 
 use common::{run, texts};
 

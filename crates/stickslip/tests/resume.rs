@@ -3,7 +3,7 @@
 //! gaussian noise included; a kill before the first checkpoint, a finished or failed run, and a
 //! damaged checkpoint or partial output are refused with a message naming the directory.
 
-mod common;
+use crate::common;
 
 use common::{bin, run, scene, texts};
 use std::path::{Path, PathBuf};

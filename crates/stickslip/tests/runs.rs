@@ -2,7 +2,7 @@
 //! on a numerical failure with partial output, determinism (also across thread counts), the
 //! step and recording schedule, and `check`.
 
-mod common;
+use crate::common;
 
 use common::{Csv, bin, run, scene, texts};
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! depend on jobs or shards; a killed sweep reruns only its missing points and ends with the
 //! same map; failed and refused points are rows, and the exit status says so.
 
-mod common;
+use crate::common;
 
 use common::{bin, run, texts};
 use std::path::{Path, PathBuf};

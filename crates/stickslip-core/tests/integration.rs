@@ -1,0 +1,11 @@
+//! The package's integration tests as one test binary, one module per file: a single link
+//! and one copy of the dependencies' generic code instead of one per file (the test
+//! command's compile time, P4 of reports/performance.md).
+
+mod drive;
+mod hodlr;
+mod landau;
+mod mdr_pairs;
+mod mdr_properties;
+mod noise;
+mod sim_state;

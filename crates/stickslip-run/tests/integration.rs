@@ -1,0 +1,12 @@
+//! The package's integration tests as one test binary, one module per file: a single link
+//! and one copy of the dependencies' generic code instead of one per file (the test
+//! command's compile time, P4 of reports/performance.md).
+
+mod common;
+
+mod events;
+mod keys;
+mod scene_fuzz;
+mod scene_resolution;
+mod schema;
+mod sim;
