@@ -219,8 +219,8 @@ fn run_point(
     }
     let mut record = PointRecord::of(p, sweep.values(p), &outcome, 0.0, run_s);
     // The point's wall time is measured just before its record is written; the write's own
-    // cost (one fsync and a rename, about half a millisecond here) is the part left out, and
-    // the sweep's overhead in `cargo xtask bench` (P5) counts it.
+    // cost (an unsynced write and a rename) is the part left out, and the sweep's overhead in
+    // `cargo xtask bench` (P5) counts it.
     record.wall_s = start.elapsed().as_secs_f64();
     record
         .write(dir)
@@ -343,7 +343,7 @@ pub enum Merge {
 /// Merges the records in `dir` into map.csv and map.json when every point has one.
 ///
 /// # Errors
-/// No sweep in `dir`, a damaged record, or I/O errors.
+/// No sweep in `dir`, or I/O errors (a damaged record counts as missing).
 pub fn merge(dir: &Path) -> Result<Merge, SweepRunError> {
     let lock = load_lock(dir)?;
     let sweep = &lock.sweep;
