@@ -221,7 +221,11 @@ pub(super) fn p4_section(m: &mut String, p: &Performance) {
          the CLI that validation runs, `cargo test --release`, and maturin's build of the \
          Python extension), and the crate `stickslip-unify` pins the features of the \
          dependencies that the commands' graphs would otherwise resolve differently, so the \
-         test command compiles only test targets and the extension's own crates.\n"
+         test command compiles only test targets and the extension's own crates. Those are \
+         kept few and cheap: one integration-test binary per package (the core, the run \
+         library and the CLI each link `tests/integration.rs`, whose modules are the other \
+         test files), the test-only dependencies unoptimised, the report generators and the \
+         kit at opt-level 1.\n"
     );
 }
 
