@@ -421,7 +421,7 @@ impl SimConfig {
                 mass_kg: 0.1,
                 velocity_m_per_s: 1.0,
             }),
-            integrator: Integrator::Verlet,
+            integrator: Integrator::Split,
             time: TimeConfig {
                 end_s: 1.3e-3,
                 dt_s: 1e-8,

@@ -39,10 +39,11 @@ fn defaults_are_filled_in() {
     assert_eq!(c.contact.model, ContactModel::Radial);
     assert_eq!(c.contact.substrate, Substrate::Elastic);
     assert!(matches!(c.drive, Drive::Spring(_)));
-    assert_eq!(c.integrator, Integrator::Verlet);
+    assert_eq!(c.integrator, Integrator::Split);
     assert_eq!(c.time.dt_s, 1e-8);
     assert_eq!(c.time.scheme, Scheme::Accurate);
-    assert_eq!(c.numerics.coupling_tol, 1e-10);
+    // Adaptive by default: the coupling is solved to a hundredth of the step tolerance.
+    assert_eq!(c.numerics.coupling_tol, 5e-7);
     assert_eq!(c.numerics.runaway_stress_factor, 10.0);
     assert_eq!(r.output.profile_times_s, vec![1e-3]);
     assert!(r.output.probe_radii_m.is_empty());

@@ -372,7 +372,7 @@ mod tests {
             }],
             work_precision: vec![WpPoint {
                 method: "adaptive".into(),
-                parameter: 1e-4,
+                parameter: DEFAULT_TOLERANCE,
                 wall_s: 0.094,
                 max_onset_error_us: 0.0044,
                 steps: 3354,
@@ -427,9 +427,9 @@ mod tests {
         let md = markdown(&p);
         // 10 s over 130 000 steps: 77 µs per step.
         assert!(md.contains("against the 77 µs the target needs"), "{md}");
-        assert!(md.contains("tolerance 1e-4 (the default)"), "{md}");
+        assert!(md.contains("tolerance 5e-5 (the default)"), "{md}");
         assert!(md.contains("a series row every 10 steps"), "{md}");
-        assert!(md.contains("| adaptive | 1e-4 (default) |"), "{md}");
+        assert!(md.contains("| adaptive | 5e-5 (default) |"), "{md}");
         assert!(md.contains("gives 314 µs at N = 2000"), "{md}");
         // P1: 97 s / 1.9 s; P2: 28 s / 20 s; P4: 150 s / 200 s; P5: (50 − 48)/48, 50/(2·26).
         assert!(

@@ -1,39 +1,64 @@
-//! Adaptive stepping: step doubling with error control, on top of [`Simulation::step`].
+//! Adaptive stepping: one accurate step per attempt, its error estimated from what the step
+//! computed ([`super::error_estimate`]), the next step from a PI controller
+//! ([`super::step_control`]), and the step that brings a melting onset ended at the located
+//! melting time.
 
-use super::{NumericalFailure, SimState, Simulation};
+use super::step_control::StepController;
+use super::{NumericalFailure, Simulation};
 use serde::Serialize;
 
-/// What one unit of local error means for each checked quantity (adaptive stepping).
-///
-/// The error of a step is max(|Δφ|/φ_s, |Δε|/ε_s, |ΔX|/X_s) / tolerance over all nodes, Δ the
-/// difference between one whole step and two half steps.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ErrorScales {
-    /// φ scale: the solid equilibrium √(A/a) at t = 0 (1 when A ≤ 0).
+/// The estimated local error of the last step, each part in units of its own scale (see
+/// [`Simulation::last_step_error`]); a step is accepted when the largest part is within
+/// `time.tolerance`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct StepError {
+    /// Film: the largest |Δφ| / max(φ, melt threshold) over the nodes.
     pub phi: f64,
-    /// Strain scale: εc at t = 0 (εmax when A ≤ 0).
+    /// Strain: the stamp's position error over h0·εc(t) (the strain it shifts).
     pub eps: f64,
-    /// Stamp-position scale: the film thickness h0, m.
-    pub x_m: f64,
+    /// Stamp position: |ΔX| / max(|X|, h0).
+    pub x: f64,
+    /// Stamp velocity: |ΔV| / max(|V|, V0).
+    pub v: f64,
 }
 
+impl StepError {
+    /// The largest part.
+    #[must_use]
+    pub fn max(&self) -> f64 {
+        let m = self.phi.max(self.eps).max(self.x).max(self.v);
+        if m.is_nan() { f64::INFINITY } else { m }
+    }
+}
+
+/// Order of the accurate step's local error (second-order scheme: h³).
+pub const LOCAL_ERROR_ORDER: f64 = 3.0;
+
+/// An onset located closer than this fraction of the step to its start is taken as is
+/// (cutting the step there would leave a sliver).
+const MIN_CUT_FRACTION: f64 = 1e-3;
+
 impl Simulation {
-    /// The error scales of adaptive stepping.
-    pub fn error_scales(&self) -> ErrorScales {
-        self.error_scales
+    /// The last step's estimated local error (accurate scheme; zero for the literal one).
+    pub fn last_step_error(&self) -> StepError {
+        self.last_error
     }
 
     /// One error-controlled step (scene `time.stepping = "adaptive"`), ending at most at
     /// `t_stop_s`; returns the length of the accepted step, s.
     ///
-    /// A step of length h is taken whole and as two halves from the same state; the halves
-    /// are kept if their difference (see [`ErrorScales`]) is within the tolerance, otherwise
-    /// the state is rolled back and h shrinks. A sub-step that fails numerically counts as a
-    /// rejection too, until h reaches `dt_min`. The next h = h·clamp(0.9/√err, 0.2, 2):
-    /// the local difference of the (first-order) scheme scales as h².
+    /// Each attempt is one accurate step; its local error is estimated from the step's own
+    /// values (the defect of the film's exact path against the solved strain, Verlet's
+    /// remainder for the stamp). An attempt within `time.tolerance` is kept, otherwise the
+    /// state is rolled back and the step shrinks; a sub-step that fails numerically counts as
+    /// a rejection too, until h reaches `dt_min`. The next h comes from the PI controller of
+    /// order 3. An attempt that brings the first melting of an event (no event open before
+    /// it) is retaken ending at the located melting time, so the step boundary sits on the
+    /// kink of the substrate's displacement and the onset is not smeared over a long step;
+    /// the next step then predicts the substrate without extrapolating across the kink.
     ///
     /// # Errors
-    /// [`NumericalFailure`] from a sub-step at `dt_min`.
+    /// [`NumericalFailure`] from a step at `dt_min`.
     ///
     /// # Panics
     /// If the configuration is not adaptive.
@@ -43,33 +68,18 @@ impl Simulation {
             .time
             .adaptive
             .expect("step_adaptive needs time.adaptive");
+        let controller = StepController::of_order(LOCAL_ERROR_ORDER);
         let mut saved = self
             .saved
             .take()
             .unwrap_or_else(|| Box::new(self.state.clone()));
-        let mut whole = self
-            .whole_step
-            .take()
-            .unwrap_or_else(|| Box::new(self.state.clone()));
-        let result = self.adaptive_attempts(&ctl, t_stop_s, &mut saved, &mut whole);
-        self.saved = Some(saved);
-        self.whole_step = Some(whole);
-        result
-    }
-
-    fn adaptive_attempts(
-        &mut self,
-        ctl: &crate::config::AdaptiveConfig,
-        t_stop_s: f64,
-        saved: &mut SimState,
-        whole: &mut SimState,
-    ) -> Result<f64, NumericalFailure> {
         let mut h_try = if self.state.next_dt_s > 0.0 {
             self.state.next_dt_s
         } else {
             self.config.time.dt_s
         };
-        loop {
+        let mut cut_to_onset = false;
+        let result = loop {
             let remaining = t_stop_s - self.state.drive.t_s;
             let mut h = h_try.min(ctl.dt_max_s);
             // Land on t_stop without leaving a sliver: stretch by up to 10 %, or split evenly.
@@ -80,57 +90,58 @@ impl Simulation {
             }
             let landing = h == remaining;
             let at_floor = h <= ctl.dt_min_s;
-            saved.clone_from(&self.state);
-            let outcome = self.step(h).and_then(|()| {
-                whole.clone_from(&self.state);
-                self.state.clone_from(saved);
-                self.step(0.5 * h)?;
-                self.step(0.5 * h)
-            });
-            let err = match outcome {
-                Ok(()) => self.step_difference(whole) / ctl.tolerance,
-                Err(failure) if at_floor => return Err(failure),
+            saved.as_mut().clone_from(&self.state);
+            let was_open = self.state.events.is_open();
+            let err = match self.step(h) {
+                Ok(()) => self.last_error.max() / ctl.tolerance,
+                Err(failure) if at_floor => break Err(failure),
                 Err(_) => f64::INFINITY,
             };
             if err <= 1.0 || at_floor {
+                let theta = self.first_melt_fraction;
+                if !was_open
+                    && !cut_to_onset
+                    && theta < 1.0
+                    && theta > MIN_CUT_FRACTION
+                    && theta * h > ctl.dt_min_s
+                {
+                    // Retake the step to end just after the located onset (the margin keeps
+                    // the crossing inside it despite rounding).
+                    self.state.clone_from(&saved);
+                    cut_to_onset = true;
+                    h_try = theta * h * (1.0 + 1e-9);
+                    continue;
+                }
                 if err > 1.0 {
                     self.state.forced_steps += 1;
                 }
                 self.state.accepted_steps += 1;
                 if landing {
-                    // Two half steps may miss t_stop by an ulp; outputs due there need it exact.
                     self.state.drive.t_s = t_stop_s;
                 }
-                let grow = if err > 0.0 {
-                    (0.9 / err.sqrt()).clamp(0.2, 2.0)
+                let h_next = controller.accepted(h, err, &mut self.state.controller);
+                // A step shortened to land on t_stop or on an onset says nothing about the
+                // next one: the controller's step stands.
+                let h_ctl = if landing || cut_to_onset {
+                    h_next.max(saved.next_dt_s.min(ctl.dt_max_s))
                 } else {
-                    2.0
+                    h_next
                 };
-                // A step shortened only to land on t_stop says nothing about the next one.
-                self.state.next_dt_s = (h * grow).max(h_try.min(ctl.dt_max_s) * grow.min(1.0));
-                return Ok(h);
+                self.state.next_dt_s = h_ctl.max(ctl.dt_min_s);
+                if cut_to_onset {
+                    // The step ended on the kink: no extrapolation of u3D across it.
+                    self.state.last_dt_s = 0.0;
+                    self.state.prev_dt_s = 0.0;
+                }
+                break Ok(h);
             }
-            self.state.clone_from(saved);
+            self.state.clone_from(&saved);
             self.state.rejected_steps += 1;
-            let shrink = if err.is_finite() {
-                (0.9 / err.sqrt()).clamp(0.2, 0.9)
-            } else {
-                0.25
-            };
-            h_try = (h * shrink).max(ctl.dt_min_s);
-        }
-    }
-
-    /// Largest scaled difference between the current state and `other` (see [`ErrorScales`]).
-    fn step_difference(&self, other: &SimState) -> f64 {
-        let s = &self.state;
-        let sc = &self.error_scales;
-        let mut worst = ((s.drive.x_m - other.drive.x_m) / sc.x_m).abs();
-        for i in 0..s.phi.len() {
-            let dphi = ((s.phi[i] - other.phi[i]) / sc.phi).abs();
-            let deps = ((s.eps[i] - other.eps[i]) / sc.eps).abs();
-            worst = worst.max(dphi).max(deps);
-        }
-        if worst.is_nan() { f64::INFINITY } else { worst }
+            h_try = controller
+                .rejected(h, err, &mut self.state.controller)
+                .max(ctl.dt_min_s);
+        };
+        self.saved = Some(saved);
+        result
     }
 }

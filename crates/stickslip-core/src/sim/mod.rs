@@ -14,14 +14,18 @@
 //! from the located crossing time on; the coupling (I + K)·u3D = K·u0 solved to a tolerance
 //! (see [`coupling`]); product integration for Eq. 13–16.
 //!
-//! The stamp is advanced by velocity Verlet (half kick with F_n, drift, film update, half kick
+//! The stamp is advanced by the split integrator (friction half kick with F_n, the spring's exact
+//! flow, film update, friction half kick with F_{n+1}; or velocity Verlet: half kick with F_n, drift, film update, half kick
 //! with F_{n+1}) or RK4 with F frozen over the step; the rigid drive sets X = V0·t.
 
 mod adaptive;
 pub mod coupling;
+pub mod error_estimate;
 pub mod events;
+pub mod step_control;
 
-pub use adaptive::ErrorScales;
+pub use adaptive::StepError;
+use step_control::ControllerMemory;
 
 use crate::config::{ContactModel, Scheme, SimConfig, Substrate};
 use crate::drive::{Drive, DriveState, Integrator};
@@ -38,6 +42,11 @@ use thiserror::Error;
 /// Smallest φ the accurate scheme keeps from a positive start: φ² = 1e-300 is still a normal
 /// f64, so a molten node stays able to regrow (Eq. 8 never takes φ > 0 to 0 in finite time).
 pub const PHI_REPRESENTABLE_MIN: f64 = 1e-150;
+
+/// Floor of the velocity's error scale, as a fraction of the drive velocity V0.
+const V_FLOOR: f64 = 1e-6;
+/// Floor of the position's error scale, as a fraction of the film thickness h0.
+const X_FLOOR: f64 = 1e-3;
 
 /// A step produced a non-finite or runaway value.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -122,6 +131,13 @@ pub struct SimState {
     /// and recovers within the step), so sampled φ rarely shows it; this does, located in time.
     #[serde(default)]
     pub last_melt_s: Vec<f64>,
+    /// Adaptive stepping: what the step-size controller remembers (last error, rejection).
+    #[serde(default)]
+    pub controller: ControllerMemory,
+    /// Change of the stamp's acceleration over the last step, m/s² (for the velocity's error
+    /// estimate; 0 before the first step).
+    #[serde(default)]
+    pub accel_change_prev_m_per_s2: f64,
 }
 
 /// Scalar observables at the current time.
@@ -168,10 +184,17 @@ pub struct Simulation {
     kappa: f64,
     scratch_q: Vec<f64>,
     phi_sq: Vec<f64>,
-    error_scales: ErrorScales,
-    /// Adaptive stepping: the state before the attempted step, and the whole step's result.
+    /// Per node, from the φ-step for the error estimate after the coupling solve (see
+    /// [`error_estimate`]): the start's defect term h·w0·D(0) (or a melting node's whole
+    /// estimate), the end's gain h·w1·(−2γ·a·y1), the effective strain, and 1/(2·max(y1, thr²)).
+    est_base: Vec<f64>,
+    est_gain: Vec<f64>,
+    est_eps_eff: Vec<f64>,
+    est_norm: Vec<f64>,
+    /// The last step's estimated local error, in units of the error scales.
+    last_error: StepError,
+    /// Adaptive stepping: the state before the attempted step.
     saved: Option<Box<SimState>>,
-    whole_step: Option<Box<SimState>>,
     /// Fraction of the last step at which the first node melted (1 = at its end).
     first_melt_fraction: f64,
     /// Contraction factor ρ of the lagged sweep at t = 0 (see
@@ -258,16 +281,8 @@ impl Simulation {
             forced_steps: 0,
             melted_in_step: vec![false; n],
             last_melt_s: vec![-1.0; n],
-        };
-        let eps_c = config.lubricant.critical_strain(a0);
-        let error_scales = ErrorScales {
-            phi: if phi_init > 0.0 { phi_init } else { 1.0 },
-            eps: if eps_c > 0.0 {
-                eps_c
-            } else {
-                config.lubricant.eps_max
-            },
-            x_m: c.film_thickness_m,
+            controller: ControllerMemory::default(),
+            accel_change_prev_m_per_s2: 0.0,
         };
         let mut sim = Self {
             config,
@@ -279,9 +294,12 @@ impl Simulation {
             kappa,
             scratch_q: vec![0.0; n],
             phi_sq: vec![0.0; n],
-            error_scales,
+            est_base: vec![0.0; n],
+            est_gain: vec![0.0; n],
+            est_eps_eff: vec![0.0; n],
+            est_norm: vec![0.0; n],
+            last_error: StepError::default(),
             saved: None,
-            whole_step: None,
             first_melt_fraction: 1.0,
             rho0: 0.0,
         };
@@ -367,15 +385,24 @@ impl Simulation {
                 s.half_kick(&mut self.state.drive, f, dt_s);
                 s.drift(&mut self.state.drive, dt_s);
             }
+            (Drive::Spring(s), Integrator::Split) => {
+                s.friction_half_kick(&mut self.state.drive, f, dt_s);
+                s.spring_flow(&mut self.state.drive, dt_s);
+            }
             (d, integrator) => d.step(integrator, &mut self.state.drive, dt_s, f),
         }
         self.state.drive.x_m - x0
     }
 
     fn drive_second_half(&mut self, dt_s: f64) {
-        if let (Drive::Spring(s), Integrator::Verlet) = (&self.config.drive, self.config.integrator)
-        {
-            s.half_kick(&mut self.state.drive, self.state.force_n, dt_s);
+        match (&self.config.drive, self.config.integrator) {
+            (Drive::Spring(s), Integrator::Verlet) => {
+                s.half_kick(&mut self.state.drive, self.state.force_n, dt_s);
+            }
+            (Drive::Spring(s), Integrator::Split) => {
+                s.friction_half_kick(&mut self.state.drive, self.state.force_n, dt_s);
+            }
+            _ => {}
         }
     }
 
@@ -474,9 +501,11 @@ impl Simulation {
         let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
         let params = self.config.lubricant;
         let b = params.b_pa();
+        let a = params.a_pa;
         let two_gamma = 2.0 * params.gamma_per_pa_s;
         let thr = self.config.melt_threshold;
         let h0 = self.config.contact.film_thickness_m;
+        let drive_before = (self.state.drive, self.state.force_n);
         let dx = self.drive_first_half(dt_s);
         // The substrate's change over this step, predicted by linear extrapolation of the last
         // one (the coupling solve below corrects u3D itself; only the strain seen by φ uses it).
@@ -502,6 +531,17 @@ impl Simulation {
             let lambda = two_gamma * (params.bernoulli_c_pa(eps0, a_mid) + 2.0 * b * y0);
             let eps_eff = eps0 + linear_forcing_weight(lambda * dt_s) * (eps1 - eps0);
             let phi1 = PhiStepper::Exact.step(phi0, eps_eff, a_mid, &params, dt_s);
+            // The error estimate's pieces (see `error_estimate`): the defect at the start now,
+            // at the end once the coupling solve has given the end strain.
+            let y1 = phi1 * phi1;
+            let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
+            let z = error_estimate::propagator_exponent(y0, y1, c_eff, two_gamma, dt_s);
+            let (w0, w1) = error_estimate::defect_weights(z);
+            self.est_base[i] =
+                dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
+            self.est_gain[i] = dt_s * w1 * (-two_gamma * a * y1);
+            self.est_eps_eff[i] = eps_eff;
+            self.est_norm[i] = 0.5 / y1.max(thr * thr);
             let u0 = self.state.u0_m[i];
             let (phi_end, u0_end, melted_at) = match (solid0, phi1 >= thr) {
                 (true, true) => (phi1, u0 + dx, None),
@@ -517,6 +557,18 @@ impl Simulation {
                     // from θ on. Continuing the decay to the step's end instead would leave φ
                     // far below thr by an amount set by Δt, and the recovery with it.
                     let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
+                    // The estimate covers the solid part of the path, up to the crossing, with
+                    // the strain there predicted (no solved value exists at θ).
+                    let ys = thr * thr;
+                    let h_c = theta * dt_s;
+                    let eps_c = eps0 + theta * (eps1 - eps0);
+                    let zc = error_estimate::propagator_exponent(y0, ys, c_eff, two_gamma, h_c);
+                    let (w0c, w1c) = error_estimate::defect_weights(zc);
+                    self.est_base[i] = h_c
+                        * (w0c * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0))
+                            + w1c * (-two_gamma * a * ys * (eps_eff * eps_eff - eps_c * eps_c)));
+                    self.est_gain[i] = 0.0;
+                    self.est_norm[i] = 0.5 / ys;
                     let rest_s = (1.0 - theta) * dt_s;
                     let u3d = self.state.u3d_m[i];
                     let eps_a = -(u3d + theta * du3d) / h0;
@@ -565,7 +617,76 @@ impl Simulation {
         self.update_strain_and_stress();
         self.state.force_n = self.force_3d();
         self.drive_second_half(dt_s);
+        self.estimate_step_error(dt_s, drive_before);
         Ok(())
+    }
+
+    /// The local error of the accurate step just taken (see [`error_estimate`]), in units of
+    /// scales that follow the state: φ relative to max(φ, threshold) per node, ε relative to
+    /// εc(t), X to max(|X|, h0), V to max(|V|, 1e-6·V0). V's scale is its own size, not V0: a
+    /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an
+    /// error in X that grows with time.
+    fn estimate_step_error(&mut self, dt_s: f64, (before, f_before): (DriveState, f64)) {
+        let s = &self.state;
+        let mut phi_err = 0.0_f64;
+        for i in 0..s.phi.len() {
+            let (eps_eff, eps_end) = (self.est_eps_eff[i], s.eps[i]);
+            let e_y = self.est_base[i] + self.est_gain[i] * (eps_eff * eps_eff - eps_end * eps_end);
+            phi_err = phi_err.max(e_y.abs() * self.est_norm[i]);
+        }
+        let drive = match (&self.config.drive, self.config.integrator) {
+            (Drive::Rigid(_), _) => error_estimate::DriveError::default(),
+            (Drive::Spring(sp), Integrator::Verlet) => {
+                let a0 = sp.acceleration_m_per_s2(before.t_s, before.x_m, f_before);
+                let d = &s.drive;
+                let a1 = sp.acceleration_m_per_s2(d.t_s, d.x_m, s.force_n);
+                let change = a1 - a0;
+                let est = error_estimate::verlet_error(
+                    dt_s,
+                    change,
+                    s.prev_dt_s,
+                    s.accel_change_prev_m_per_s2,
+                );
+                self.state.accel_change_prev_m_per_s2 = change;
+                est
+            }
+            (Drive::Spring(sp), Integrator::Split) => {
+                // Only the friction force's kicks carry an error: Verlet's on a = −F/m.
+                let change = -(s.force_n - f_before) / sp.mass_kg;
+                let est = error_estimate::verlet_error(
+                    dt_s,
+                    change,
+                    s.prev_dt_s,
+                    s.accel_change_prev_m_per_s2,
+                );
+                self.state.accel_change_prev_m_per_s2 = change;
+                est
+            }
+            (Drive::Spring(sp), Integrator::Rk4) => {
+                error_estimate::frozen_force_error(dt_s, s.force_n - f_before, sp.mass_kg)
+            }
+        };
+        let s = &self.state;
+        let a_now = self.config.temperature.a_coeff_pa(s.drive.t_s);
+        let eps_c = self.config.lubricant.critical_strain(a_now);
+        let eps_scale = if eps_c > 0.0 {
+            eps_c
+        } else {
+            self.config.lubricant.eps_max
+        };
+        let h0 = self.config.contact.film_thickness_m;
+        let v0 = self.config.drive.velocity_m_per_s().abs();
+        self.last_error = StepError {
+            phi: phi_err,
+            eps: drive.x_m / (h0 * eps_scale),
+            x: drive.x_m / s.drive.x_m.abs().max(X_FLOOR * h0),
+            v: drive.v_m_per_s
+                / s.drive
+                    .v_m_per_s
+                    .abs()
+                    .max(V_FLOOR * v0)
+                    .max(f64::MIN_POSITIVE),
+        };
     }
 
     /// ε = (u0 − u3D)/h0 (Eq. 11) and τ = aφ²ε (Eq. 12) from the current φ, u0 and u3D.

@@ -206,7 +206,7 @@ pub struct DriveSection {
     /// V0, m/s (required).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub velocity: Option<f64>,
-    /// `"verlet"` (default) or `"rk4"`.
+    /// `"split"` (default), `"verlet"` or `"rk4"`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub integrator: Option<Integrator>,
 }

@@ -222,7 +222,7 @@ fn resolve_modulus(c: &ContactSection) -> Result<f64, SceneError> {
 fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), SceneError> {
     let kind = d.kind.unwrap_or(DriveKind::Spring);
     let velocity = required(d.velocity, "drive.velocity")?;
-    let integrator = d.integrator.unwrap_or(Integrator::Verlet);
+    let integrator = d.integrator.unwrap_or(Integrator::Split);
     let mut section = DriveSection {
         kind: Some(kind),
         stiffness: None,
@@ -339,15 +339,19 @@ fn resolve_time(
     Ok((config, (max_events, max_open_event), section))
 }
 
-fn resolve_numerics(nm: &NumericsSection) -> Result<(NumericsConfig, NumericsSection), SceneError> {
+/// `adaptive_tolerance`: `time.tolerance` when stepping is adaptive (the coupling solve's
+/// default tolerance follows it).
+fn resolve_numerics(
+    nm: &NumericsSection,
+    adaptive_tolerance: Option<f64>,
+) -> Result<(NumericsConfig, NumericsSection), SceneError> {
     let defaults = NumericsConfig::default();
+    let coupling_default = adaptive_tolerance.map_or(defaults.coupling_tol, |tol| {
+        tol / super::TOLERANCE_PER_COUPLING_TOL
+    });
     let operator = nm.operator.unwrap_or(OperatorChoice::Auto);
     let numerics = NumericsConfig {
-        coupling_tol: or_default(
-            nm.coupling_tol,
-            "numerics.coupling_tol",
-            defaults.coupling_tol,
-        )?,
+        coupling_tol: or_default(nm.coupling_tol, "numerics.coupling_tol", coupling_default)?,
         runaway_stress_factor: or_default(
             nm.runaway_stress_factor,
             "numerics.runaway_stress_factor",
@@ -479,8 +483,10 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         resolve_drive(&scene.drive.clone().unwrap_or_default())?;
     let (time, (max_events, max_open_event_s), time_section) =
         resolve_time(&scene.time.clone().unwrap_or_default(), &noise)?;
-    let (numerics, numerics_section) =
-        resolve_numerics(&scene.numerics.clone().unwrap_or_default())?;
+    let (numerics, numerics_section) = resolve_numerics(
+        &scene.numerics.clone().unwrap_or_default(),
+        time.adaptive.map(|a| a.tolerance),
+    )?;
     let end = time.end_s;
     let (output, events, output_section) =
         resolve_output(&scene.output.clone().unwrap_or_default(), end, radius)?;

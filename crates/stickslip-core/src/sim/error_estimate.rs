@@ -1,0 +1,184 @@
+//! The local error of one accurate step, estimated from what the step computed: no second
+//! solution, no extra coupling solve.
+//!
+//! ## The film (φ)
+//! Per node the accurate step follows the exact solution of Eq. 8 with the strain frozen at
+//! an effective value ε_eff. That path y(s) = φ(s)² is a continuous extension of the step,
+//! and its **defect** against the true equation is
+//!
+//! D(s) = F(y, ε_eff) − F(y, ε(s)) = −2γ·a·y(s)·(ε_eff² − ε(s)²),  F(y, ε) = −2γy(c(ε) + by).
+//!
+//! The local error of y at the step's end is ∫₀ʰ P(s)·D(s) ds, P(s) = ∂y(h)/∂y(s) the
+//! propagator along the path. With ε known at both ends (ε0 from the last step, ε_end from
+//! this step's coupling solve — so the estimate also sees how far the predicted end strain
+//! was off) D is interpolated linearly in s, and P exponentially between P(0) and P(h) = 1:
+//! P(0) = ∂y1/∂y0 = (y1/y0)²·e^(2γ·c·h) exactly for the frozen Bernoulli equation, so
+//! P(s) = e^(−z(1−s/h)) with z = −ln P(0). Then
+//!
+//! e_y ≈ h·[w0(z)·D(0) + w1(z)·D(h)],
+//! w0(z) = ∫₀¹ e^(−zv) v dv = (1 − e^(−z)(1 + z))/z²,  w1(z) = ∫₀¹ e^(−z(1−u)) u du = (z − 1 + e^(−z))/z².
+//!
+//! For a linearised film and a linear strain ramp the step's weight θ(z) makes this vanish
+//! (the step is exact there); what remains measures the nonlinearity of the film's response
+//! over the step (largest near the fold, where φ collapses) and the strain's deviation from
+//! the predicted ramp. Both are O(h³) for the second-order step, and the estimate is too:
+//! the controller uses exponent 1/3. Stiff nodes (z ≫ 1, φ slaved to ε) get weights
+//! ~1/z, so their error is the equilibrium's shift with the strain error, as it should be;
+//! growing nodes (z < 0) see the amplification of the regrowth.
+//!
+//! ## The stamp (X, V)
+//! Velocity Verlet's local errors are h³·X'''/6 in X and −h³·X''''/12 in V; with the
+//! accelerations a0, a1 at the step's ends and the change of the previous step,
+//! e_X ≈ h²·|a1 − a0|/6 and e_V ≈ h³·|a''|/12, a'' from the two last changes. RK4 with the
+//! friction force frozen over the step is first order in F: e_X ≈ h²·|ΔF|/(6m),
+//! e_V ≈ h·|ΔF|/(2m). The rigid drive is exact.
+
+/// Weights (w0, w1) of the defect at the start and at the end of a step (module docs).
+///
+/// Series for |z| < 0.01 (the closed forms cancel there); `z` is clamped to [−40, 700]
+/// (beyond −40 an amplification of e^40 means the error is hopeless anyway).
+#[must_use]
+pub fn defect_weights(z: f64) -> (f64, f64) {
+    let z = z.clamp(-40.0, 700.0);
+    if z.abs() < 0.01 {
+        // w0 = Σ (−z)^k/(k!(k+2)), w1 = Σ (−z)^k/(k+2)!
+        let w0 = 0.5 - z / 3.0 + z * z / 8.0 - z * z * z / 30.0;
+        let w1 = 0.5 - z / 6.0 + z * z / 24.0 - z * z * z / 120.0;
+        return (w0, w1);
+    }
+    let e = (-z).exp();
+    let one_minus_e = -(-z).exp_m1();
+    let w0 = (one_minus_e - z * e) / (z * z);
+    let w1 = (z - one_minus_e) / (z * z);
+    (w0, w1)
+}
+
+/// The exponent z = −ln(∂y1/∂y0) of the frozen Bernoulli step from y0 to y1 over `h_s` with
+/// coefficient `c_pa` (see the module docs); 0 when y0 or y1 is 0.
+#[must_use]
+pub fn propagator_exponent(y0: f64, y1: f64, c_pa: f64, two_gamma: f64, h_s: f64) -> f64 {
+    if y0 <= 0.0 || y1 <= 0.0 {
+        return 0.0;
+    }
+    -two_gamma * c_pa * h_s - 2.0 * (y1 / y0).ln()
+}
+
+/// Local errors of the stamp's position (m) and velocity (m/s) over one spring-drive step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct DriveError {
+    /// Position error estimate, m.
+    pub x_m: f64,
+    /// Velocity error estimate, m/s.
+    pub v_m_per_s: f64,
+}
+
+/// Velocity Verlet's local errors from the accelerations at the step's ends (`accel_change`
+/// = a1 − a0 over `h_s`) and the previous step's change over `h_prev_s` (0 = none).
+#[must_use]
+pub fn verlet_error(h_s: f64, accel_change: f64, h_prev_s: f64, prev_change: f64) -> DriveError {
+    let a2 = if h_prev_s > 0.0 {
+        2.0 * (accel_change / h_s - prev_change / h_prev_s) / (h_s + h_prev_s)
+    } else {
+        accel_change / h_s
+    };
+    DriveError {
+        x_m: h_s * h_s * accel_change.abs() / 6.0,
+        v_m_per_s: h_s * h_s * h_s * a2.abs() / 12.0,
+    }
+}
+
+/// RK4's local errors when the friction force, held constant over the step, changed by
+/// `force_change_n` (N) on a stamp of `mass_kg`.
+#[must_use]
+pub fn frozen_force_error(h_s: f64, force_change_n: f64, mass_kg: f64) -> DriveError {
+    let da = force_change_n.abs() / mass_kg;
+    DriveError {
+        x_m: h_s * h_s * da / 6.0,
+        v_m_per_s: 0.5 * h_s * da,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad(f: impl Fn(f64) -> f64) -> f64 {
+        // Composite Simpson on [0, 1] with 20 000 cells (error ~(z/n)⁴: 1e-12 at z = 80).
+        let n = 20_000;
+        let h = 1.0 / n as f64;
+        (0..=n)
+            .map(|i| {
+                let w = if i == 0 || i == n {
+                    1.0
+                } else if i % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                w * f(i as f64 * h)
+            })
+            .sum::<f64>()
+            * h
+            / 3.0
+    }
+
+    #[test]
+    fn weights_are_the_integrals_they_stand_for_on_both_sides_of_the_series_switch() {
+        for z in [
+            -30.0, -3.0, -0.5, -0.011, -0.009, -1e-5, 0.0, 1e-5, 0.009, 0.011, 0.7, 5.0, 80.0,
+        ] {
+            let (w0, w1) = defect_weights(z);
+            let r0 = quad(|v| (-z * v).exp() * v);
+            let r1 = quad(|u| (-z * (1.0 - u)).exp() * u);
+            assert!(
+                (w0 - r0).abs() <= 1e-9 * r0.abs().max(1e-3),
+                "z {z}: w0 {w0} vs {r0}"
+            );
+            assert!(
+                (w1 - r1).abs() <= 1e-9 * r1.abs().max(1e-3),
+                "z {z}: w1 {w1} vs {r1}"
+            );
+        }
+    }
+
+    #[test]
+    fn propagator_exponent_is_minus_log_of_the_exact_sensitivity() {
+        // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct); differentiate numerically in y0.
+        let (b, two_gamma, h): (f64, f64, f64) = (2e6, 20.0, 3e-7);
+        for c in [-1.5e6, -1e5, 2e5, 1e6] {
+            let y = |y0: f64| {
+                let e = (-two_gamma * c * h).exp();
+                c * y0 * e / (c + b * y0 * (1.0 - e))
+            };
+            let y0 = 0.3;
+            let d = (y(y0 * (1.0 + 1e-6)) - y(y0 * (1.0 - 1e-6))) / (2e-6 * y0);
+            let z = propagator_exponent(y0, y(y0), c, two_gamma, h);
+            assert!(
+                ((-z).exp() / d - 1.0).abs() < 1e-6,
+                "c {c}: {} vs {d}",
+                (-z).exp()
+            );
+        }
+    }
+
+    #[test]
+    fn verlet_error_matches_the_taylor_remainder_of_a_cubic_acceleration() {
+        // a(t) = t³: X''' = 3t², X'''' = 6t; over [1, 1 + h] from exact X, V.
+        let h = 1e-3;
+        let a = |t: f64| t * t * t;
+        let x = |t: f64| t.powi(5) / 20.0;
+        let v = |t: f64| t.powi(4) / 4.0;
+        let (t0, t1) = (1.0, 1.0 + h);
+        let v_half = v(t0) + 0.5 * h * a(t0);
+        let x1 = x(t0) + h * v_half;
+        let v1 = v_half + 0.5 * h * a(t1);
+        let est = verlet_error(h, a(t1) - a(t0), h, a(t0) - a(t0 - h));
+        let (ex, ev) = ((x1 - x(t1)).abs(), (v1 - v(t1)).abs());
+        assert!((est.x_m / ex - 1.0).abs() < 0.01, "{} vs {ex}", est.x_m);
+        assert!(
+            (est.v_m_per_s / ev - 1.0).abs() < 0.01,
+            "{} vs {ev}",
+            est.v_m_per_s
+        );
+    }
+}
