@@ -5,6 +5,7 @@
 mod drive;
 mod hodlr;
 mod landau;
+mod mdr_entries;
 mod mdr_pairs;
 mod mdr_properties;
 mod noise;

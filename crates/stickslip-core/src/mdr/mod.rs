@@ -16,12 +16,14 @@
 //! Both are stored as packed triangular matrices ([`TriangularOperator`]) and applied
 //! as mat-vecs; [`MdrOperators::compliance_dense`] gives the composite as a faer matrix.
 
+mod entries;
 pub mod hodlr;
 pub mod literal;
 pub mod pairs;
 pub mod product;
 mod triangular;
 
+pub use entries::{OperatorEntries, probe_norm_lower_bound};
 pub use triangular::{Triangle, TriangularOperator};
 
 use crate::grid::Grid;
