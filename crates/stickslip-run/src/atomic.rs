@@ -1,6 +1,16 @@
-//! The one atomic writer of the project: a file is written as `DIR/.<name>.tmp`, synced,
-//! renamed into place and its directory synced, so a reader never sees a half-written file and
-//! a crash leaves either the old file or the new one.
+//! The one atomic writer of the project: a file is written under a temporary name in its
+//! directory, synced, renamed into place and its directory synced, so a reader never sees a
+//! half-written file and a crash leaves either the old file or the new one.
+//!
+//! **Temporary names.** [`AtomicFile::create`] (and every `write_atomic*` function) writes
+//! `DIR/.<name>.<pid>-<n>.tmp`, unique per process and per call (so per thread), created with
+//! `create_new`: any number of processes and threads may write the same file at once (the
+//! shards of a sweep writing `sweep.json`, merges writing `map.csv`); each rename is atomic and
+//! the last one wins. A process killed while writing leaves its temporary file behind; readers
+//! ignore dot files, and [`remove_temporaries`] clears them where one process owns the
+//! directory. Only the streamed outputs of a run, which a resumed run must find again, use the
+//! fixed name `DIR/.<name>.tmp` ([`AtomicFile::create_resumable`]): a run directory has one
+//! writer.
 //!
 //! A streamed [`AtomicFile`] knows its [`StreamPosition`] (length and checksum of what it has
 //! written), so a checkpoint can record how far each file got and a resumed run can
@@ -10,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Initial state of [`fnv1a64`].
 pub const FNV1A64_INIT: u64 = 0xcbf2_9ce4_8422_2325;
@@ -65,13 +76,75 @@ pub struct AtomicFile {
     position: StreamPosition,
 }
 
+/// Calls of [`unique_temporary`] in this process so far.
+static TEMPORARIES: AtomicU64 = AtomicU64::new(0);
+
+/// A temporary name for `name` that no other process or call of this process uses:
+/// `.<name>.<pid>-<n>.tmp`.
+fn unique_temporary(name: &str) -> String {
+    let n = TEMPORARIES.fetch_add(1, Ordering::Relaxed);
+    format!(".{name}.{}-{n}.tmp", std::process::id())
+}
+
+/// The fixed temporary name of a resumable stream: `.<name>.tmp`.
+fn resumable_temporary(name: &str) -> String {
+    format!(".{name}.tmp")
+}
+
+/// Removes every temporary file of `dir/name` (the resumable `.<name>.tmp` and the unique
+/// `.<name>.<pid>-<n>.tmp` that killed writers left). Only where one process owns the
+/// directory (a run's output directory): elsewhere it would remove files other writers are
+/// still writing.
+///
+/// # Errors
+/// If the directory cannot be listed or a file cannot be removed (a missing directory or file
+/// is not an error).
+pub fn remove_temporaries(dir: &Path, name: &str) -> io::Result<()> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(e),
+    };
+    let prefix = format!(".{name}.");
+    for entry in entries {
+        let entry = entry?;
+        let file = entry.file_name();
+        let file = file.to_string_lossy();
+        if file.starts_with(&prefix) && file.ends_with(".tmp") {
+            match std::fs::remove_file(entry.path()) {
+                Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
+        }
+    }
+    Ok(())
+}
+
 impl AtomicFile {
-    /// Creates `dir/.<name>.tmp` for writing; [`commit`](Self::commit) renames it to `dir/name`.
+    /// Creates a temporary file unique to this call (`dir/.<name>.<pid>-<n>.tmp`, see the
+    /// module docs) for writing; [`commit`](Self::commit) renames it to `dir/name`.
     ///
     /// # Errors
     /// If the temporary file cannot be created.
     pub fn create(dir: &Path, name: &str) -> io::Result<Self> {
-        let tmp = dir.join(format!(".{name}.tmp"));
+        let tmp = dir.join(unique_temporary(name));
+        let file = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        Ok(Self {
+            tmp,
+            target: dir.join(name),
+            writer: Some(BufWriter::new(file)),
+            position: StreamPosition::START,
+        })
+    }
+
+    /// Creates `dir/.<name>.tmp`, the fixed temporary name that [`reopen`](Self::reopen)
+    /// finds again: for the streamed outputs of a run, which one process writes and a resumed
+    /// run continues. An earlier file of that name is truncated.
+    ///
+    /// # Errors
+    /// If the temporary file cannot be created.
+    pub fn create_resumable(dir: &Path, name: &str) -> io::Result<Self> {
+        let tmp = dir.join(resumable_temporary(name));
         let target = dir.join(name);
         let file = File::create(&tmp)?;
         Ok(Self {
@@ -83,7 +156,8 @@ impl AtomicFile {
     }
 
     /// Continues the file `dir/name` of an interrupted run at `at`, which a checkpoint
-    /// recorded: the first `at.bytes` bytes of the temporary file `dir/.<name>.tmp` are kept
+    /// recorded: the first `at.bytes` bytes of the temporary file `dir/.<name>.tmp` (written by
+    /// [`create_resumable`](Self::create_resumable)) are kept
     /// and whatever follows them (written after the checkpoint) is cut off. When the temporary
     /// file is gone because the run was killed while committing its output, those bytes are
     /// taken from the committed `dir/name` instead.
@@ -93,7 +167,7 @@ impl AtomicFile {
     /// the file is shorter than `at.bytes` or its first `at.bytes` bytes do not have the
     /// recorded checksum (a damaged file, or one of another run); other I/O errors as they come.
     pub fn reopen(dir: &Path, name: &str, at: StreamPosition) -> io::Result<Self> {
-        let tmp = dir.join(format!(".{name}.tmp"));
+        let tmp = dir.join(resumable_temporary(name));
         let target = dir.join(name);
         let (source, from_target) = if tmp.exists() {
             (tmp.clone(), false)
@@ -299,4 +373,71 @@ pub fn write_atomic_path(path: &Path, bytes: &[u8]) -> io::Result<()> {
         .file_name()
         .ok_or_else(|| io::Error::other(format!("{} has no file name", path.display())))?;
     write_atomic(dir, &name.to_string_lossy(), bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Names in `dir` (dot files included).
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn many_threads_writing_one_file_at_once_all_succeed_and_leave_one_whole_file() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        // Each writer's content is long enough that interleaved writes into one shared
+        // temporary file would show as a mix.
+        let content = |i: usize| format!("{i:04}\n").repeat(20_000);
+        for _ in 0..20 {
+            std::thread::scope(|s| {
+                for i in 0..8 {
+                    let bytes = content(i);
+                    s.spawn(move || {
+                        write_atomic(dir, "shared.json", bytes.as_bytes())
+                            .expect("every concurrent writer commits");
+                        write_atomic_recomputable(dir, "unsynced.json", bytes.as_bytes())
+                            .expect("every concurrent writer commits");
+                    });
+                }
+            });
+            for f in ["shared.json", "unsynced.json"] {
+                let got = std::fs::read_to_string(dir.join(f)).unwrap();
+                assert!(
+                    (0..8).any(|i| got == content(i)),
+                    "{f} is not one writer's whole content ({} bytes)",
+                    got.len()
+                );
+            }
+            assert_eq!(names(dir), ["shared.json", "unsynced.json"]);
+        }
+    }
+
+    #[test]
+    fn temporary_names_are_unique_and_removable() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        let a = AtomicFile::create(dir, "x.csv").unwrap();
+        let b = AtomicFile::create(dir, "x.csv").unwrap();
+        assert_ne!(a.tmp, b.tmp);
+        let pid = std::process::id().to_string();
+        assert!(a.tmp.to_string_lossy().contains(&pid));
+        // As a killed writer would leave them.
+        std::mem::forget(a);
+        std::mem::forget(b);
+        let resumable = AtomicFile::create_resumable(dir, "x.csv").unwrap();
+        resumable.keep_for_resume().unwrap();
+        std::fs::write(dir.join("x.csv.keep"), b"").unwrap();
+        assert_eq!(names(dir).len(), 4);
+        remove_temporaries(dir, "x.csv").unwrap();
+        assert_eq!(names(dir), ["x.csv.keep"]);
+        remove_temporaries(&dir.join("missing"), "x.csv").unwrap();
+    }
 }

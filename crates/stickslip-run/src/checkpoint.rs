@@ -213,13 +213,12 @@ pub fn save(dir: &Path, checkpoint: &Checkpoint<'_>) -> io::Result<()> {
 /// # Errors
 /// If one exists and cannot be removed.
 pub fn remove(dir: &Path) -> io::Result<()> {
-    for file in [path(dir), dir.join(format!(".{FILE_NAME}.tmp"))] {
-        match std::fs::remove_file(file) {
-            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
-            _ => {}
-        }
+    match std::fs::remove_file(path(dir)) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+        _ => {}
     }
-    Ok(())
+    // A process killed while saving a checkpoint leaves its temporary file.
+    crate::atomic::remove_temporaries(dir, FILE_NAME)
 }
 
 /// Reads and checks the checkpoint in `dir` (its version included).

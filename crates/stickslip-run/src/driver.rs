@@ -529,7 +529,6 @@ impl Driver {
                 self.step_length(i + 1, self.sim.time_s())
             };
             self.record(sink, h_next)?;
-            sink.after_iteration(&self.snapshot())?;
             let ended = self.sim.state().events.ended();
             if self.scene.max_events.is_some_and(|m| ended as u64 >= m) {
                 return Ok(Some(StopReason::MaxEvents));
@@ -541,6 +540,9 @@ impl Driver {
             {
                 return Ok(Some(StopReason::OpenEvent));
             }
+            // After the stop checks: a checkpoint is only ever taken of a state from which the
+            // run goes on, so a run resumed from it takes the same next step.
+            sink.after_iteration(&self.snapshot())?;
             if (adaptive || i.is_multiple_of(POLL_EVERY))
                 && let Some(poll) = control.poll.as_mut()
             {

@@ -4,6 +4,7 @@
 
 mod common;
 
+mod checkpoint_instants;
 mod events;
 mod keys;
 mod scene_fuzz;

@@ -12,7 +12,7 @@
 //! once when the run is interrupted: then run.json says `interrupted`, the partial files stay
 //! under their temporary names, and [`resume`] finishes the run bit-identically.
 
-use crate::atomic::{AtomicFile, write_atomic};
+use crate::atomic::{AtomicFile, remove_temporaries, write_atomic};
 use crate::checkpoint::{self, Checkpoint, CheckpointError, StreamPositions};
 use crate::driver::{Control, Driver, RunStart, Sink, Snapshot, StartError};
 use crate::outcome::{RunOutcome, StopReason};
@@ -128,13 +128,17 @@ pub fn earlier_run_files(dir: &Path) -> Vec<String> {
         .collect()
 }
 
-/// Removes the files of an earlier run in `dir`.
+/// Removes the files of an earlier run in `dir`, and the temporary files a killed writer of
+/// run.json or events.csv left (a run directory has one writer).
 fn remove_earlier_run(dir: &Path) -> io::Result<()> {
     for f in earlier_run_files(dir) {
         match std::fs::remove_file(dir.join(&f)) {
             Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
             _ => {}
         }
+    }
+    for f in RUN_FILES {
+        remove_temporaries(dir, f)?;
     }
     Ok(())
 }
@@ -243,11 +247,11 @@ impl Sink for DirSink {
         remove_earlier_run(&self.dir)?;
         let info = RunInfo::starting(start.scene, start.preflight, start.warnings.to_vec());
         info.write(&self.dir)?;
-        let mut series = AtomicFile::create(&self.dir, schema::series::FILE)?;
+        let mut series = AtomicFile::create_resumable(&self.dir, schema::series::FILE)?;
         Series::write_header(&mut series)?;
-        let mut probes = AtomicFile::create(&self.dir, schema::probes::FILE)?;
+        let mut probes = AtomicFile::create_resumable(&self.dir, schema::probes::FILE)?;
         Probes::write_header(&mut probes, &start.scene.output.probe_radii_m)?;
-        let mut profiles = AtomicFile::create(&self.dir, schema::profiles::FILE)?;
+        let mut profiles = AtomicFile::create_resumable(&self.dir, schema::profiles::FILE)?;
         Profiles::write_header(&mut profiles)?;
         self.streams = Some(Streams {
             series,
@@ -305,8 +309,12 @@ impl Sink for DirSink {
             info.write(&self.dir)?;
         }
         if outcome.stop != StopReason::Interrupted {
-            // The run has ended and its output is complete: nothing is left to resume.
+            // The run has ended and its output is complete: nothing is left to resume, and no
+            // temporary file of a killed earlier process of this run is kept.
             checkpoint::remove(&self.dir)?;
+            for f in [schema::run_info::FILE, schema::events::FILE] {
+                remove_temporaries(&self.dir, f)?;
+            }
         }
         Ok(())
     }
