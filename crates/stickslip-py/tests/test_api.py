@@ -56,9 +56,11 @@ def test_load_and_overrides_give_new_scenes(fig2_path: Path) -> None:
     # None removes a key: its default applies again.
     back = small.with_overrides({"time.dt": None})
     assert back.to_dict()["time"]["dt"] == 1e-8
-    # Derived defaults follow: time.dt_max = time.end / 1000.
+    # Derived defaults follow: time.dt_max = time.end (no cap), coupling_tol = tolerance / 100.
     shorter = base.with_overrides({"time.end": 1e-3, "output.profile_times": [1e-3]})
-    assert shorter.to_dict()["time"]["dt_max"] == pytest.approx(1e-6)
+    assert shorter.to_dict()["time"]["dt_max"] == pytest.approx(1e-3)
+    looser = base.with_overrides({"time.tolerance": 1e-3})
+    assert looser.to_dict()["numerics"]["coupling_tol"] == pytest.approx(1e-5)
 
 
 def test_from_dict_nested_and_dotted(fig2_path: Path) -> None:
