@@ -30,7 +30,12 @@ fn main() {
         .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
         .unwrap_or_default();
     let mut h = sources::fnv(sources::FNV_INIT, sources.as_bytes());
-    for var in ["TARGET", "OPT_LEVEL", "CARGO_ENCODED_RUSTFLAGS"] {
+    for var in [
+        "CARGO_PKG_VERSION",
+        "TARGET",
+        "OPT_LEVEL",
+        "CARGO_ENCODED_RUSTFLAGS",
+    ] {
         h = sources::fnv(h, &[0]);
         h = sources::fnv(h, std::env::var(var).unwrap_or_default().as_bytes());
     }
