@@ -672,3 +672,101 @@ fn sweep_file_errors_name_the_key_and_the_line_and_exit_as_run_does() {
         assert!(err.contains("allowed: a writable directory"), "{err}");
     }
 }
+
+/// The seconds of a merge's output line (`…, 0.012 s)`).
+fn merge_seconds(stdout: &str) -> f64 {
+    stdout
+        .lines()
+        .find(|l| l.starts_with("map: "))
+        .and_then(|l| l.rsplit(", ").next())
+        .and_then(|t| t.strip_suffix(" s)"))
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(0.0)
+}
+
+/// The merge cost of an array of T = 100 tasks started together on P = 10^4 points (short
+/// runs: the merge is what is measured), against reading every record once, which each task
+/// did before (`cargo test --release -p stickslip -- --ignored merge_cost --nocapture`).
+#[test]
+#[ignore = "a measurement for the record: 100 processes, 10^4 points"]
+fn merge_cost_at_100_tasks_and_10000_points() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = format!(
+        r#"name = "cost"
+scene = "{}"
+[set]
+"contact.nodes" = 10
+"time.end" = 1e-6
+"output.profile_times" = [0.0]
+[[axis]]
+key = "drive.velocity"
+range = {{ from = 0.01, to = 1.0, count = 100, scale = "log" }}
+[[axis]]
+key = "temperature.A0"
+range = {{ from = 5e5, to = 1.5e6, count = 100 }}
+"#,
+        common::scene("rigid").display()
+    );
+    let file = write(tmp.path(), "s.toml", &text);
+    let dir = tmp.path().join("d");
+    let tasks = 100;
+    let prepared = run(&[
+        "sweep",
+        "slurm",
+        s(&file),
+        "--out",
+        s(&dir),
+        "--tasks",
+        "100",
+    ]);
+    assert!(prepared.status.success());
+    let started = Instant::now();
+    let children: Vec<Child> = (0..tasks)
+        .map(|i| {
+            let shard = format!("{i}/{tasks}");
+            spawn(&[
+                "sweep",
+                "run",
+                s(&file),
+                "--out",
+                s(&dir),
+                "--shard",
+                &shard,
+                "--jobs",
+                "1",
+                "--quiet",
+            ])
+        })
+        .collect();
+    let (mut tables, mut records, mut seconds, mut merged) = (0, 0, 0.0, 0);
+    for child in children {
+        let out = child.wait_with_output().unwrap();
+        let (o, e) = texts(&out);
+        assert!(out.status.success(), "{e}");
+        let (t, r) = reads(&o);
+        if t + r > 0 {
+            merged += 1;
+        }
+        tables += t;
+        records += r;
+        seconds += merge_seconds(&o);
+    }
+    let array_s = started.elapsed().as_secs_f64();
+    assert_eq!(MapTable::read(&dir).unwrap().rows.len(), 10_000);
+    // One merge from the records, as every task did before at its end.
+    std::fs::remove_dir_all(dir.join("shards")).unwrap();
+    let out = run(&["sweep", "merge", s(&dir)]);
+    let o = texts(&out).0;
+    let (_, one_r) = reads(&o);
+    let one_s = merge_seconds(&o);
+    println!(
+        "T = {tasks} tasks, P = 10^4 points, started together ({array_s:.1} s): {merged} tasks \
+         merged, reading {tables} shard tables and {records} records in {seconds:.3} s in all; \
+         one merge from the records reads {one_r} records in {one_s:.3} s, so every task \
+         reading them at its end costs {} reads, about {:.1} s",
+        tasks * one_r,
+        tasks as f64 * one_s
+    );
+    assert_eq!(records, 0);
+    assert!(tables <= 10 * tasks, "{tables} tables read");
+}
