@@ -221,9 +221,12 @@ impl Shard<'_> {
         // cost (an unsynced write and a rename) is the part left out, and the sweep's overhead
         // in `cargo xtask bench` (P5) counts it.
         record.wall_s = start.elapsed().as_secs_f64();
-        record
-            .write(self.dir)
-            .map_err(|e| fail(format!("cannot write its record: {e}")))?;
+        if let Err(e) = record.write(self.dir) {
+            // A --force of another sweep removes points/ after sweep.json: a write that fails
+            // in that instant is the takeover, not an I/O error of this sweep.
+            self.watch.check()?;
+            return Err(fail(format!("cannot write its record: {e}")));
+        }
         let run_s = record.run_s;
         Ok(Some((record, run_s)))
     }
