@@ -121,12 +121,9 @@ impl Map {
 /// A bad sweep file, a failed merge, or I/O errors, as text.
 pub fn run_map(file: &Path, dir: &Path, jobs: usize, resume: bool) -> Result<Map, String> {
     let sweep = Sweep::load(file, false).map_err(|e| e.to_string())?;
-    // A report shows what this build computes: points another build left behind (the sweep's
-    // fingerprint knows the version number, not the commit) are only reused when asked.
-    if !resume && dir.exists() {
-        std::fs::remove_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    }
-    exec::prepare(&sweep, dir, true).map_err(|e| e.to_string())?;
+    // Afresh unless asked to resume; a resumed map recomputes the points another build left
+    // behind (the sweep's fingerprint holds the build identity of the numerics).
+    exec::prepare(&sweep, dir, !resume).map_err(|e| e.to_string())?;
     let options = SweepOptions {
         jobs,
         ..SweepOptions::default()
@@ -137,7 +134,7 @@ pub fn run_map(file: &Path, dir: &Path, jobs: usize, resume: bool) -> Result<Map
         "maps: {}: {} points run, {} already done, {:.1} s",
         sweep.name, report.ran, report.skipped, report.wall_s
     );
-    match exec::merge(dir).map_err(|e| e.to_string())? {
+    match exec::after_shard(dir, &sweep.fingerprint(), options.shard).map_err(|e| e.to_string())? {
         Merge::Complete { .. } => {}
         Merge::Incomplete { missing, .. } => return Err(format!("{missing} points missing")),
     }

@@ -1,12 +1,17 @@
 //! `cargo xtask slurm-check`: a real one-node Slurm on this machine runs a small sweep as a
-//! job array through `stickslip sweep slurm … --submit`, and its merged map.csv must equal a
-//! local run's in every column but `wall_s`.
+//! job array through `stickslip sweep slurm … --allow-large --keep all --submit`, its tasks
+//! at the same time on one directory, and the map the last task merged must equal a local
+//! run's in every column but `wall_s`.
 //!
 //! Steps: install Debian's `slurm-wlm` and `munge` with apt-get when missing (and say so);
 //! start `munged` unless a munge daemon answers already; write a slurm.conf naming this host
-//! under `target/slurm-check/`; start `slurmctld` and `slurmd` in the foreground as children;
-//! wait for the node; submit; wait for the array; merge; run the same sweep locally; compare;
-//! stop the daemons this command started, by pid (also on failure).
+//! under `target/slurm-check/`, with more CPUs than the machine has (the node takes the
+//! configured count), so every task of the array runs at once; start `slurmctld` and `slurmd`
+//! in the foreground as children; wait for the node; submit; wait for the array; check that
+//! the script carried the options, that the tasks overlapped in time (slurmctld's log of
+//! their starts and ends), that every task exited 0, and that the tasks kept each point's
+//! output (`--keep all` carried through); compare the map with a local run's; check that
+//! `sweep merge` agrees; stop the daemons this command started, by pid (also on failure).
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, Stdio};
@@ -16,7 +21,9 @@ use stickslip_run::sweep::map::MapTable;
 /// The sweep the check runs.
 const SWEEP: &str = "maps/slurm-check.toml";
 /// Array tasks.
-const TASKS: &str = "3";
+const TASKS: usize = 4;
+/// CPUs the node is configured with: more task slots than tasks (one CPU each).
+const NODE_CPUS: usize = 8;
 /// Longest wait for the node or the jobs.
 const PATIENCE: Duration = Duration::from_secs(180);
 
@@ -132,7 +139,8 @@ fn munge_answers() -> bool {
         .is_ok_and(|s| s.success())
 }
 
-fn slurm_conf(dir: &Path, host: &str, cpus: usize) -> String {
+fn slurm_conf(dir: &Path, host: &str) -> String {
+    let cpus = NODE_CPUS;
     let d = dir.display();
     format!(
         "# Written by cargo xtask slurm-check: a one-node cluster on this host.\n\
@@ -140,6 +148,7 @@ fn slurm_conf(dir: &Path, host: &str, cpus: usize) -> String {
          AuthType=auth/munge\nCredType=cred/munge\nProctrackType=proctrack/linuxproc\n\
          TaskPlugin=task/none\nSelectType=select/cons_tres\nSelectTypeParameters=CR_CPU\n\
          ReturnToService=2\nMpiDefault=none\nJobCompType=jobcomp/none\n\
+         SlurmdParameters=config_overrides\nSlurmctldDebug=debug\n\
          AccountingStorageType=accounting_storage/none\nSchedulerType=sched/backfill\n\
          StateSaveLocation={d}/state\nSlurmdSpoolDir={d}/spool\n\
          SlurmctldPidFile={d}/slurmctld.pid\nSlurmdPidFile={d}/slurmd.pid\n\
@@ -178,9 +187,8 @@ fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
         std::fs::create_dir_all(dir.join(sub)).map_err(|e| e.to_string())?;
     }
     let host = run(Command::new("hostname").arg("-s"))?.trim().to_string();
-    let cpus = std::thread::available_parallelism().map_or(1, usize::from);
     let conf = dir.join("slurm.conf");
-    std::fs::write(&conf, slurm_conf(&dir, &host, cpus)).map_err(|e| e.to_string())?;
+    std::fs::write(&conf, slurm_conf(&dir, &host)).map_err(|e| e.to_string())?;
     if munge_answers() {
         println!("slurm-check: a munge daemon answers already; using it");
     } else {
@@ -229,7 +237,10 @@ fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
             "--out",
             out.to_str().unwrap_or(""),
             "--tasks",
-            TASKS,
+            &TASKS.to_string(),
+            "--allow-large",
+            "--keep",
+            "all",
             "--submit",
         ],
     ))?;
@@ -243,6 +254,7 @@ fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
         "slurm-check: the array ran in {:.1} s",
         started.elapsed().as_secs_f64()
     );
+    check_array(&dir, &out)?;
     let merged = run(&mut slurm(
         bin.to_str().unwrap_or("stickslip"),
         &["sweep", "merge", out.to_str().unwrap_or("")],
@@ -267,11 +279,120 @@ fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
         ));
     }
     println!(
-        "slurm-check: map.csv from {TASKS} Slurm tasks equals the local run's in every column \
-         but wall_s ({} points)",
+        "slurm-check: map.csv from {TASKS} concurrent Slurm tasks equals the local run's in \
+         every column but wall_s ({} points)",
         a.len() - 1
     );
     Ok(())
+}
+
+/// Checks what the array did in `out`: the options reached every task (the script's `sweep
+/// run` line; each point's output kept), every task exited 0, and the tasks overlapped.
+fn check_array(dir: &Path, out: &Path) -> Result<(), String> {
+    let script = std::fs::read_to_string(out.join("sweep.sbatch")).map_err(|e| e.to_string())?;
+    let line = script
+        .lines()
+        .find(|l| l.contains(" sweep run "))
+        .ok_or("the script has no `sweep run` line")?;
+    if !(line.contains("--allow-large") && line.contains("--keep all")) {
+        return Err(format!(
+            "the script's tasks do not carry --allow-large --keep all: {line}"
+        ));
+    }
+    let kept = std::fs::read_dir(out.join("runs")).map_or(0, Iterator::count);
+    let points = stickslip_run::sweep::exec::load_lock(out)
+        .map_err(|e| e.to_string())?
+        .sweep
+        .points;
+    if kept != points {
+        return Err(format!(
+            "--keep all did not reach the tasks: {kept} of {points} points kept their output"
+        ));
+    }
+    let log = std::fs::read_to_string(dir.join("slurmctld.log")).map_err(|e| e.to_string())?;
+    let spans = task_spans(&log);
+    let exits: Vec<&str> = log
+        .lines()
+        .filter(|l| l.contains("_job_complete") && l.contains("WEXITSTATUS"))
+        .collect();
+    if let Some(bad) = exits.iter().find(|l| !l.contains("WEXITSTATUS 0")) {
+        return Err(format!("a task failed: {bad}"));
+    }
+    if exits.len() != TASKS {
+        return Err(format!(
+            "slurmctld.log shows the exit status of {} tasks, not {TASKS}",
+            exits.len()
+        ));
+    }
+    let overlapping = spans
+        .iter()
+        .map(|&(start, _)| {
+            spans
+                .iter()
+                .filter(|&&(s, e)| s <= start && start < e)
+                .count()
+        })
+        .max()
+        .unwrap_or(0);
+    println!(
+        "slurm-check: {} tasks ran, {} at once at most, all exited 0 (slurmctld.log); the \
+         script carried --allow-large --keep all, and each of the {points} points kept its \
+         output",
+        spans.len(),
+        overlapping
+    );
+    if spans.len() != TASKS || overlapping < 2 {
+        return Err(format!(
+            "expected {TASKS} tasks running at the same time, the log shows {} tasks, {} at \
+             once at most",
+            spans.len(),
+            overlapping
+        ));
+    }
+    Ok(())
+}
+
+/// Seconds of the day of a slurmctld log line's `[YYYY-MM-DDTHH:MM:SS.mmm]` stamp.
+fn stamp_s(line: &str) -> Option<f64> {
+    let t = line
+        .strip_prefix('[')?
+        .split(']')
+        .next()?
+        .split('T')
+        .nth(1)?;
+    let mut parts = t.split(':');
+    let h: f64 = parts.next()?.parse().ok()?;
+    let m: f64 = parts.next()?.parse().ok()?;
+    let s: f64 = parts.next()?.parse().ok()?;
+    Some(h * 3600.0 + m * 60.0 + s)
+}
+
+/// (start, end) of each array task in slurmctld's log: from `sched: Allocate JobId=A_I` to
+/// `_job_complete: JobId=A_I`.
+fn task_spans(log: &str) -> Vec<(f64, f64)> {
+    let id = |line: &str, after: &str| {
+        line.split(after)
+            .nth(1)
+            .and_then(|r| r.split_whitespace().next())
+            .map(|s| s.split('(').next().unwrap_or(s).to_string())
+    };
+    let mut starts = std::collections::BTreeMap::new();
+    let mut spans = Vec::new();
+    for line in log.lines() {
+        let Some(t) = stamp_s(line) else { continue };
+        if line.contains("Allocate JobId=") {
+            if let Some(job) = id(line, "Allocate JobId=") {
+                starts.insert(job, t);
+            }
+        } else if line.contains("_job_complete: JobId=")
+            && line.contains("done")
+            && let Some(job) = id(line, "_job_complete: JobId=")
+            && let Some(start) = starts.remove(&job)
+        {
+            spans.push((start, t));
+        }
+    }
+    spans
 }
 
 /// Runs the check; exit 0 on success, 1 on a failed check or error.

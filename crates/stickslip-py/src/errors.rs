@@ -73,6 +73,7 @@ pub fn sweep(e: &SweepError) -> PyErr {
             ("value", value),
             ("allowed", allowed),
             ("point", point),
+            ("line", e.line().into()),
         ],
     )
 }

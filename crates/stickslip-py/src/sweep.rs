@@ -6,20 +6,17 @@ use crate::errors;
 use crate::run::SignalWatch;
 use crate::scene::PyScene;
 use numpy::{IntoPyArray, PyArray1};
-use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyTypeError, PyValueError};
+use pyo3::exceptions::{
+    PyKeyboardInterrupt, PyOSError, PyRuntimeWarning, PyTypeError, PyValueError,
+};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyString};
+use pyo3::types::{PyBool, PyDict, PyInt, PyString};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use stickslip_run::scene::toml_text;
 use stickslip_run::sweep::exec::{self, Merge, SweepOptions, SweepProgress, SweepRunError};
-use stickslip_run::sweep::file::SweepFile;
 use stickslip_run::sweep::map::MapTable;
-use stickslip_run::sweep::{Sweep, SweepError, value_number};
-
-/// The keys of a sweep file, for the message on an unknown one.
-const SWEEP_KEYS: &str = "the keys of INTERFACE.md's sweep file: name, scene, [set], [[axis]] \
-                          (key, values | range {from, to, count, scale}), [regime]";
+use stickslip_run::sweep::{Sweep, SweepError, file, value_number};
 
 /// Resolves a sweep given as a dict; `scratch` receives the scene file of a `Scene` object.
 fn from_dict(d: &Bound<'_, PyAny>, scratch: &Path, allow_large: bool) -> PyResult<Sweep> {
@@ -50,23 +47,15 @@ fn from_dict(d: &Bound<'_, PyAny>, scratch: &Path, allow_large: bool) -> PyResul
             table.insert(key, value);
         }
     }
-    let file: SweepFile = toml::Value::Table(table)
-        .try_into()
-        .map_err(|e: toml::de::Error| {
-            let message = e.message().trim().to_string();
-            let err = match message.strip_prefix("unknown field `") {
-                Some(rest) => SweepError::invalid(
-                    rest.split('`').next().unwrap_or(rest).to_string(),
-                    "(present)",
-                    SWEEP_KEYS,
-                ),
-                None => SweepError::Read {
-                    path: "(dict)".to_string(),
-                    message,
-                },
-            };
-            errors::sweep(&err)
-        })?;
+    // As the text of a sweep file, so a dict's errors name the key path as a file's do (its
+    // lines mean nothing here and are left out).
+    let text = toml::to_string(&table).map_err(|e| {
+        errors::sweep(&SweepError::Read {
+            path: "(dict)".to_string(),
+            message: e.to_string(),
+        })
+    })?;
+    let file = file::parse(&text, "(dict)", false).map_err(|e| errors::sweep(&e))?;
     // The scene path of a dict is relative to the current directory.
     let here = std::env::current_dir()
         .map_err(|e| PyOSError::new_err(format!("current directory: {e}")))?
@@ -148,22 +137,64 @@ fn table_dict<'py>(
     Ok(d)
 }
 
+/// `jobs` as a count of threads: None for the available cores, else an int ≥ 1.
+fn jobs_count(jobs: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
+    let Some(jobs) = jobs.filter(|j| !j.is_none()) else {
+        return Ok(std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    };
+    let kind = jobs
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    if jobs.cast::<PyBool>().is_ok() || jobs.cast::<PyInt>().is_err() {
+        return Err(PyTypeError::new_err(format!(
+            "jobs = {jobs} ({kind}) is invalid; allowed: an int >= 1, or None for the \
+             available cores"
+        )));
+    }
+    match jobs.extract::<i64>() {
+        Ok(j) if j >= 1 => Ok(usize::try_from(j).unwrap_or(usize::MAX)),
+        _ => Err(PyValueError::new_err(format!(
+            "jobs = {jobs} is invalid; allowed: an int >= 1, or None for the available cores"
+        ))),
+    }
+}
+
+/// A flag argument: a bool, nothing else.
+fn flag(value: &Bound<'_, PyAny>, name: &str) -> PyResult<bool> {
+    value.cast::<PyBool>().map(|b| b.is_true()).map_err(|_| {
+        let kind = value
+            .get_type()
+            .name()
+            .map_or_else(|_| "?".to_string(), |n| n.to_string());
+        PyTypeError::new_err(format!(
+            "{name} = {value} ({kind}) is invalid; allowed: True or False"
+        ))
+    })
+}
+
 /// Runs a sweep (a friction map) and returns map.csv as a dict of NumPy arrays. Internal: see
 /// ``stickslip.sweep``.
 #[pyfunction]
-#[pyo3(signature = (sweep, jobs = None, *, out = None, force = false, allow_large = false))]
+#[pyo3(signature = (sweep, jobs = None, *, out = None, force = None, allow_large = None))]
 pub fn sweep<'py>(
     py: Python<'py>,
     sweep: &Bound<'py, PyAny>,
-    jobs: Option<usize>,
-    out: Option<PathBuf>,
-    force: bool,
-    allow_large: bool,
+    jobs: Option<&Bound<'py, PyAny>>,
+    out: Option<&Bound<'py, PyAny>>,
+    force: Option<&Bound<'py, PyAny>>,
+    allow_large: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let jobs = match jobs {
-        Some(0) => return Err(PyValueError::new_err("jobs = 0; allowed: an integer >= 1")),
-        Some(j) => j,
-        None => std::thread::available_parallelism().map_or(1, std::num::NonZero::get),
+    let jobs = jobs_count(jobs)?;
+    let force = force.map_or(Ok(false), |f| flag(f, "force"))?;
+    let allow_large = allow_large.map_or(Ok(false), |f| flag(f, "allow_large"))?;
+    let out: Option<PathBuf> = match out.filter(|o| !o.is_none()) {
+        None => None,
+        Some(o) => Some(o.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "out = {o} is invalid; allowed: a path (str or os.PathLike) or None"
+            ))
+        })?),
     };
     let scratch = tempfile::Builder::new()
         .prefix("stickslip-sweep-")
@@ -189,21 +220,45 @@ pub fn sweep<'py>(
     let result = py.detach(|| {
         exec::prepare(&resolved, &dir, force)?;
         let mut progress = |_: &SweepProgress| watch.check(&stop);
-        exec::run_shard(&resolved, &dir, &options, Some(&stop), &mut progress)?;
-        exec::merge(&dir)
+        let report = exec::run_shard(&resolved, &dir, &options, Some(&stop), &mut progress)?;
+        let merged = if report.interrupted {
+            exec::merge(&dir)
+        } else {
+            exec::after_shard(&dir, &resolved.fingerprint(), options.shard)
+        };
+        merged.map(|m| (m, report.recomputed_text()))
     });
     if let Some(e) = watch.error.take() {
         return Err(e);
     }
     match result {
-        Ok(Merge::Complete { table, .. }) => table_dict(py, &resolved, &table),
-        Ok(Merge::Incomplete { missing, points }) => Err(PyKeyboardInterrupt::new_err(format!(
+        Ok((Merge::Complete { table, .. }, again)) => {
+            if !again.is_empty() {
+                PyErr::warn(
+                    py,
+                    &py.get_type::<PyRuntimeWarning>(),
+                    &std::ffi::CString::new(format!("stickslip.sweep: {again}"))
+                        .unwrap_or_default(),
+                    1,
+                )?;
+            }
+            table_dict(py, &resolved, &table)
+        }
+        Ok((
+            Merge::Incomplete {
+                missing, points, ..
+            },
+            _,
+        )) => Err(PyKeyboardInterrupt::new_err(format!(
             "sweep interrupted: {missing} of {points} points not run"
         ))),
         Err(SweepRunError::Other { dir }) => Err(PyOSError::new_err(format!(
             "{dir} holds the results of another sweep (its sweep.json differs); allowed: the \
              directory of this sweep, a new one, or force=True to replace them"
         ))),
+        Err(e @ SweepRunError::Foreign { .. }) => Err(PyOSError::new_err(
+            e.to_string().replace("--force", "force=True"),
+        )),
         Err(e) => Err(PyOSError::new_err(e.to_string())),
     }
 }

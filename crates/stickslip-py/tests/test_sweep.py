@@ -150,3 +150,73 @@ def test_bad_sweeps() -> None:
         stickslip.sweep("does/not/exist.toml")
     with pytest.raises(ValueError):
         stickslip.sweep(sweep_dict(scene), jobs=0)
+
+
+def test_argument_errors_are_type_and_value_errors(sweep_file: Path) -> None:
+    with pytest.raises(ValueError, match=r"jobs = -1 is invalid; allowed: an int >= 1"):
+        stickslip.sweep(sweep_file, jobs=-1)
+    with pytest.raises(ValueError, match="jobs = 0"):
+        stickslip.sweep(sweep_file, jobs=0)
+    for bad in (True, 1.5, "2"):
+        with pytest.raises(TypeError, match="jobs = .* is invalid"):
+            stickslip.sweep(sweep_file, jobs=bad)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="force = 1 .* allowed: True or False"):
+        stickslip.sweep(sweep_file, force=1)  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match="out = 3 is invalid"):
+        stickslip.sweep(sweep_file, out=3)  # type: ignore[arg-type]
+
+
+def test_sweep_file_errors_carry_the_key_and_the_line(tmp_path: Path) -> None:
+    text = SWEEP_TOML.format(scene=(SCENES / "rigid.toml").as_posix()).replace(
+        "count = 3", "count = 3.0"
+    )
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(stickslip.SweepError) as e:
+        stickslip.sweep(path)
+    assert e.value.key == "axis[1].range.count" and e.value.line == 16, e.value
+    assert "an integer" in str(e.value)
+    bad = sweep_dict(stickslip.Scene.load(SCENES / "rigid.toml"))
+    bad["regime"] = {"stick_slip": 0.8}
+    with pytest.raises(stickslip.SweepError) as e:
+        stickslip.sweep(bad)
+    assert e.value.key == "regime.stick_slip" and e.value.line is None
+    bad = sweep_dict(stickslip.Scene.load(SCENES / "rigid.toml"))
+    bad["axis"][0] = {"key": "contact.nodes", "range": {"from": 10, "to": 11, "count": 5}}
+    with pytest.raises(stickslip.SweepError, match="gives 10 twice"):
+        stickslip.sweep(bad)
+
+
+def test_a_record_of_another_sweep_is_refused(sweep_file: Path, tmp_path: Path) -> None:
+    a, b = tmp_path / "a", tmp_path / "b"
+    stickslip.sweep(sweep_file, jobs=1, out=a)
+    other = sweep_dict(stickslip.Scene.load(SCENES / "rigid.toml"))
+    other["axis"][0]["values"] = [2e-3, 4e-3]
+    stickslip.sweep(other, jobs=1, out=b)
+    # A's record lands among B's (and B's shard tables are gone): B's rows must not be
+    # labelled with A's values; the record is refused by name.
+    (b / "points" / "0000004.json").write_bytes((a / "points" / "0000004.json").read_bytes())
+    for table in (b / "shards").iterdir():
+        table.unlink()
+    with pytest.raises(OSError, match=r"0000004\.json is not a result of this sweep.*force=True"):
+        stickslip.sweep(other, jobs=1, out=b)
+
+
+def test_points_of_another_build_are_recomputed_with_a_warning(
+    sweep_file: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "built"
+    first = stickslip.sweep(sweep_file, jobs=1, out=out)
+    sweep_json = out / "sweep.json"
+    build = __import__("json").loads(sweep_json.read_text())["build"]
+    old = "0" * 16
+    for f in [sweep_json, *(out / "points").iterdir(), *(out / "shards").iterdir()]:
+        f.write_text(f.read_text().replace(build, old))
+        f.rename(f.with_name(f.name.replace(build, old)))
+    with pytest.warns(RuntimeWarning, match=f"6 points recomputed: computed by build {old}"):
+        again = stickslip.sweep(sweep_file, jobs=1, out=out)
+    for name in COLUMNS:
+        if name != "wall_s":
+            assert np.array_equal(again[name], first[name]) or same_bits(
+                again[name], first[name]
+            ), name

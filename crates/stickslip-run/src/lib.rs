@@ -10,12 +10,14 @@
 //! - [`outcome`] and [`summary`]: what a run hands back, and its SPEC §6 summary and regime;
 //! - [`check`]: what `stickslip check` reports (preflight, plausibility, a timed probe);
 //! - [`sweep`]: friction maps, points run in-process on threads, sharded, resumable, merged;
-//! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file.
+//! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file;
+//! - [`build_id`]: the build identity of the numerics, which sweep points carry.
 //!
 //! Invariant: no command-line or terminal code here (no clap, no progress bars, no exit
 //! codes); the physics comes from `stickslip-core`.
 
 pub mod atomic;
+pub mod build_id;
 pub mod check;
 pub mod checkpoint;
 pub mod driver;

@@ -1,10 +1,13 @@
-//! `stickslip sweep run | merge | slurm | plot`: friction maps (INTERFACE.md, "Sweeps").
+//! `stickslip sweep run | merge | slurm | plot`: friction maps (docs/reference.md, "Sweeps").
 //!
-//! Exit status: 0 done (a shard whose map is not complete yet also exits 0: it did its part);
-//! 2 a bad sweep file or arguments, or a directory holding another sweep without `--force`;
-//! 4 the map is complete but some points failed numerically or were refused (their rows say
-//! so; the other points are valid results); 5 `merge` of an incomplete sweep; 130
-//! interrupted (finished points are kept, a rerun skips them); 1 an I/O error.
+//! Exit status: 0 done (a shard whose map is not complete yet also exits 0: it did its part,
+//! and so does one whose closing merge met an I/O error: `sweep merge` finishes it); 2 a bad
+//! sweep file or arguments, an output directory that cannot be written, a directory holding
+//! another sweep without `--force`, a record of another sweep in it, or a directory another
+//! sweep took over while this one ran; 4 the map is complete but some points failed
+//! numerically or were refused (their rows say so; the other points are valid results); 5
+//! `merge` of an incomplete sweep; 130 interrupted (finished points are kept, a rerun skips
+//! them); 1 an I/O error.
 
 use clap::{Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -12,7 +15,9 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::sync::atomic::Ordering;
-use stickslip_run::sweep::exec::{self, Merge, SweepOptions, SweepProgress, SweepRunError};
+use stickslip_run::sweep::exec::{
+    self, Merge, MergeCost, Prepared, SweepOptions, SweepProgress, SweepRunError,
+};
 use stickslip_run::sweep::map::MapJson;
 use stickslip_run::sweep::{Sweep, slurm};
 
@@ -49,10 +54,11 @@ pub enum SweepCommand {
         /// What to keep of each point.
         #[arg(long, value_enum, default_value_t = Keep::Summary)]
         keep: Keep,
-        /// Replace another sweep's results in the directory.
+        /// Start afresh: remove the directory's earlier results (of another sweep, or of this
+        /// one) first.
         #[arg(long)]
         force: bool,
-        /// Allow more than 100000 points.
+        /// Allow more than 100000 points (at most 10000000).
         #[arg(long)]
         allow_large: bool,
         /// No progress display.
@@ -63,6 +69,10 @@ pub enum SweepCommand {
     Merge {
         /// Sweep directory.
         dir: PathBuf,
+        /// Wait up to SECONDS for the sweep to appear and its points to be complete, then merge
+        /// (a merge started with the shards, or a dependent job).
+        #[arg(long, value_name = "SECONDS", value_parser = parse_wait)]
+        wait: Option<f64>,
     },
     /// Write DIR/sweep.sbatch, a Slurm job array of N tasks (task i runs shard i/N).
     Slurm {
@@ -80,12 +90,16 @@ pub enum SweepCommand {
         /// An extra #SBATCH argument, e.g. --sbatch-arg=--partition=short (repeatable).
         #[arg(long = "sbatch-arg", value_name = "ARG", allow_hyphen_values = true)]
         sbatch_arg: Vec<String>,
-        /// Replace another sweep's results in the directory.
+        /// Start afresh: remove the directory's earlier results (of another sweep, or of this
+        /// one) now, when the directory is prepared; the tasks do not repeat it.
         #[arg(long)]
         force: bool,
-        /// Allow more than 100000 points.
+        /// Allow more than 100000 points (at most 10000000); the tasks run with it too.
         #[arg(long)]
         allow_large: bool,
+        /// What the tasks keep of each point.
+        #[arg(long, value_enum, default_value_t = Keep::Summary)]
+        keep: Keep,
     },
     /// Render the map of DIR as SVG: regimes as colours and one quantity.
     Plot {
@@ -113,12 +127,43 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((i, n))
 }
 
+fn parse_wait(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && (0.0..=1e7).contains(&x) => Ok(x),
+        _ => Err(format!(
+            "{s:?} is not a waiting time; allowed: seconds from 0 to 1e7, e.g. 3600"
+        )),
+    }
+}
+
 fn sweep_error(e: &SweepRunError) -> ExitCode {
-    let code = match e {
-        SweepRunError::Other { .. } | SweepRunError::Missing { .. } => 2,
-        SweepRunError::Io { .. } => 1,
+    crate::fail(e, e.exit_code())
+}
+
+/// "from 4 shard tables", "from 12 records", … of a merge.
+fn cost_text(cost: &MergeCost) -> String {
+    let source = match (cost.tables_read, cost.records_read) {
+        (0, 0) => "nothing read".to_string(),
+        (t, 0) => format!("from {t} shard tables"),
+        (0, r) => format!("from {r} records"),
+        (t, r) => format!("{t} shard tables and {r} records read"),
     };
-    crate::fail(e, code)
+    format!("{source}, {:.3} s", cost.seconds)
+}
+
+/// What `prepare` found, said.
+fn report_prepared(dir: &Path, prepared: &Prepared) {
+    if let Some(build) = &prepared.previous_build {
+        say!(
+            "{} holds this sweep computed by build {build}; this is build {}: its points are \
+             recomputed",
+            dir.display(),
+            stickslip_run::build_id::BUILD_ID
+        );
+    }
+    if prepared.started_afresh {
+        say!("--force: earlier results in {} removed", dir.display());
+    }
 }
 
 /// Prints the merge's outcome; the exit status.
@@ -128,6 +173,7 @@ fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
             table,
             statuses,
             regimes,
+            cost,
         } => {
             let regimes: Vec<String> = regimes
                 .iter()
@@ -135,12 +181,13 @@ fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
                 .collect();
             let statuses: Vec<String> = statuses.iter().map(|(s, n)| format!("{s} {n}")).collect();
             say!(
-                "map: {} points ({}); regimes: {}; written {} and {}",
+                "map: {} points ({}); regimes: {}; written {} and {} ({})",
                 table.rows.len(),
                 statuses.join(", "),
                 regimes.join(", "),
                 dir.join("map.csv").display(),
-                dir.join("map.json").display()
+                dir.join("map.json").display(),
+                cost_text(cost)
             );
             let bad = table
                 .rows
@@ -156,19 +203,32 @@ fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
             }
             ExitCode::SUCCESS
         }
-        Merge::Incomplete { missing, points } => {
+        Merge::Incomplete {
+            missing,
+            points,
+            other_build,
+            ..
+        } => {
             if after_shard {
                 say!(
-                    "{missing} of {points} points still to run (other shards); when they have \
-                     finished: stickslip sweep merge {}",
+                    "{missing} of {points} points in shards that have not finished yet; the \
+                     last shard to finish merges (or: stickslip sweep merge {})",
                     dir.display()
                 );
                 ExitCode::SUCCESS
             } else {
+                let stale = if *other_build > 0 {
+                    format!(
+                        " ({other_build} of them computed by another build, which is recomputed \
+                         when they run again)"
+                    )
+                } else {
+                    String::new()
+                };
                 crate::fail(
                     format!(
-                        "{missing} of {points} points of {} have no record yet: run the missing \
-                         shards (finished points are skipped), then merge again",
+                        "{missing} of {points} points of {} have no record of this build yet{stale}: \
+                         run the missing shards (finished points are skipped), then merge again",
                         dir.display()
                     ),
                     EXIT_INCOMPLETE,
@@ -233,8 +293,9 @@ fn run(
         Ok(s) => s,
         Err(e) => return crate::fail(e, 2),
     };
-    if let Err(e) = exec::prepare(&sweep, dir, force) {
-        return sweep_error(&e);
+    match exec::prepare(&sweep, dir, force) {
+        Ok(prepared) => report_prepared(dir, &prepared),
+        Err(e) => return sweep_error(&e),
     }
     let flag = match crate::interrupt_flag() {
         Ok(f) => f,
@@ -272,16 +333,31 @@ fn run(
         report.skipped,
         report.wall_s
     );
+    let again = report.recomputed_text();
+    if !again.is_empty() {
+        say!("{again}");
+    }
     if report.interrupted || flag.load(Ordering::Relaxed) {
         eprintln!("interrupted: finished points are kept; rerun the same command to run the rest");
         return ExitCode::from(crate::EXIT_INTERRUPTED);
     }
-    match exec::merge(dir) {
+    match exec::after_shard(dir, &sweep.fingerprint(), options.shard) {
         Ok(m) => report_merge(dir, &m, true),
+        // The shard's points are done and recorded: a merge that cannot write is not a
+        // failed shard; `sweep merge` finishes it.
+        Err(e @ SweepRunError::Io { .. }) => {
+            eprintln!(
+                "warning: the shard's points are done, but its closing merge failed: {e}; \
+                 merge with: stickslip sweep merge {}",
+                dir.display()
+            );
+            ExitCode::SUCCESS
+        }
         Err(e) => sweep_error(&e),
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn submit_slurm(
     path: &Path,
     dir: &Path,
@@ -290,18 +366,37 @@ fn submit_slurm(
     extra: &[String],
     force: bool,
     allow_large: bool,
+    keep: Keep,
 ) -> ExitCode {
     let sweep = match Sweep::load(path, allow_large) {
         Ok(s) => s,
         Err(e) => return crate::fail(e, 2),
     };
-    if let Err(e) = exec::prepare(&sweep, dir, force) {
-        return sweep_error(&e);
+    match exec::prepare(&sweep, dir, force) {
+        Ok(prepared) => report_prepared(dir, &prepared),
+        Err(e) => return sweep_error(&e),
+    }
+    // Every option the sweep runs with goes to the tasks (but --force, applied just now: a
+    // task repeating it would remove the points of the others).
+    let mut run_args = Vec::new();
+    if allow_large {
+        run_args.push("--allow-large".to_string());
+    }
+    if keep == Keep::All {
+        run_args.extend(["--keep".to_string(), "all".to_string()]);
     }
     let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
     let binary = std::env::current_exe().unwrap_or_else(|_| PathBuf::from("stickslip"));
     let tasks = usize::try_from(tasks).unwrap_or(1);
-    let text = slurm::script(&sweep.name, &binary, &abs(path), &abs(dir), tasks, extra);
+    let text = slurm::script(
+        &sweep.name,
+        &binary,
+        &abs(path),
+        &abs(dir),
+        tasks,
+        extra,
+        &run_args,
+    );
     let script = dir.join(slurm::SCRIPT);
     if let Err(e) = std::fs::create_dir_all(dir.join("slurm"))
         .and_then(|()| stickslip_run::atomic::write_atomic(dir, slurm::SCRIPT, text.as_bytes()))
@@ -326,7 +421,8 @@ fn submit_slurm(
             let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
             say!("submitted job {id}");
             say!(
-                "when it has finished: stickslip sweep merge {}",
+                "the last task to finish writes the map; to merge by hand: stickslip sweep merge \
+                 {}",
                 dir.display()
             );
             ExitCode::SUCCESS
@@ -384,10 +480,31 @@ pub fn main(cmd: SweepCommand) -> ExitCode {
             allow_large,
             quiet,
         } => run(&sweep, &out, jobs, shard, keep, force, allow_large, quiet),
-        SweepCommand::Merge { dir } => match exec::merge(&dir) {
-            Ok(m) => report_merge(&dir, &m, false),
-            Err(e) => sweep_error(&e),
-        },
+        SweepCommand::Merge { dir, wait } => {
+            let merged = match wait {
+                Some(s) => exec::merge_wait(&dir, std::time::Duration::from_secs_f64(s)),
+                None => exec::merge(&dir),
+            };
+            match merged {
+                Ok(m) => {
+                    let built = exec::load_lock(&dir).map(|l| l.build).unwrap_or_default();
+                    let now = stickslip_run::build_id::BUILD_ID;
+                    if matches!(m, Merge::Complete { .. }) && built != now {
+                        say!(
+                            "note: the points were computed by build {}, this binary is build \
+                             {now}; `stickslip sweep run` with this binary recomputes them",
+                            if built.is_empty() {
+                                "of an earlier version"
+                            } else {
+                                &built
+                            }
+                        );
+                    }
+                    report_merge(&dir, &m, false)
+                }
+                Err(e) => sweep_error(&e),
+            }
+        }
         SweepCommand::Slurm {
             sweep,
             out,
@@ -396,7 +513,17 @@ pub fn main(cmd: SweepCommand) -> ExitCode {
             sbatch_arg,
             force,
             allow_large,
-        } => submit_slurm(&sweep, &out, tasks, submit, &sbatch_arg, force, allow_large),
+            keep,
+        } => submit_slurm(
+            &sweep,
+            &out,
+            tasks,
+            submit,
+            &sbatch_arg,
+            force,
+            allow_large,
+            keep,
+        ),
         SweepCommand::Plot { dir, quantity, out } => plot(&dir, &quantity, out),
     }
 }

@@ -9,3 +9,4 @@ mod reference;
 mod resume;
 mod runs;
 mod sweep;
+mod sweep_safe;

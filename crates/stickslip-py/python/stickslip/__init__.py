@@ -107,8 +107,8 @@ def sweep(
 ) -> Dict[str, np.ndarray]:
     """Runs a friction map and returns its table (map.csv) as ``dict[str, numpy.ndarray]``.
 
-    ``sweep``: a sweep file (TOML, INTERFACE.md "Sweeps"; its ``scene`` is relative to the
-    file) or a dict with the same keys, e.g.::
+    ``sweep``: a sweep file (TOML, docs/reference.md "Sweeps"; its ``scene`` is relative to
+    the file) or a dict with the same keys, e.g.::
 
         {"name": "v-A0", "scene": "validation/scenes/rigid.toml",   # relative to the cwd
          "set": {"contact.nodes": 50, "time.max_events": 4},
@@ -117,10 +117,11 @@ def sweep(
                    "range": {"from": 0.0, "to": 1.5e6, "count": 4}}]}
 
     In a dict, ``scene`` is a path relative to the current directory, or a ``Scene``.
-    ``jobs``: points run in parallel (default: the available cores). ``out``: a sweep
-    directory to keep (points/, map.csv, map.json; a rerun skips finished points, as
-    ``stickslip sweep run --out``); by default a temporary one. ``force``: replace another
-    sweep's results in ``out``. ``allow_large``: allow more than 100000 points.
+    ``jobs``: points run in parallel, an int >= 1 (default None: the available cores).
+    ``out``: a sweep directory to keep (points/, map.csv, map.json; a rerun skips finished
+    points, as ``stickslip sweep run --out``); by default a temporary one. ``force``: start
+    afresh, removing the earlier results in ``out`` (of another sweep, or of this one).
+    ``allow_large``: allow more than 100000 points (at most 10000000).
 
     Columns, in map.csv's order: ``point`` (int64), one per axis key (float64, or str
     objects for words), ``status`` (``ok`` | ``failed`` | ``refused``), ``regime`` (str
@@ -129,7 +130,13 @@ def sweep(
     ``melted_time_fraction``, ``wall_s`` s (float64, NaN for none), ``message`` (str).
     A failing point is a row with its status and message; the sweep goes on.
 
+    Every point's record in ``out`` carries the sweep's fingerprint (the sweep and the build
+    of the numerics) and its values: points another build computed are recomputed (a
+    ``RuntimeWarning`` says how many and why), and a record of another sweep raises
+    ``OSError`` naming it, as does a directory holding another sweep without ``force``.
+
     The GIL is released while points run; Ctrl-C raises ``KeyboardInterrupt``. Raises
-    ``SweepError`` (a ``SceneError``) for a bad sweep.
+    ``SweepError`` (a ``SceneError``) for a bad sweep, ``TypeError`` or ``ValueError`` for a
+    bad ``jobs``, ``force``, ``allow_large`` or ``out``.
     """
     return _native.sweep(sweep, jobs, out=out, force=force, allow_large=allow_large)

@@ -36,8 +36,9 @@ class SceneError(ValueError):
 
 class SweepError(SceneError):
     """A bad sweep (file or dict): ``key`` is the sweep's key (``axis[1].range.count``,
-    ``scene``, …) or the scene key a point's scene got wrong; ``point`` the point number
-    when one point's scene is bad."""
+    ``regime.stick_slip_recovery``, ``scene``, …) or the scene key a point's scene got wrong;
+    ``point`` the point number when one point's scene is bad; ``line`` the line of the sweep
+    file the key is on (None for a dict, or a key that is not written)."""
 
     def __init__(
         self,
@@ -46,9 +47,11 @@ class SweepError(SceneError):
         value: Optional[str] = None,
         allowed: Optional[str] = None,
         point: Optional[int] = None,
+        line: Optional[int] = None,
     ) -> None:
         super().__init__(message, key, value, allowed)
         self.point = point
+        self.line = line
 
 
 class NumericalFailure(RuntimeError):

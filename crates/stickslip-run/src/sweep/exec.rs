@@ -1,30 +1,31 @@
 //! Running a sweep: the points of a shard in-process on `jobs` threads, each point one run of
-//! the driver reduced to its record; resumable (finished points are skipped), interruptible
-//! (a point stopped mid-run leaves no record and reruns next time); then the merge into
-//! map.csv and map.json once every point has its record.
+//! the driver reduced to its record; resumable (points whose record is this sweep's and this
+//! build's are skipped, those of another build or damaged ones run again, a record of another
+//! sweep is refused), interruptible (a point stopped mid-run leaves no record and reruns next
+//! time). A shard that ran all its points writes its table for the merge
+//! ([`super::merge::write_table`]).
 //!
-//! `DIR/sweep.json` holds the sweep as resolved; a directory holding another sweep's points
-//! is refused unless `force`, which removes them first.
+//! Nothing is listed per point up front: the shard's points are counted off by number, the
+//! existing records are found with one listing of `points/`, and each record is read and
+//! checked when its point comes up, so a sweep of a million points starts at once.
 
 use super::Sweep;
-use super::map::{CSV_FILE, JSON_FILE, MapJson, MapRow, MapTable};
-use super::record::{PointRecord, PointStatus};
-use crate::atomic::write_atomic;
+use super::record::{Found, PointRecord, PointStatus, listed};
 use crate::driver::{Control, NullSink};
 use crate::outcome::StopReason;
 use crate::sink::dir::{DirOptions, DirSink};
-use crate::summary::Regime;
-use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
-use thiserror::Error;
 
-/// File name of the resolved sweep in its directory.
-pub const SWEEP_FILE: &str = "sweep.json";
+use super::lock::io_err;
+pub use super::lock::{
+    LockWatch, Prepared, SWEEP_FILE, SweepLock, SweepRunError, load_lock, prepare,
+};
+pub use super::merge::{Merge, MergeCost, after_shard, merge, merge_wait};
 
 /// How to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,7 +36,8 @@ pub struct SweepOptions {
     pub shard: (usize, usize),
     /// Keep every point's full output in `DIR/runs/<point>/` (else only its record).
     pub keep_all: bool,
-    /// Replace another sweep's results in the directory.
+    /// Start afresh: remove the directory's earlier results (of this sweep or another) before
+    /// running ([`prepare`]).
     pub force: bool,
 }
 
@@ -50,114 +52,15 @@ impl Default for SweepOptions {
     }
 }
 
-/// Why a sweep could not run or merge.
-#[derive(Debug, Error)]
-pub enum SweepRunError {
-    /// The directory holds another sweep (exit 2).
-    #[error(
-        "{dir} holds the results of another sweep (its sweep.json differs); allowed: the \
-         directory of this sweep, a new one, or --force to replace them"
-    )]
-    Other {
-        /// The directory.
-        dir: String,
-    },
-    /// No sweep in the directory (exit 2).
-    #[error("no sweep in {dir} ({why}); allowed: a directory written by `stickslip sweep run`")]
-    Missing {
-        /// The directory.
-        dir: String,
-        /// What is missing.
-        why: String,
-    },
-    /// An I/O error (exit 1).
-    #[error("sweep directory {path}: {source}")]
-    Io {
-        /// The path.
-        path: PathBuf,
-        /// The error.
-        source: io::Error,
-    },
-}
-
-fn io_err(path: &Path) -> impl FnOnce(io::Error) -> SweepRunError + '_ {
-    move |source| SweepRunError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
-/// `DIR/sweep.json`: the resolved sweep and its fingerprint.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SweepLock {
-    /// What decides every point's outcome.
-    pub fingerprint: String,
-    /// The sweep.
-    pub sweep: Sweep,
-}
-
-/// Readies `dir` for `sweep`: creates it and writes `sweep.json`, or checks that the one there
-/// is this sweep's; with `force`, another sweep's files are removed first.
-///
-/// # Errors
-/// [`SweepRunError::Other`] for another sweep's directory without `force`; I/O errors.
-pub fn prepare(sweep: &Sweep, dir: &Path, force: bool) -> Result<(), SweepRunError> {
-    let lock = SweepLock {
-        fingerprint: sweep.fingerprint(),
-        sweep: sweep.clone(),
-    };
-    let path = dir.join(SWEEP_FILE);
-    if let Ok(text) = std::fs::read_to_string(&path) {
-        let same = serde_json::from_str::<SweepLock>(&text)
-            .is_ok_and(|old| old.fingerprint == lock.fingerprint);
-        if same {
-            return Ok(());
-        }
-        if !force {
-            return Err(SweepRunError::Other {
-                dir: dir.display().to_string(),
-            });
-        }
-        for sub in ["points", "runs"] {
-            match std::fs::remove_dir_all(dir.join(sub)) {
-                Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(io_err(dir)(e)),
-                _ => {}
-            }
-        }
-        for f in [CSV_FILE, JSON_FILE] {
-            match std::fs::remove_file(dir.join(f)) {
-                Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(io_err(dir)(e)),
-                _ => {}
-            }
-        }
-    }
-    std::fs::create_dir_all(dir.join("points")).map_err(io_err(dir))?;
-    let text = serde_json::to_string_pretty(&lock).map_err(|e| io_err(dir)(io::Error::other(e)))?;
-    write_atomic(dir, SWEEP_FILE, text.as_bytes()).map_err(io_err(dir))
-}
-
-/// Reads `DIR/sweep.json`.
-///
-/// # Errors
-/// [`SweepRunError::Missing`] when there is none or it cannot be parsed.
-pub fn load_lock(dir: &Path) -> Result<SweepLock, SweepRunError> {
-    let missing = |why: String| SweepRunError::Missing {
-        dir: dir.display().to_string(),
-        why,
-    };
-    let text = std::fs::read_to_string(dir.join(SWEEP_FILE))
-        .map_err(|e| missing(format!("{SWEEP_FILE}: {e}")))?;
-    serde_json::from_str(&text).map_err(|e| missing(format!("{SWEEP_FILE}: {e}")))
-}
-
 /// Progress of a shard.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SweepProgress {
     /// Points of the shard finished by this process.
     pub done: usize,
-    /// Points of the shard to run in this process (finished ones skipped).
+    /// Points of the shard to run in this process (those found finished so far left out).
     pub total: usize,
-    /// Points of the shard that had a record already.
+    /// Points of the shard found finished so far (their records are this sweep's and this
+    /// build's).
     pub skipped: usize,
     /// Points that failed or were refused so far.
     pub failed: usize,
@@ -170,12 +73,17 @@ pub struct SweepProgress {
 pub struct ShardReport {
     /// Points run.
     pub ran: usize,
-    /// Points skipped (already finished).
+    /// Points skipped (already finished by this build).
     pub skipped: usize,
     /// Points that failed numerically.
     pub failed: usize,
     /// Points refused.
     pub refused: usize,
+    /// Of the points run, those that had a record computed by another build: that build's
+    /// identity → count.
+    pub recomputed: BTreeMap<String, usize>,
+    /// Of the points run, those whose record was damaged (cut short or emptied).
+    pub damaged: usize,
     /// Interrupted before every point of the shard had run.
     pub interrupted: bool,
     /// Wall-clock seconds of the shard.
@@ -186,53 +94,152 @@ pub struct ShardReport {
     pub points_run_s: f64,
 }
 
-/// Runs point `p`; `None` when interrupted (no record written).
-fn run_point(
-    sweep: &Sweep,
-    dir: &Path,
-    p: usize,
-    keep_all: bool,
-    interrupt: Option<&AtomicBool>,
-) -> Result<Option<(PointRecord, f64)>, String> {
-    let start = Instant::now();
-    let scene = sweep.scene(p).map_err(|e| format!("point {p}: {e}"))?;
-    let mut control = Control {
-        interrupt,
-        thresholds: sweep.thresholds,
-        ..Control::default()
-    };
-    let run_start = Instant::now();
-    let outcome = if keep_all {
-        let run_dir = dir.join("runs").join(format!("{p:07}"));
-        let options = DirOptions {
-            force: true,
-            checkpoint_every_s: 0.0,
-        };
-        let mut sink = DirSink::create(&run_dir, &options).map_err(|e| e.to_string())?;
-        crate::driver::run(&scene, &mut sink, &mut control).map_err(|e| e.to_string())?
-    } else {
-        crate::driver::run(&scene, &mut NullSink, &mut control).map_err(|e| e.to_string())?
-    };
-    let run_s = run_start.elapsed().as_secs_f64();
-    if outcome.stop == StopReason::Interrupted {
-        return Ok(None);
+impl ShardReport {
+    /// Why points ran again, in words (`""` when none did): "3 points recomputed: computed by
+    /// build 1a2b…, this is build 3c4d…; 1 damaged record".
+    #[must_use]
+    pub fn recomputed_text(&self) -> String {
+        let mut parts: Vec<String> = self
+            .recomputed
+            .iter()
+            .map(|(build, n)| {
+                format!(
+                    "{n} point{} recomputed: computed by build {build}, this is build {}",
+                    if *n == 1 { "" } else { "s" },
+                    crate::build_id::BUILD_ID
+                )
+            })
+            .collect();
+        if self.damaged > 0 {
+            parts.push(format!(
+                "{} point{} rerun: damaged record",
+                self.damaged,
+                if self.damaged == 1 { "" } else { "s" }
+            ));
+        }
+        parts.join("; ")
     }
-    let mut record = PointRecord::of(p, sweep.values(p), &outcome, 0.0, run_s);
-    // The point's wall time is measured just before its record is written; the write's own
-    // cost (an unsynced write and a rename) is the part left out, and the sweep's overhead in
-    // `cargo xtask bench` (P5) counts it.
-    record.wall_s = start.elapsed().as_secs_f64();
-    record
-        .write(dir)
-        .map_err(|e| format!("point {p}: cannot write its record: {e}"))?;
-    Ok(Some((record, run_s)))
 }
 
-/// Runs the points of `options.shard` that have no record yet, `options.jobs` at a time;
-/// `progress` is called about five times a second.
+/// Why a point ran although its record file existed.
+#[derive(Debug, Clone)]
+enum Again {
+    Build(String),
+    Damaged,
+}
+
+/// What became of one point.
+enum Done {
+    Ran(Box<PointRecord>, f64, Option<Again>),
+    Skipped(Box<PointRecord>),
+    Interrupted,
+}
+
+/// What the workers share.
+struct Shard<'a> {
+    sweep: &'a Sweep,
+    dir: &'a Path,
+    fingerprint: String,
+    keep_all: bool,
+    interrupt: Option<&'a AtomicBool>,
+    watch: LockWatch,
+    /// Point numbers with a record file when the shard started.
+    listed: Vec<usize>,
+}
+
+impl Shard<'_> {
+    /// Runs point `p` unless its record is current.
+    fn point(&self, p: usize) -> Result<Done, SweepRunError> {
+        let values = self.sweep.values(p);
+        let mut again = None;
+        if self.listed.binary_search(&p).is_ok() {
+            match PointRecord::find(self.dir, p, &values, &self.fingerprint)
+                .map_err(io_err(self.dir))?
+            {
+                Found::Current(r) => return Ok(Done::Skipped(r)),
+                Found::OtherBuild { build } => again = Some(Again::Build(build)),
+                Found::Damaged => again = Some(Again::Damaged),
+                Found::Missing => {}
+                Found::OtherSweep { why } => {
+                    return Err(SweepRunError::Foreign {
+                        path: PointRecord::path(self.dir, p),
+                        why,
+                    });
+                }
+            }
+        }
+        Ok(match self.run(p, values)? {
+            Some((record, run_s)) => Done::Ran(Box::new(record), run_s, again),
+            None => Done::Interrupted,
+        })
+    }
+
+    /// Runs point `p` and writes its record; `None` when interrupted (no record written).
+    fn run(
+        &self,
+        p: usize,
+        values: Vec<toml::Value>,
+    ) -> Result<Option<(PointRecord, f64)>, SweepRunError> {
+        let start = Instant::now();
+        let fail = |e: String| io_err(self.dir)(io::Error::other(format!("point {p}: {e}")));
+        let mut record = match self.sweep.scene(p) {
+            // Beyond MAX_POINTS a point's scene is first resolved here: a combination of
+            // values the scene refuses is a refused point, as a refused configuration is.
+            Err(e) => PointRecord::refused(p, values, &e.to_string(), 0.0),
+            Ok(scene) => {
+                let mut control = Control {
+                    interrupt: self.interrupt,
+                    thresholds: self.sweep.thresholds,
+                    ..Control::default()
+                };
+                let run_start = Instant::now();
+                let outcome = if self.keep_all {
+                    let run_dir = self.dir.join("runs").join(format!("{p:07}"));
+                    let options = DirOptions {
+                        force: true,
+                        checkpoint_every_s: 0.0,
+                    };
+                    let mut sink =
+                        DirSink::create(&run_dir, &options).map_err(|e| fail(e.to_string()))?;
+                    crate::driver::run(&scene, &mut sink, &mut control)
+                        .map_err(|e| fail(e.to_string()))?
+                } else {
+                    crate::driver::run(&scene, &mut NullSink, &mut control)
+                        .map_err(|e| fail(e.to_string()))?
+                };
+                let run_s = run_start.elapsed().as_secs_f64();
+                if outcome.stop == StopReason::Interrupted {
+                    return Ok(None);
+                }
+                PointRecord::of(p, values, &outcome, 0.0, run_s)
+            }
+        };
+        record.fingerprint.clone_from(&self.fingerprint);
+        // The directory must still be this sweep's: one metadata look-up per record.
+        self.watch.check()?;
+        // The point's wall time is measured just before its record is written; the write's own
+        // cost (an unsynced write and a rename) is the part left out, and the sweep's overhead
+        // in `cargo xtask bench` (P5) counts it.
+        record.wall_s = start.elapsed().as_secs_f64();
+        if let Err(e) = record.write(self.dir) {
+            // A --force of another sweep removes points/ after sweep.json: a write that fails
+            // in that instant is the takeover, not an I/O error of this sweep.
+            self.watch.check()?;
+            return Err(fail(format!("cannot write its record: {e}")));
+        }
+        let run_s = record.run_s;
+        Ok(Some((record, run_s)))
+    }
+}
+
+/// Runs the points of `options.shard` whose record is not current, `options.jobs` at a time;
+/// `progress` is called about five times a second. A shard that ran to its end writes its
+/// table (`DIR/shards/`) for the merge.
 ///
 /// # Errors
-/// I/O errors (a record that cannot be written or read).
+/// [`SweepRunError::Foreign`] for a record of another sweep, [`SweepRunError::TakenOver`]
+/// when the directory changes sweep meanwhile, I/O errors (a record that cannot be written or
+/// read).
 pub fn run_shard(
     sweep: &Sweep,
     dir: &Path,
@@ -242,37 +249,42 @@ pub fn run_shard(
 ) -> Result<ShardReport, SweepRunError> {
     let started = Instant::now();
     let (index, count) = options.shard;
-    let mut pending = Vec::new();
-    let mut skipped = 0;
-    for p in sweep.shard(index, count) {
-        match PointRecord::read(dir, p).map_err(io_err(dir))? {
-            Some(_) => skipped += 1,
-            None => pending.push(p),
-        }
-    }
+    let fingerprint = sweep.fingerprint();
+    let shard = Shard {
+        sweep,
+        dir,
+        keep_all: options.keep_all,
+        interrupt,
+        watch: LockWatch::new(dir, &fingerprint),
+        listed: listed(dir).map_err(io_err(dir))?,
+        fingerprint,
+    };
+    shard.watch.check()?;
+    let len = sweep.shard_len(index, count);
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
     let stopped =
         || stop.load(Ordering::Relaxed) || interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
-    let mut report = ShardReport {
-        skipped,
-        ..ShardReport::default()
-    };
-    let mut first_error: Option<String> = None;
+    let mut report = ShardReport::default();
+    let mut rows: Vec<Option<PointRecord>> = Vec::new();
+    rows.resize_with(len, || None);
+    let mut first_error: Option<SweepRunError> = None;
     std::thread::scope(|s| {
         let (tx, rx) = mpsc::channel();
         for _ in 0..options.jobs.max(1) {
             let tx = tx.clone();
-            let (next, pending, stopped) = (&next, &pending, &stopped);
+            let (next, shard, stopped) = (&next, &shard, &stopped);
             s.spawn(move || {
                 loop {
                     if stopped() {
                         break;
                     }
                     let k = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(&p) = pending.get(k) else { break };
-                    let result = run_point(sweep, dir, p, options.keep_all, interrupt);
-                    if tx.send(result).is_err() {
+                    if k >= len {
+                        break;
+                    }
+                    let result = shard.point(index + k * count);
+                    if tx.send((k, result)).is_err() {
                         break;
                     }
                 }
@@ -282,7 +294,7 @@ pub fn run_shard(
         let tick = Duration::from_millis(200);
         loop {
             match rx.recv_timeout(tick) {
-                Ok(Ok(Some((record, run_s)))) => {
+                Ok((k, Ok(Done::Ran(record, run_s, again)))) => {
                     report.ran += 1;
                     report.points_wall_s += record.wall_s;
                     report.points_run_s += run_s;
@@ -291,9 +303,19 @@ pub fn run_shard(
                         PointStatus::Refused => report.refused += 1,
                         PointStatus::Ok => {}
                     }
+                    match again {
+                        Some(Again::Build(b)) => *report.recomputed.entry(b).or_insert(0) += 1,
+                        Some(Again::Damaged) => report.damaged += 1,
+                        None => {}
+                    }
+                    rows[k] = Some(*record);
                 }
-                Ok(Ok(None)) => report.interrupted = true,
-                Ok(Err(e)) => {
+                Ok((k, Ok(Done::Skipped(record)))) => {
+                    report.skipped += 1;
+                    rows[k] = Some(*record);
+                }
+                Ok((_, Ok(Done::Interrupted))) => report.interrupted = true,
+                Ok((_, Err(e))) => {
                     first_error.get_or_insert(e);
                     stop.store(true, Ordering::Relaxed);
                 }
@@ -302,82 +324,24 @@ pub fn run_shard(
             }
             progress(&SweepProgress {
                 done: report.ran,
-                total: pending.len(),
-                skipped,
+                total: len - report.skipped,
+                skipped: report.skipped,
                 failed: report.failed + report.refused,
                 elapsed_s: started.elapsed().as_secs_f64(),
             });
         }
     });
-    if interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) && report.ran < pending.len() {
-        report.interrupted = true;
+    if let Some(e) = first_error {
+        return Err(e);
+    }
+    let rows: Option<Vec<PointRecord>> = rows.into_iter().collect();
+    match rows {
+        Some(rows) if !report.interrupted => {
+            shard.watch.check()?;
+            super::merge::write_table(dir, sweep, &shard.fingerprint, options.shard, &rows)?;
+        }
+        _ => report.interrupted = true,
     }
     report.wall_s = started.elapsed().as_secs_f64();
-    match first_error {
-        Some(e) => Err(io_err(dir)(io::Error::other(e))),
-        None => Ok(report),
-    }
-}
-
-/// The result of a merge.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Merge {
-    /// Every point has its record: map.csv and map.json are written.
-    Complete {
-        /// The table.
-        table: MapTable,
-        /// Points per status.
-        statuses: BTreeMap<String, usize>,
-        /// Points per regime (status ok).
-        regimes: BTreeMap<Regime, usize>,
-    },
-    /// Points without a record (shards still running or interrupted).
-    Incomplete {
-        /// How many.
-        missing: usize,
-        /// Of how many.
-        points: usize,
-    },
-}
-
-/// Merges the records in `dir` into map.csv and map.json when every point has one.
-///
-/// # Errors
-/// No sweep in `dir`, or I/O errors (a damaged record counts as missing).
-pub fn merge(dir: &Path) -> Result<Merge, SweepRunError> {
-    let lock = load_lock(dir)?;
-    let sweep = &lock.sweep;
-    let mut rows = Vec::with_capacity(sweep.points);
-    let mut missing = 0;
-    for p in 0..sweep.points {
-        match PointRecord::read(dir, p).map_err(io_err(dir))? {
-            Some(r) => rows.push(MapRow::of(&r)),
-            None => missing += 1,
-        }
-    }
-    if missing > 0 {
-        return Ok(Merge::Incomplete {
-            missing,
-            points: sweep.points,
-        });
-    }
-    let table = MapTable {
-        axes: sweep.axes.iter().map(|a| a.key.clone()).collect(),
-        rows,
-    };
-    write_atomic(dir, CSV_FILE, table.to_csv().as_bytes()).map_err(io_err(dir))?;
-    let json = MapJson::new(sweep, table.clone());
-    let mut text =
-        serde_json::to_string_pretty(&json).map_err(|e| io_err(dir)(io::Error::other(e)))?;
-    text.push('\n');
-    write_atomic(dir, JSON_FILE, text.as_bytes()).map_err(io_err(dir))?;
-    let mut statuses = BTreeMap::new();
-    for r in &table.rows {
-        *statuses.entry(r.status.name().to_string()).or_insert(0) += 1;
-    }
-    Ok(Merge::Complete {
-        regimes: table.regime_counts(),
-        statuses,
-        table,
-    })
+    Ok(report)
 }

@@ -1,12 +1,19 @@
 //! Friction maps: a sweep of one base scene over the cartesian product of axes, each point one
 //! in-process run reduced to its summary and regime (SPEC §6).
 //!
-//! - [`file`]: SWEEP.toml as written and its errors;
+//! - [`file`]: SWEEP.toml as written and its errors (each naming the key and its line);
 //! - this module: the resolved [`Sweep`] (axes, points, every point's scene validated before
-//!   anything runs);
-//! - [`record`]: one record per finished point, `DIR/points/<point>.json`, written atomically;
+//!   anything runs, or, beyond [`MAX_POINTS`], each axis value at once and each point when
+//!   it runs), its limits and its identity ([`Sweep::fingerprint`]);
+//! - [`lock`]: the sweep directory (`sweep.json`: one sweep per directory), its preparation
+//!   by any number of processes at once, and the watch that stops a process whose directory
+//!   another sweep took over;
+//! - [`record`]: one record per finished point, `DIR/points/<point>.json`, written atomically,
+//!   carrying the sweep's fingerprint and the point's values;
 //! - [`map`]: `map.csv` and `map.json`, writer and reader;
-//! - [`exec`]: running points (jobs, shards, resumable, interruptible) and the merge;
+//! - [`exec`]: running points (jobs, shards, resumable, interruptible);
+//! - [`merge`]: a shard's table (`DIR/shards/I-of-N.json`) and the merge into the map, from
+//!   the tables of a complete set of shards (O(P) for the whole array) or from the records;
 //! - [`slurm`]: the job-array script;
 //! - [`reference`]: the sweeps part of `docs/reference.md`, from these definitions.
 //!
@@ -16,13 +23,16 @@
 
 pub mod exec;
 pub mod file;
+pub mod lock;
 pub mod map;
+pub mod merge;
 pub mod record;
 pub mod reference;
 pub mod slurm;
 
 pub use file::SweepError;
 
+use crate::atomic::{FNV1A64_INIT, fnv1a64};
 use crate::keys::{self, ValueType};
 use crate::scene::{ResolvedScene, Scene, SceneError};
 use crate::summary::RegimeThresholds;
@@ -30,8 +40,15 @@ use file::{AxisFile, SweepFile};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// Largest number of points a sweep may have without `allow_large`.
+/// Largest number of points a sweep may have without `allow_large`; up to this many, every
+/// point's scene is validated before anything runs.
 pub const MAX_POINTS: usize = 100_000;
+
+/// Largest number of points a sweep may have at all (with `allow_large`): point records are
+/// files of one directory, numbered with seven digits. Beyond [`MAX_POINTS`] each axis value
+/// is validated at once and each point's scene when it runs (a point whose combination of
+/// values is invalid is a `refused` row).
+pub const HARD_MAX_POINTS: usize = 10_000_000;
 
 /// One axis of a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -141,6 +158,37 @@ fn flatten(table: &toml::Table, prefix: &str, out: &mut Vec<(String, toml::Value
     }
 }
 
+/// A value of `values` equal to another one (numbers compared as numbers), found in
+/// O(n log n): axes may have 100 000 values.
+fn first_duplicate(values: &[toml::Value]) -> Option<&toml::Value> {
+    let mut words = std::collections::HashSet::new();
+    let mut numbers: Vec<(f64, usize)> = Vec::with_capacity(values.len());
+    for (j, v) in values.iter().enumerate() {
+        match v {
+            toml::Value::String(s) => {
+                if !words.insert(s.as_str()) {
+                    return Some(v);
+                }
+            }
+            _ => numbers.push((value_number(v), j)),
+        }
+    }
+    numbers.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    numbers
+        .windows(2)
+        .find(|w| w[0].0 == w[1].0)
+        .map(|w| &values[w[1].1])
+}
+
+/// Up to 12 values as text, `…` for the rest.
+fn shown(values: &[toml::Value]) -> String {
+    let mut out: Vec<String> = values.iter().take(12).map(value_text).collect();
+    if values.len() > 12 {
+        out.push("…".into());
+    }
+    out.join(", ")
+}
+
 fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepError> {
     let name = |field: &str| format!("axis[{i}].{field}");
     let key = a.key.clone().ok_or_else(|| {
@@ -199,6 +247,16 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                         &format!("values of {key}: {}", spec.allowed()),
                     ));
                 }
+            }
+            if let Some(dup) = first_duplicate(values) {
+                return Err(SweepError::invalid(
+                    name("values"),
+                    crate::scene::error::show_value(&toml::Value::Array(values.clone())),
+                    &format!(
+                        "distinct values ({} is listed twice: the same point would run twice)",
+                        value_text(dup)
+                    ),
+                ));
             }
             let nums: Vec<f64> = values.iter().map(value_number).collect();
             let log = nums.len() >= 3
@@ -268,7 +326,7 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                     r.from + f * (r.to - r.from)
                 }
             };
-            let values = (0..n)
+            let values: Vec<toml::Value> = (0..n)
                 .map(|j| {
                     let v = if j == n - 1 { r.to } else { at(j) };
                     if spec.value == ValueType::Integer {
@@ -278,6 +336,27 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                     }
                 })
                 .collect();
+            if let Some(dup) = first_duplicate(&values) {
+                let distinct = {
+                    let mut d: Vec<String> = values.iter().map(value_text).collect();
+                    d.dedup();
+                    d.len()
+                };
+                return Err(SweepError::invalid(
+                    name("range.count"),
+                    r.count,
+                    &format!(
+                        "{key} takes integers: from = {} to {} in {} steps gives {} twice \
+                         (rounded: {}); a count of at most {distinct}, or `values = [...]` \
+                         with the integers wanted",
+                        r.from,
+                        r.to,
+                        r.count,
+                        value_text(dup),
+                        shown(&values)
+                    ),
+                ));
+            }
             (values, log && n >= 2)
         }
     };
@@ -296,23 +375,9 @@ impl Sweep {
             message,
         };
         let text = std::fs::read_to_string(path).map_err(|e| read_err(e.to_string()))?;
-        let file: SweepFile = toml::from_str(&text).map_err(|e| {
-            let message = e.message().trim().to_string();
-            match message.strip_prefix("unknown field `") {
-                Some(rest) => {
-                    let field = rest.split('`').next().unwrap_or(rest);
-                    SweepError::invalid(
-                        field.to_string(),
-                        "(present)",
-                        "the keys of INTERFACE.md's sweep file: name, scene, [set], [[axis]] \
-                         (key, values | range {from, to, count, scale}), [regime]",
-                    )
-                }
-                None => read_err(message),
-            }
-        })?;
+        let file = file::parse(&text, &path.display().to_string(), true)?;
         let file_path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
-        Self::resolve(&file, &file_path, allow_large)
+        Self::resolve(&file, &file_path, allow_large).map_err(|e| e.located(&text))
     }
 
     /// Resolves a parsed sweep file located at `file_path` (for the relative scene path).
@@ -344,6 +409,7 @@ impl Sweep {
         let mut base = Scene::parse_table(&text).map_err(|error| SweepError::Base {
             path: scene_path.display().to_string(),
             error: Box::new(error),
+            line: None,
         })?;
         let mut set = Vec::new();
         flatten(&file.set, "", &mut set);
@@ -377,20 +443,11 @@ impl Sweep {
         if axes.is_empty() {
             return Err(SweepError::invalid("axis", "none", "at least one [[axis]]"));
         }
-        let points = axes
-            .iter()
-            .try_fold(1usize, |p, a| p.checked_mul(a.values.len()))
-            .unwrap_or(usize::MAX);
-        if points > MAX_POINTS && !allow_large {
-            return Err(SweepError::invalid(
-                "axis",
-                format!("{points} points"),
-                &format!("at most {MAX_POINTS} points without --allow-large"),
-            ));
-        }
+        let points = point_count(&axes, allow_large)?;
         Scene::resolve_table(base.clone(), &[] as &[&str]).map_err(|error| SweepError::Base {
             path: scene_path.display().to_string(),
             error: Box::new(error),
+            line: None,
         })?;
         let sweep = Self {
             name,
@@ -402,14 +459,47 @@ impl Sweep {
             points,
             base,
         };
-        for p in 0..sweep.points {
+        for p in sweep.points_validated_up_front() {
             sweep.scene(p).map_err(|error| SweepError::Point {
                 point: p,
                 values: sweep.describe(p),
                 error: Box::new(error),
+                line: None,
             })?;
         }
         Ok(sweep)
+    }
+
+    /// Whether every point's scene was validated when the sweep was resolved (at most
+    /// [`MAX_POINTS`] points); beyond that, each axis value was, and each point's scene is
+    /// validated when the point runs.
+    #[must_use]
+    pub fn validated_up_front(&self) -> bool {
+        self.points <= MAX_POINTS
+    }
+
+    /// The points whose scenes [`Sweep::resolve`] validates: all of them up to
+    /// [`MAX_POINTS`]; beyond, one point per axis value (that value with every other axis at
+    /// its first value).
+    fn points_validated_up_front(&self) -> Box<dyn Iterator<Item = usize> + '_> {
+        if self.validated_up_front() {
+            return Box::new(0..self.points);
+        }
+        // The stride of axis j in the point number (last axis fastest).
+        let strides: Vec<usize> = (0..self.axes.len())
+            .map(|j| {
+                self.axes[j + 1..]
+                    .iter()
+                    .map(|a| a.values.len())
+                    .product::<usize>()
+            })
+            .collect();
+        Box::new(
+            self.axes
+                .iter()
+                .zip(strides)
+                .flat_map(|(a, stride)| (0..a.values.len()).map(move |i| i * stride)),
+        )
     }
 
     /// The axis indices of point `p` (last axis fastest).
@@ -458,21 +548,93 @@ impl Sweep {
         Scene::resolve_table(table, &[] as &[&str])
     }
 
-    /// The points of shard `index`/`count`.
-    #[must_use]
-    pub fn shard(&self, index: usize, count: usize) -> Vec<usize> {
-        (0..self.points).filter(|p| p % count == index).collect()
+    /// The points of shard `index`/`count` (index mod count = `index`), without listing the
+    /// others.
+    pub fn shard(&self, index: usize, count: usize) -> impl Iterator<Item = usize> + use<> {
+        (index..self.points).step_by(count.max(1))
     }
 
-    /// What identifies this sweep's results: everything that decides a point's outcome.
+    /// Number of points of shard `index`/`count`.
+    #[must_use]
+    pub fn shard_len(&self, index: usize, count: usize) -> usize {
+        shard_len(self.points, index, count)
+    }
+
+    /// What identifies this sweep apart from the build: a hash (16 hex digits) of the base
+    /// scene with `[set]`, the axes and the thresholds.
+    #[must_use]
+    pub fn definition(&self) -> String {
+        let text =
+            serde_json::to_string(&(&self.base, &self.axes, &self.thresholds)).unwrap_or_default();
+        format!("{:016x}", fnv1a64(FNV1A64_INIT, text.as_bytes()))
+    }
+
+    /// What identifies this sweep's results: everything that decides a point's outcome, the
+    /// sweep ([`Sweep::definition`]) and the build of the numerics
+    /// ([`crate::build_id::BUILD_ID`]), as `DEFINITION-BUILD`.
     #[must_use]
     pub fn fingerprint(&self) -> String {
-        serde_json::to_string(&(
-            &self.base,
-            &self.axes,
-            &self.thresholds,
-            env!("CARGO_PKG_VERSION"),
-        ))
-        .unwrap_or_default()
+        fingerprint(&self.definition(), crate::build_id::BUILD_ID)
+    }
+}
+
+/// The fingerprint of a sweep `definition` computed by `build`.
+#[must_use]
+pub fn fingerprint(definition: &str, build: &str) -> String {
+    format!("{definition}-{build}")
+}
+
+/// The definition and the build of a fingerprint (`None` if it has no `-`).
+#[must_use]
+pub fn split_fingerprint(fingerprint: &str) -> Option<(&str, &str)> {
+    fingerprint.split_once('-')
+}
+
+/// Number of points of shard `index`/`count` among `points`.
+#[must_use]
+pub fn shard_len(points: usize, index: usize, count: usize) -> usize {
+    if index >= points || count == 0 {
+        0
+    } else {
+        (points - index).div_ceil(count)
+    }
+}
+
+/// The number of points of `axes`, in overflow-safe arithmetic: at most [`MAX_POINTS`], or
+/// [`HARD_MAX_POINTS`] with `allow_large`.
+///
+/// # Errors
+/// Too many points, naming the count per axis.
+pub fn point_count(axes: &[Axis], allow_large: bool) -> Result<usize, SweepError> {
+    let counts: Vec<String> = axes.iter().map(|a| a.values.len().to_string()).collect();
+    let product = axes
+        .iter()
+        .try_fold(1usize, |p, a| p.checked_mul(a.values.len()));
+    let shown = |p: Option<usize>| {
+        format!(
+            "{} points ({})",
+            p.map_or_else(|| "more than 2^64".to_string(), |p| p.to_string()),
+            counts.join(" × ")
+        )
+    };
+    match product {
+        Some(p) if p <= MAX_POINTS => Ok(p),
+        Some(p) if p <= HARD_MAX_POINTS && allow_large => Ok(p),
+        p if allow_large => Err(SweepError::invalid(
+            "axis",
+            shown(p),
+            &format!(
+                "at most {HARD_MAX_POINTS} points (the limit of one sweep directory); split \
+                 the sweep"
+            ),
+        )),
+        p => Err(SweepError::invalid(
+            "axis",
+            shown(p),
+            &format!(
+                "at most {MAX_POINTS} points without --allow-large (allow_large=True in \
+                 Python), at most {HARD_MAX_POINTS} with it"
+            ),
+        )),
     }
 }

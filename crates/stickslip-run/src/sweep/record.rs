@@ -1,9 +1,12 @@
-//! One record per finished point: `DIR/points/<point>.json`, written atomically. A rerun
-//! skips the points that have one; the merge reads them all.
+//! One record per finished point: `DIR/points/<point>.json`, written atomically, carrying
+//! the sweep's fingerprint (its definition and the build that computed it) and the point's
+//! values. A rerun skips the points whose record is this sweep's and this build's
+//! ([`Found::Current`]), recomputes those of another build or damaged ones, and refuses a
+//! record of another sweep ([`Found::OtherSweep`]); so does the merge.
 
 use crate::atomic::write_atomic_recomputable;
 use crate::outcome::{RunOutcome, StopReason};
-use crate::summary::RunSummary;
+use crate::summary::{Regime, RunSummary};
 use serde::{Deserialize, Serialize};
 use std::io;
 use std::path::{Path, PathBuf};
@@ -58,6 +61,33 @@ pub struct PointRecord {
     pub run_s: f64,
     /// The failure or refusal, in one line (empty when ok).
     pub message: String,
+    /// The sweep's fingerprint ([`super::Sweep::fingerprint`]: definition and build) when the
+    /// point was computed; empty in records of earlier versions.
+    #[serde(default)]
+    pub fingerprint: String,
+}
+
+/// What the record file of a point holds, checked against the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Found {
+    /// No record.
+    Missing,
+    /// A file that is not a complete record of this point (cut short or emptied by a power
+    /// loss): the point runs again.
+    Damaged,
+    /// A record of this sweep by this build.
+    Current(Box<PointRecord>),
+    /// A record of this sweep computed by another build (or by a version before records
+    /// carried the build): the point runs again.
+    OtherBuild {
+        /// That build's identity (`an earlier version` when the record does not say).
+        build: String,
+    },
+    /// A record of another sweep: its fingerprint or its values are not this sweep's.
+    OtherSweep {
+        /// Why, in words (the fingerprints or values that differ).
+        why: String,
+    },
 }
 
 impl PointRecord {
@@ -88,6 +118,76 @@ impl PointRecord {
             wall_s,
             run_s,
             message,
+            fingerprint: String::new(),
+        }
+    }
+
+    /// The record of point `point` whose scene does not resolve (a sweep too large to validate
+    /// every point before it runs): `refused`, with the scene's error as the message.
+    #[must_use]
+    pub fn refused(point: usize, values: Vec<toml::Value>, message: &str, wall_s: f64) -> Self {
+        Self {
+            point,
+            values,
+            status: PointStatus::Refused,
+            summary: RunSummary {
+                n_events: 0,
+                t_first_onset: None,
+                period_last: None,
+                x_period_last: None,
+                f_peak_first: None,
+                f_peak_last: None,
+                f_mean: None,
+                recovery: None,
+                melted_time_fraction: None,
+                regime: Regime::NoMelting,
+            },
+            wall_s,
+            run_s: 0.0,
+            message: message.replace(['\n', '\r'], " "),
+            fingerprint: String::new(),
+        }
+    }
+
+    /// Checks the record against the sweep whose fingerprint is `fingerprint` and whose point
+    /// `point` has `values`.
+    #[must_use]
+    pub fn check(self, point: usize, values: &[toml::Value], fingerprint: &str) -> Found {
+        if self.point != point {
+            return Found::Damaged;
+        }
+        let (definition, _) = super::split_fingerprint(fingerprint).unwrap_or((fingerprint, ""));
+        let values_differ = self.values != values;
+        let shown = |v: &[toml::Value]| {
+            v.iter()
+                .map(super::value_text)
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        if self.fingerprint == fingerprint && !values_differ {
+            return Found::Current(Box::new(self));
+        }
+        match super::split_fingerprint(&self.fingerprint) {
+            Some((d, build)) if d == definition && !values_differ => Found::OtherBuild {
+                build: build.to_string(),
+            },
+            None if self.fingerprint.is_empty() && !values_differ => Found::OtherBuild {
+                build: "an earlier version".to_string(),
+            },
+            _ if values_differ => Found::OtherSweep {
+                why: format!(
+                    "its values ({}) are not this sweep's point {point} ({})",
+                    shown(&self.values),
+                    shown(values)
+                ),
+            },
+            _ => Found::OtherSweep {
+                why: format!(
+                    "its sweep fingerprint {} is not this sweep's {definition}",
+                    super::split_fingerprint(&self.fingerprint)
+                        .map_or(self.fingerprint.as_str(), |(d, _)| d)
+                ),
+            },
         }
     }
 
@@ -111,9 +211,10 @@ impl PointRecord {
         write_atomic_recomputable(&points, &format!("{:07}.json", self.point), text.as_bytes())
     }
 
-    /// Reads point `point`'s record; `None` if there is none, or if the file does not hold a
-    /// complete record of this point (cut short or emptied by a power loss while unsynced,
-    /// see [`write`](Self::write)): the point is then run again and its record rewritten.
+    /// Reads point `point`'s record, unchecked against a sweep (see [`Self::find`]); `None` if
+    /// there is none, or if the file does not hold a complete record of this point (cut short
+    /// or emptied by a power loss while unsynced, see [`write`](Self::write)): the point is
+    /// then run again and its record rewritten.
     ///
     /// # Errors
     /// If it exists but cannot be read.
@@ -127,4 +228,52 @@ impl PointRecord {
             Err(e) => Err(e),
         }
     }
+
+    /// Reads point `point`'s record and checks it against the sweep of `fingerprint` whose
+    /// point has `values` ([`PointRecord::check`]).
+    ///
+    /// # Errors
+    /// If it exists but cannot be read.
+    pub fn find(
+        dir: &Path,
+        point: usize,
+        values: &[toml::Value],
+        fingerprint: &str,
+    ) -> io::Result<Found> {
+        let path = Self::path(dir, point);
+        match std::fs::read(&path) {
+            Ok(bytes) => Ok(match serde_json::from_slice::<Self>(&bytes) {
+                Ok(r) => r.check(point, values, fingerprint),
+                Err(_) => Found::Damaged,
+            }),
+            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(Found::Missing),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// The point numbers of the record files in `DIR/points/` (names only, nothing read), sorted:
+/// one listing instead of a look-up per point.
+///
+/// # Errors
+/// If the directory exists but cannot be listed.
+pub fn listed(dir: &Path) -> io::Result<Vec<usize>> {
+    let entries = match std::fs::read_dir(dir.join("points")) {
+        Ok(e) => e,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(e),
+    };
+    let mut out = Vec::new();
+    for entry in entries {
+        let name = entry?.file_name();
+        let name = name.to_string_lossy();
+        if let Some(n) = name.strip_suffix(".json")
+            && !n.starts_with('.')
+            && let Ok(p) = n.parse::<usize>()
+        {
+            out.push(p);
+        }
+    }
+    out.sort_unstable();
+    Ok(out)
 }

@@ -2,9 +2,9 @@
 //! regime rules, written from the definitions they describe (the thresholds' defaults, the
 //! summary columns, the point limit), so the reference cannot drift from the code.
 
-use super::MAX_POINTS;
 use super::map::{CSV_FILE, JSON_FILE, SUMMARY_COLUMNS};
 use super::record::PointStatus;
+use super::{HARD_MAX_POINTS, MAX_POINTS};
 use crate::summary::{Regime, RegimeThresholds};
 
 /// Markdown: `## Sweeps` with the file, the table and the regimes.
@@ -16,7 +16,9 @@ pub fn markdown() -> String {
         "A sweep file (TOML) runs one scene over the cartesian product of its axes, the last \
          axis fastest, points numbered 0 … P−1 (`stickslip sweep run`, `stickslip.sweep` from \
          Python). Every point is validated before the first one runs; a bad file exits 2 \
-         naming the key, the value and what is allowed.\n\n",
+         naming the key, its line, the value and what is allowed. An axis must not give the \
+         same point twice: repeated values, and an integer key's range whose values round to \
+         the same integer, are refused.\n\n",
     );
     out.push_str("### Sweep file\n\n| key | meaning |\n|---|---|\n");
     let rows: [(&str, String); 9] = [
@@ -71,8 +73,28 @@ pub fn markdown() -> String {
         out.push_str(&format!("| `{key}` | {meaning} |\n"));
     }
     out.push_str(&format!(
-        "\nMore than {MAX_POINTS} points need `--allow-large` (`allow_large=True` in Python).\n"
+        "\nMore than {MAX_POINTS} points need `--allow-large` (`allow_large=True` in Python); \
+         no sweep may have more than {HARD_MAX_POINTS}. Beyond {MAX_POINTS} points each axis \
+         value is validated at once and each point's scene when the point runs: a combination \
+         of values the scene refuses is a `refused` row.\n"
     ));
+    out.push_str(
+        "\n### Sweep directory\n\n\
+         | file | what |\n|---|---|\n\
+         | `sweep.json` | the sweep as resolved, its fingerprint (a hash of the base scene with \
+         `[set]`, the axes and the thresholds, and the build identity of the numerics) and \
+         the build |\n\
+         | `points/NNNNNNN.json` | one record per finished point: its values, summary, status \
+         and the sweep's fingerprint |\n\
+         | `shards/I-of-N.BUILD.json` | the rows of shard I/N once it ran to its end; the last \
+         shard to finish merges the tables of a complete set |\n\
+         | `map.csv`, `map.json` | the map, when every point has a row |\n\
+         | `runs/NNNNNNN/` | with `--keep all`, each point's output files |\n\n\
+         One sweep per directory: a record or table of another sweep is refused (exit 2, \
+         naming it); records of the same sweep computed by another build are recomputed, and \
+         `sweep run` says how many and why. `--force` starts afresh (also for the same \
+         sweep). Shards, jobs and merges may run at once on one directory.\n",
+    );
 
     out.push_str(&format!(
         "\n### `{CSV_FILE}`\n\nOne row per point, in point order; `{JSON_FILE}` holds the \

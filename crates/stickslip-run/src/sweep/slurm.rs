@@ -1,7 +1,10 @@
 //! The Slurm job-array script of a sweep: task i of N runs `stickslip sweep run SWEEP --out
-//! DIR --shard i/N`, reading its index from `SLURM_ARRAY_TASK_ID`. Sites cap array sizes, so
-//! the number of tasks is a setting, not the number of points; a failed task reruns by index
-//! (`sbatch --array=4,8 DIR/sweep.sbatch`) and skips the points it had finished.
+//! DIR --shard i/N` with every option the sweep was prepared with (`--allow-large`, `--keep`),
+//! reading its index from `SLURM_ARRAY_TASK_ID`. Sites cap array sizes, so the number of tasks
+//! is a setting, not the number of points; a failed task reruns by index (`sbatch --array=4,8
+//! DIR/sweep.sbatch`) and skips the points it had finished. The tasks run at the same time on
+//! one directory; each writes its shard's table, and the last to finish merges them into the
+//! map (`super::merge`): one merge of O(P) for the array.
 
 use std::path::Path;
 
@@ -11,7 +14,8 @@ pub const SCRIPT: &str = "sweep.sbatch";
 /// The text of the job-array script.
 ///
 /// `binary`, `sweep_file` and `dir` should be absolute (the job runs wherever Slurm starts
-/// it); `extra` are additional `#SBATCH` lines' arguments (`--partition=short`, …).
+/// it); `extra` are additional `#SBATCH` lines' arguments (`--partition=short`, …);
+/// `run_args` are options of `sweep run` every task passes (`--allow-large`, `--keep all`).
 #[must_use]
 pub fn script(
     name: &str,
@@ -20,6 +24,7 @@ pub fn script(
     dir: &Path,
     tasks: usize,
     extra: &[String],
+    run_args: &[String],
 ) -> String {
     let q = |p: &Path| shell_quote(&p.display().to_string());
     let mut out = String::from("#!/bin/bash\n");
@@ -41,9 +46,13 @@ pub fn script(
         q(&dir.join(SCRIPT))
     ));
     out.push_str("set -uo pipefail\n");
+    let options: String = run_args
+        .iter()
+        .map(|a| format!(" {}", shell_quote(a)))
+        .collect();
     out.push_str(&format!(
         "{} sweep run {} --out {} --shard \"${{SLURM_ARRAY_TASK_ID}}/{tasks}\" --jobs \
-         \"${{SLURM_CPUS_PER_TASK:-1}}\" --quiet\n",
+         \"${{SLURM_CPUS_PER_TASK:-1}}\"{options} --quiet\n",
         q(binary),
         q(sweep_file),
         q(dir)
