@@ -1,0 +1,248 @@
+//! The accurate step: the exact Landau step per node under an exponentially weighted strain,
+//! melting located inside the step, the coupling solved, and the step's local error estimated.
+
+use super::error_estimate;
+use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, Simulation, StepError, V_FLOOR, X_FLOOR};
+use crate::drive::{Drive, DriveState, Integrator};
+use crate::landau::PhiStepper;
+
+impl Simulation {
+    pub(super) fn step_accurate(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
+        let t0 = self.state.drive.t_s;
+        let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
+        let params = self.config.lubricant;
+        let b = params.b_pa();
+        let a = params.a_pa;
+        let two_gamma = 2.0 * params.gamma_per_pa_s;
+        let thr = self.config.melt_threshold;
+        let h0 = self.config.contact.film_thickness_m;
+        let drive_before = (self.state.drive, self.state.force_n);
+        let dx = self.drive_first_half(dt_s);
+        // The substrate's change over this step, predicted by linear extrapolation of the last
+        // one (the coupling solve below corrects u3D itself; only the strain seen by φ uses it).
+        let ratio = if self.state.last_dt_s > 0.0 {
+            dt_s / self.state.last_dt_s
+        } else {
+            0.0
+        };
+        let mut first_melt = 1.0_f64;
+        for i in 0..self.state.phi.len() {
+            let phi0 = self.state.phi[i];
+            let solid0 = phi0 >= thr;
+            let du3d = ratio * (self.state.u3d_m[i] - self.state.u3d_prev_m[i]);
+            // u0 is held at 0 while melted, so only solid nodes see the stamp's advance.
+            let du0 = if solid0 { dx } else { 0.0 };
+            let eps0 = self.state.eps[i];
+            let eps1 = eps0 + (du0 - du3d) / h0;
+            // Frozen strain for the exact step: the weight θ(z) makes the step exact for a
+            // linearised φ² relaxing at rate λ towards a target that moves linearly over the
+            // step — ½ (midpoint, second order) for slow relaxation, → 1 (the end-of-step
+            // strain, no lag) for the stiff stick phase where φ is slaved to ε.
+            let y0 = phi0 * phi0;
+            let lambda = two_gamma * (params.bernoulli_c_pa(eps0, a_mid) + 2.0 * b * y0);
+            let eps_eff = eps0 + linear_forcing_weight(lambda * dt_s) * (eps1 - eps0);
+            let phi1 = PhiStepper::Exact.step(phi0, eps_eff, a_mid, &params, dt_s);
+            // The error estimate's pieces (see `error_estimate`): the defect at the start now,
+            // at the end once the coupling solve has given the end strain.
+            let y1 = phi1 * phi1;
+            let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
+            let z = error_estimate::propagator_exponent(y0, y1, c_eff, two_gamma, dt_s);
+            let (w0, w1) = error_estimate::defect_weights(z);
+            self.est_base[i] =
+                dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
+            self.est_gain[i] = dt_s * w1 * (-two_gamma * a * y1);
+            self.est_eps_eff[i] = eps_eff;
+            self.est_norm[i] = 0.5 / y1.max(thr * thr);
+            let u0 = self.state.u0_m[i];
+            let (phi_end, u0_end, melted_at) = match (solid0, phi1 >= thr) {
+                (true, true) => (phi1, u0 + dx, None),
+                (false, true) => {
+                    let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
+                    (phi1, (1.0 - theta) * dx, None)
+                }
+                (false, false) => (phi1, 0.0, None),
+                (true, false) => {
+                    // The film melts at θ: u0 drops to 0 there, and the node carries on from
+                    // φ = thr under the strain of a melted node, −u3D/h0. Below εc that strain
+                    // makes φ grow at once: melting is instantaneous and u0 accumulates again
+                    // from θ on. Continuing the decay to the step's end instead would leave φ
+                    // far below thr by an amount set by Δt, and the recovery with it.
+                    let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
+                    // The estimate covers the solid part of the path, up to the crossing, with
+                    // the strain there predicted (no solved value exists at θ).
+                    let ys = thr * thr;
+                    let h_c = theta * dt_s;
+                    let eps_c = eps0 + theta * (eps1 - eps0);
+                    let zc = error_estimate::propagator_exponent(y0, ys, c_eff, two_gamma, h_c);
+                    let (w0c, w1c) = error_estimate::defect_weights(zc);
+                    self.est_base[i] = h_c
+                        * (w0c * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0))
+                            + w1c * (-two_gamma * a * ys * (eps_eff * eps_eff - eps_c * eps_c)));
+                    self.est_gain[i] = 0.0;
+                    self.est_norm[i] = 0.5 / ys;
+                    let rest_s = (1.0 - theta) * dt_s;
+                    let u3d = self.state.u3d_m[i];
+                    let eps_a = -(u3d + theta * du3d) / h0;
+                    let c_a = params.bernoulli_c_pa(eps_a, a_mid);
+                    if c_a < 0.0 {
+                        let eps_b = ((1.0 - theta) * dx - (u3d + du3d)) / h0;
+                        let lambda = two_gamma * (c_a + 2.0 * b * thr * thr);
+                        let eps_rest =
+                            eps_a + linear_forcing_weight(lambda * rest_s) * (eps_b - eps_a);
+                        let phi2 = PhiStepper::Exact.step(thr, eps_rest, a_mid, &params, rest_s);
+                        let u0_end = if phi2 >= thr { (1.0 - theta) * dx } else { 0.0 };
+                        (phi2, u0_end, Some(theta))
+                    } else {
+                        let phi2 = PhiStepper::Exact.step(thr, eps_a, a_mid, &params, rest_s);
+                        (phi2, 0.0, Some(theta))
+                    }
+                }
+            };
+            if let Some(theta) = melted_at {
+                first_melt = first_melt.min(theta);
+            }
+            // From φ > 0 Eq. 8 never reaches 0, but a long decay underflows φ² to 0, where
+            // φ = 0 is a fixed point and the node could never re-solidify.
+            let phi_end = if phi0 > 0.0 {
+                phi_end.max(PHI_REPRESENTABLE_MIN)
+            } else {
+                phi_end
+            };
+            self.state.melted_in_step[i] = melted_at.is_some();
+            if let Some(theta) = melted_at {
+                self.state.last_melt_s[i] = t0 + theta * dt_s;
+            }
+            self.state.u0_m[i] = u0_end;
+            self.state.phi[i] = phi_end;
+        }
+        self.first_melt_fraction = first_melt;
+        self.noise.apply(&mut self.state.phi, dt_s);
+        for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
+            if phi < thr {
+                *u0 = 0.0;
+            }
+        }
+        self.solve_coupling(self.state.step + 1, t0 + dt_s, dt_s)?;
+        self.state.prev_dt_s = self.state.last_dt_s;
+        self.state.last_dt_s = dt_s;
+        self.update_strain_and_stress();
+        self.state.force_n = self.force_3d();
+        self.drive_second_half(dt_s);
+        self.estimate_step_error(dt_s, drive_before);
+        Ok(())
+    }
+
+    /// The local error of the accurate step just taken (see [`error_estimate`]), in units of
+    /// scales that follow the state: φ relative to max(φ, threshold) per node, ε relative to
+    /// εc(t), X to max(|X|, h0), V to max(|V|, 1e-6·V0). V's scale is its own size, not V0: a
+    /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an
+    /// error in X that grows with time.
+    fn estimate_step_error(&mut self, dt_s: f64, (before, f_before): (DriveState, f64)) {
+        let s = &self.state;
+        let mut phi_err = 0.0_f64;
+        for i in 0..s.phi.len() {
+            let (eps_eff, eps_end) = (self.est_eps_eff[i], s.eps[i]);
+            let e_y = self.est_base[i] + self.est_gain[i] * (eps_eff * eps_eff - eps_end * eps_end);
+            phi_err = phi_err.max(e_y.abs() * self.est_norm[i]);
+        }
+        let drive = match (&self.config.drive, self.config.integrator) {
+            (Drive::Rigid(_), _) => error_estimate::DriveError::default(),
+            (Drive::Spring(sp), Integrator::Verlet) => {
+                let a0 = sp.acceleration_m_per_s2(before.t_s, before.x_m, f_before);
+                let d = &s.drive;
+                let a1 = sp.acceleration_m_per_s2(d.t_s, d.x_m, s.force_n);
+                let change = a1 - a0;
+                let est = error_estimate::verlet_error(
+                    dt_s,
+                    change,
+                    s.prev_dt_s,
+                    s.accel_change_prev_m_per_s2,
+                );
+                self.state.accel_change_prev_m_per_s2 = change;
+                est
+            }
+            (Drive::Spring(sp), Integrator::Split) => {
+                // Only the friction force's kicks carry an error: Verlet's on a = −F/m.
+                let change = -(s.force_n - f_before) / sp.mass_kg;
+                let est = error_estimate::verlet_error(
+                    dt_s,
+                    change,
+                    s.prev_dt_s,
+                    s.accel_change_prev_m_per_s2,
+                );
+                self.state.accel_change_prev_m_per_s2 = change;
+                est
+            }
+            (Drive::Spring(sp), Integrator::Rk4) => {
+                error_estimate::frozen_force_error(dt_s, s.force_n - f_before, sp.mass_kg)
+            }
+        };
+        let s = &self.state;
+        let a_now = self.config.temperature.a_coeff_pa(s.drive.t_s);
+        let eps_c = self.config.lubricant.critical_strain(a_now);
+        let eps_scale = if eps_c > 0.0 {
+            eps_c
+        } else {
+            self.config.lubricant.eps_max
+        };
+        let h0 = self.config.contact.film_thickness_m;
+        let v0 = self.config.drive.velocity_m_per_s().abs();
+        self.last_error = StepError {
+            phi: phi_err,
+            eps: drive.x_m / (h0 * eps_scale),
+            x: drive.x_m / s.drive.x_m.abs().max(X_FLOOR * h0),
+            v: drive.v_m_per_s
+                / s.drive
+                    .v_m_per_s
+                    .abs()
+                    .max(V_FLOOR * v0)
+                    .max(f64::MIN_POSITIVE),
+        };
+    }
+}
+
+/// Weight θ(z) = 1/(1 − e^(−z)) − 1/z with z = λ·Δt: y' = −λ(y − g(t)) with g linear over
+/// the step is solved exactly by freezing g at g(t0) + θ·(g(t1) − g(t0)).
+/// θ → ½ + z/12 for z → 0, → 1 for z → +∞, → 0 for z → −∞.
+fn linear_forcing_weight(z: f64) -> f64 {
+    if z.abs() < 1e-4 {
+        0.5 + z / 12.0
+    } else {
+        1.0 / (1.0 - (-z).exp()) - 1.0 / z
+    }
+}
+
+/// Fraction θ ∈ [0, 1] of the step at which the exact frozen-strain path from φ0 to φ1 meets
+/// `thr` (rising or falling); 1 (the step's end) when the path cannot explain the crossing,
+/// e.g. when noise or the floor moved φ.
+fn crossing_fraction(
+    phi0: f64,
+    phi1: f64,
+    thr: f64,
+    eps: f64,
+    a_coeff: f64,
+    params: &crate::landau::LandauParams,
+    dt_s: f64,
+) -> f64 {
+    if phi0 <= 0.0 || (phi0 - thr) * (phi1 - thr) > 0.0 {
+        return 1.0;
+    }
+    let y0 = phi0 * phi0;
+    let ys = thr * thr;
+    let b = params.b_pa();
+    let c = params.bernoulli_c_pa(eps, a_coeff);
+    let two_gamma = 2.0 * params.gamma_per_pa_s;
+    // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct), solved for y(t) = ys; for c = 0,
+    // y = y0/(1 + 2γ·b·y0·t).
+    let t = if c == 0.0 {
+        (y0 / ys - 1.0) / (two_gamma * b * y0)
+    } else {
+        let e = ys * (c + b * y0) / (y0 * (c + b * ys));
+        -e.ln() / (two_gamma * c)
+    };
+    if t.is_finite() {
+        (t / dt_s).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
+}

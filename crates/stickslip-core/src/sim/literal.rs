@@ -1,0 +1,98 @@
+//! The paper's literal step: explicit Euler for φ, u0 reset once per step, one lagged sweep
+//! of the elastic coupling, plain sums.
+
+use super::{Contact, NumericalFailure, Simulation};
+use crate::config::Substrate;
+use crate::landau::rhs;
+
+impl Simulation {
+    pub(super) fn step_literal(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
+        let t0 = self.state.drive.t_s;
+        let a_coeff = self.config.temperature.a_coeff_pa(t0);
+        let params = self.config.lubricant;
+        let thr = self.config.melt_threshold;
+        for (was_solid, &phi) in self.state.melted_in_step.iter_mut().zip(&self.state.phi) {
+            *was_solid = phi >= thr;
+        }
+        // Eq. 8 keeps φ ≥ 0 exactly; a negative φ is explicit Euler overshooting its
+        // stability limit. Caught here, before noise or a floor could hide it; the first such
+        // node and its φ before the step are kept for the diagnosis.
+        let mut overshoot: Option<(usize, f64)> = None;
+        for (i, (phi, &eps)) in self.state.phi.iter_mut().zip(&self.state.eps).enumerate() {
+            let before = *phi;
+            *phi += dt_s * rhs(before, eps, a_coeff, &params);
+            if overshoot.is_none() && (phi.is_nan() || *phi < 0.0) {
+                overshoot = Some((i, before));
+            }
+        }
+        if let Some((node, phi_before)) = overshoot {
+            let b = params.b_pa();
+            // |∂rhs/∂φ| = γ·|a·ε² + 3b·φ² − A·b/a| at the node's state before the step (which
+            // noise may have pushed far from equilibrium).
+            let eps = self.state.eps[node];
+            let stiffness = params.gamma_per_pa_s
+                * (params.a_pa * eps * eps + 3.0 * b * phi_before * phi_before
+                    - a_coeff * b / params.a_pa)
+                    .abs();
+            let noisy = if matches!(self.config.noise, crate::noise::NoiseKind::Gaussian { .. }) {
+                " (phi before the step came from the noise kick of the step before; reduce \
+                 lubricant.noise.sigma or time.dt)"
+            } else {
+                ""
+            };
+            return Err(NumericalFailure {
+                t_s: t0 + dt_s,
+                step: self.state.step + 1,
+                node,
+                r_m: self.radii_m[node],
+                quantity: "phi",
+                value: self.state.phi[node],
+                diagnosis: format!(
+                    "explicit Euler overshot below 0 (Eq. 8 keeps phi >= 0): phi before the \
+                     step = {phi_before:e}{noisy}; dt x stiffness = {:.3} with stiffness \
+                     gamma*|a*eps^2 + 3*b*phi^2 - A*b/a| = {stiffness:e} 1/s there; explicit \
+                     Euler needs it well below 1 (oscillates above 1, unstable above 2). \
+                     Reduce time.dt or use time.scheme = \"accurate\".",
+                    dt_s * stiffness
+                ),
+            });
+        }
+        self.noise.apply(&mut self.state.phi, dt_s);
+        self.first_melt_fraction = 1.0;
+        let dx = self.drive_first_half(dt_s);
+        for i in 0..self.state.phi.len() {
+            let melted = self.state.phi[i] < thr;
+            let newly = melted && self.state.melted_in_step[i];
+            self.state.melted_in_step[i] = newly;
+            if newly {
+                self.state.last_melt_s[i] = t0 + dt_s;
+            }
+            let u0 = &mut self.state.u0_m[i];
+            *u0 = if melted { 0.0 } else { *u0 + dx };
+        }
+        self.update_strain_and_stress();
+        // One lagged sweep: the substrate answers the stress just computed, for the next step.
+        match &self.contact {
+            Contact::Radial { ops, .. } => {
+                if self.config.contact.substrate == Substrate::Elastic {
+                    ops.compliance(
+                        &self.state.tau_pa,
+                        &mut self.scratch_q,
+                        &mut self.state.u3d_m,
+                    );
+                    let inv_g = 1.0 / self.config.contact.g_eff_pa;
+                    self.state.u3d_m.iter_mut().for_each(|u| *u *= inv_g);
+                }
+            }
+            Contact::Homogeneous {
+                compliance_m_per_pa,
+                ..
+            } => {
+                self.state.u3d_m[0] = compliance_m_per_pa * self.state.tau_pa[0];
+            }
+        }
+        self.state.force_n = self.force_3d();
+        self.drive_second_half(dt_s);
+        Ok(())
+    }
+}
