@@ -55,6 +55,7 @@ fn event(k: usize, t: f64, x: f64) -> MeltingEvent {
         t_end_s: Some(t + 3e-7),
         recovery: 1.0,
         f_mean_n: 5e-4,
+        melted_area: 1.0,
     }
 }
 

@@ -236,6 +236,7 @@ mod tests {
                     .then_some((i + 1) as f64 + 0.1),
                 recovery: r,
                 f_mean_n: 5.0 + i as f64,
+                melted_area: 1.0,
             })
             .collect()
     }

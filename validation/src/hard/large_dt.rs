@@ -63,18 +63,12 @@ impl LargeDt {
             .fold(0.0, f64::max)
     }
 
-    /// Mean max_melted_fraction per event: (Δt = 1e-6 s, reference).
+    /// Mean melted_area per event (the area the front swept): (Δt = 1e-6 s, reference).
     pub fn melted_fractions(&self) -> (f64, f64) {
         let m = |a: &Attempt| {
             let v: Vec<f64> = a
                 .out()
-                .map(|o| {
-                    o.events
-                        .events()
-                        .iter()
-                        .map(|e| e.max_melted_fraction)
-                        .collect()
-                })
+                .map(|o| o.events.events().iter().map(|e| e.melted_area).collect())
                 .unwrap_or_default();
             mean(&v)
         };
@@ -192,10 +186,9 @@ impl Case for LargeDt {
                 "At Δt = {LARGE_DT_S:e} s the accurate scheme gets the number and timing of the \
                  events right, but each melting spreads over {} % of the contact area on average \
                  against {} % at Δt = 1e-8 s: the front's progress across the contact is still \
-                 resolved only step by step, so the melted area of an event depends on Δt (the \
-                 same dependence rigid.toml notes for max_melted_fraction). Not a stability \
-                 problem, but events.csv's max_melted_fraction should not be trusted at large \
-                 Δt. Reproduce: `{}` and `{}`, column max_melted_fraction of events.csv.",
+                 resolved only step by step, so the melted area of an event depends on Δt. Not \
+                 a stability problem, but events.csv's melted_area should not be trusted at \
+                 large Δt. Reproduce: `{}` and `{}`, column melted_area of events.csv.",
                 sig(100.0 * m, 3),
                 sig(100.0 * mr, 3),
                 self.accurate.command,

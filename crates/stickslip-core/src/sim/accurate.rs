@@ -26,6 +26,14 @@ impl Simulation {
             0.0
         };
         let mut first_melt = 1.0_f64;
+        // The film's recovery level at the step's end: the last node to cross it upwards,
+        // located on its path, ends an open event (see `events`).
+        let a_end = self.config.temperature.a_coeff_pa(t0 + dt_s);
+        let recovery_phi = self
+            .config
+            .events
+            .recovery_phi(thr, params.equilibrium_phi(0.0, a_end));
+        let mut recovered_s = f64::NEG_INFINITY;
         for i in 0..self.state.phi.len() {
             let phi0 = self.state.phi[i];
             let solid0 = phi0 >= thr;
@@ -54,13 +62,16 @@ impl Simulation {
             self.est_eps_eff[i] = eps_eff;
             self.est_norm[i] = 0.5 / y1.max(thr * thr);
             let u0 = self.state.u0_m[i];
-            let (phi_end, u0_end, melted_at) = match (solid0, phi1 >= thr) {
-                (true, true) => (phi1, u0 + dx, None),
+            // `path`: where the node's last exact path starts (φ, strain, offset and length in
+            // the step, s), to locate its crossing of the recovery level.
+            let whole = (phi0, eps_eff, 0.0, dt_s);
+            let (phi_end, u0_end, melted_at, path) = match (solid0, phi1 >= thr) {
+                (true, true) => (phi1, u0 + dx, None, whole),
                 (false, true) => {
                     let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
-                    (phi1, (1.0 - theta) * dx, None)
+                    (phi1, (1.0 - theta) * dx, None, whole)
                 }
-                (false, false) => (phi1, 0.0, None),
+                (false, false) => (phi1, 0.0, None, whole),
                 (true, false) => {
                     // The film melts at θ: u0 drops to 0 there, and the node carries on from
                     // φ = thr under the strain of a melted node, −u3D/h0. Below εc that strain
@@ -91,10 +102,11 @@ impl Simulation {
                             eps_a + linear_forcing_weight(lambda * rest_s) * (eps_b - eps_a);
                         let phi2 = PhiStepper::Exact.step(thr, eps_rest, a_mid, &params, rest_s);
                         let u0_end = if phi2 >= thr { (1.0 - theta) * dx } else { 0.0 };
-                        (phi2, u0_end, Some(theta))
+                        let path = (thr, eps_rest, theta * dt_s, rest_s);
+                        (phi2, u0_end, Some(theta), path)
                     } else {
                         let phi2 = PhiStepper::Exact.step(thr, eps_a, a_mid, &params, rest_s);
-                        (phi2, 0.0, Some(theta))
+                        (phi2, 0.0, Some(theta), (thr, eps_a, theta * dt_s, rest_s))
                     }
                 }
             };
@@ -103,6 +115,19 @@ impl Simulation {
             }
             // From φ > 0 Eq. 8 never reaches 0, but a long decay underflows φ² to 0, where
             // φ = 0 is a fixed point and the node could never re-solidify.
+            let (phi_from, eps_path, offset_s, len_s) = path;
+            if phi_from < recovery_phi && phi_end >= recovery_phi {
+                let f = crossing_fraction(
+                    phi_from,
+                    phi_end,
+                    recovery_phi,
+                    eps_path,
+                    a_mid,
+                    &params,
+                    len_s,
+                );
+                recovered_s = recovered_s.max(t0 + offset_s + f * len_s);
+            }
             let phi_end = if phi0 > 0.0 {
                 phi_end.max(PHI_REPRESENTABLE_MIN)
             } else {
@@ -116,6 +141,7 @@ impl Simulation {
             self.state.phi[i] = phi_end;
         }
         self.first_melt_fraction = first_melt;
+        self.recovered_at_s = recovered_s;
         self.noise.apply(&mut self.state.phi, dt_s);
         for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
             if phi < thr {

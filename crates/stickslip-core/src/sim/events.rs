@@ -82,9 +82,12 @@ pub struct MeltingEvent {
     pub f_peak_n: f64,
     /// Smallest radius melted during the event, m.
     pub r_min_m: f64,
-    /// First time the innermost node (r = 0) was melted during the event, s.
+    /// First time the innermost node (r = 0) melted during the event, s (located inside the
+    /// step by the accurate scheme).
     pub t_center_s: Option<f64>,
-    /// Largest melted area fraction during the event.
+    /// Largest area fraction below the melting threshold at one instant during the event.
+    /// The accurate scheme melts a node and lets it regrow at once, so there this tends to 0
+    /// as Δt → 0; [`MeltingEvent::melted_area`] is the extent of the melting.
     pub max_melted_fraction: f64,
     /// When the film had recovered (every node at or above the recovery level), s; `None`
     /// while the event is open.
@@ -96,6 +99,10 @@ pub struct MeltingEvent {
     /// Time-mean friction force from this onset to the next one (or the end of the run), N.
     #[serde(default)]
     pub f_mean_n: f64,
+    /// Area fraction of the contact that melted at least once during the event (1 when the
+    /// front reached the axis): converges as Δt → 0, unlike the instantaneous fraction.
+    #[serde(default)]
+    pub melted_area: f64,
 }
 
 /// What the tracker needs from one step.
@@ -124,8 +131,15 @@ pub struct StepSample {
     pub innermost_melted_m: f64,
     /// Whether node 0 (the axis) is melted.
     pub center_melted: bool,
-    /// Melted area fraction.
+    /// When node 0 melted, s (located where the scheme knows it, else `t_s`).
+    pub center_melt_s: f64,
+    /// When, within the step, the last node rose through the recovery level, s (located
+    /// where the scheme knows it, else `t_s`).
+    pub recovered_s: f64,
+    /// Area fraction below the melting threshold now.
     pub melted_fraction: f64,
+    /// Area fraction that melted at least once since the open event began.
+    pub swept_fraction: f64,
     /// Area-weighted mean of φ.
     pub phi_mean: f64,
     /// Solid equilibrium φ_eq = √(A(t)/a) now (0 when A ≤ 0).
@@ -241,6 +255,7 @@ impl EventTracker {
                     t_end_s: None,
                     recovery: 0.0,
                     f_mean_n: 0.0,
+                    melted_area: 0.0,
                 });
                 self.f_max_since_onset_n = s.f_n;
                 self.cycle = CycleSums::default();
@@ -254,15 +269,19 @@ impl EventTracker {
         {
             ev.r_min_m = ev.r_min_m.min(s.innermost_melted_m);
             ev.max_melted_fraction = ev.max_melted_fraction.max(s.melted_fraction);
+            ev.melted_area = ev.melted_area.max(s.swept_fraction);
             if s.center_melted && ev.t_center_s.is_none() {
-                ev.t_center_s = Some(s.t_s);
+                ev.t_center_s = Some(s.center_melt_s);
             }
         }
         if self.open && s.unrecovered_nodes == 0 {
             self.open = false;
-            self.last_end_s = Some(s.t_s);
+            // The located recovery, never before the previous sample.
+            let t_end = s.recovered_s.clamp(self.prev_t_s.min(s.t_s), s.t_s);
+            let t_end = if t_end.is_finite() { t_end } else { s.t_s };
+            self.last_end_s = Some(t_end);
             if let Some(ev) = self.events.last_mut() {
-                ev.t_end_s = Some(s.t_s);
+                ev.t_end_s = Some(t_end);
             }
         }
         self.write_cycle();
@@ -360,7 +379,10 @@ mod tests {
             outermost_melted_m: 1.0,
             innermost_melted_m: 0.5,
             center_melted: false,
+            center_melt_s: t_s,
+            recovered_s: t_s,
             melted_fraction: melted as f64 / 10.0,
+            swept_fraction: melted as f64 / 10.0,
             phi_mean: 1.0,
             phi_eq: 1.0,
         }

@@ -59,6 +59,7 @@ impl Simulation {
         }
         self.noise.apply(&mut self.state.phi, dt_s);
         self.first_melt_fraction = 1.0;
+        self.recovered_at_s = f64::NEG_INFINITY;
         let dx = self.drive_first_half(dt_s);
         for i in 0..self.state.phi.len() {
             let melted = self.state.phi[i] < thr;

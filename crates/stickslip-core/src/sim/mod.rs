@@ -139,6 +139,9 @@ pub struct SimState {
     /// estimate; 0 before the first step).
     #[serde(default)]
     pub accel_change_prev_m_per_s2: f64,
+    /// Nodes that melted at least once during the open event (cleared while none is open).
+    #[serde(default)]
+    pub swept: Vec<bool>,
 }
 
 /// Scalar observables at the current time.
@@ -198,6 +201,9 @@ pub struct Simulation {
     saved: Option<Box<SimState>>,
     /// Fraction of the last step at which the first node melted (1 = at its end).
     first_melt_fraction: f64,
+    /// Latest time within the last step at which a node rose through the recovery level,
+    /// located on its exact path (accurate scheme), s; −∞ when none did or not located.
+    recovered_at_s: f64,
     /// Contraction factor ρ of the lagged sweep at t = 0 (see
     /// [`Simulation::lagged_sweep_contraction`]): bounds K's spectrum for the coupling solve's
     /// relaxation of accepted guesses.
@@ -284,6 +290,7 @@ impl Simulation {
             last_melt_s: vec![-1.0; n],
             controller: ControllerMemory::default(),
             accel_change_prev_m_per_s2: 0.0,
+            swept: vec![false; n],
         };
         let mut sim = Self {
             config,
@@ -302,6 +309,7 @@ impl Simulation {
             last_error: StepError::default(),
             saved: None,
             first_melt_fraction: 1.0,
+            recovered_at_s: f64::NEG_INFINITY,
             rho0: 0.0,
         };
         sim.rho0 = sim.lagged_sweep_contraction();
@@ -339,6 +347,7 @@ impl Simulation {
         // Per-node fields added later than the checkpoint format default to empty.
         self.state.melted_in_step.resize(n, false);
         self.state.last_melt_s.resize(n, -1.0);
+        self.state.swept.resize(n, false);
         Ok(())
     }
 
@@ -594,7 +603,7 @@ impl Simulation {
             let w = self.area_weights[i];
             phi_mean += w * self.state.phi[i];
             eps_mean += w * self.state.eps[i];
-            if self.is_melted(i) {
+            if self.state.phi[i] < self.config.melt_threshold {
                 melted += w;
             }
         }
@@ -627,23 +636,49 @@ impl Simulation {
         let mut outer = 0.0_f64;
         let mut inner = f64::INFINITY;
         let mut fraction = 0.0;
+        let mut swept = 0.0;
         let mut phi_mean = 0.0;
+        let open = self.state.events.is_open();
         for i in 0..self.state.phi.len() {
             let phi = self.state.phi[i];
             phi_mean += self.area_weights[i] * phi;
+            if phi < thr {
+                fraction += self.area_weights[i];
+            }
+            if !open {
+                self.state.swept[i] = false;
+            }
             if self.is_melted(i) {
                 melted_nodes += 1;
                 unrecovered_nodes += 1;
                 outer = outer.max(self.radii_m[i]);
                 inner = inner.min(self.radii_m[i]);
-                fraction += self.area_weights[i];
+                self.state.swept[i] = true;
             } else {
                 solid_nodes += 1;
                 if phi < recovery_phi {
                     unrecovered_nodes += 1;
                 }
             }
+            if self.state.swept[i] {
+                swept += self.area_weights[i];
+            }
         }
+        let t_s = self.state.drive.t_s;
+        // Located times where the scheme knows them (the accurate scheme's melting of the
+        // axis node and recovery crossings), else the step's end.
+        let center_melt_s = if self.state.melted_in_step.first().copied().unwrap_or(false)
+            && self.state.last_melt_s[0] >= 0.0
+        {
+            self.state.last_melt_s[0].min(t_s)
+        } else {
+            t_s
+        };
+        let recovered_s = if self.recovered_at_s.is_finite() {
+            self.recovered_at_s.min(t_s)
+        } else {
+            t_s
+        };
         let sample = StepSample {
             t_s: self.state.drive.t_s,
             first_melt_s: self.state.drive.t_s
@@ -657,7 +692,10 @@ impl Simulation {
             outermost_melted_m: outer,
             innermost_melted_m: inner,
             center_melted: self.is_melted(0),
+            center_melt_s,
+            recovered_s,
             melted_fraction: fraction,
+            swept_fraction: swept,
             phi_mean,
             phi_eq,
         };

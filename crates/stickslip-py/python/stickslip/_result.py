@@ -19,7 +19,8 @@ class RunResult:
 
     Units (run_info["columns"] has them all): ``series``: t s, X m, V m/s, F N, phi_mean –,
     eps_mean –, melted_fraction –, F_1d N. ``events``: k –, t_onset s, r_first m, x_onset m,
-    f_peak N, r_min m, t_center s, t_end s, max_melted_fraction –, recovery –, f_mean N.
+    f_peak N, r_min m, t_center s, t_end s, max_melted_fraction –, recovery –, f_mean N,
+    melted_area –.
     ``profiles``: t s, r m, phi –, eps –, tau Pa, u0 m, u3d m (one block of rows per
     profile time). ``probes``: t s, ``phi@<r>`` –, ``t_melt@<r>`` s (r in m as ``{:e}``).
 

@@ -10,7 +10,7 @@ use stickslip_core::sim::events::MeltingEvent;
 pub const FILE: &str = "events.csv";
 
 /// Columns in file order.
-pub const COLUMNS: [Column; 11] = [
+pub const COLUMNS: [Column; 12] = [
     Column {
         name: "k",
         unit: "–",
@@ -54,7 +54,7 @@ pub const COLUMNS: [Column; 11] = [
     Column {
         name: "max_melted_fraction",
         unit: "–",
-        meaning: "largest melted area fraction during the event",
+        meaning: "largest area fraction below the melting threshold at one instant (the accurate scheme's melting is instantaneous: → 0 as Δt → 0; see melted_area)",
     },
     Column {
         name: "recovery",
@@ -66,7 +66,15 @@ pub const COLUMNS: [Column; 11] = [
         unit: "N",
         meaning: "time-mean F from this onset to the next (or the end)",
     },
+    Column {
+        name: "melted_area",
+        unit: "–",
+        meaning: "area fraction that melted at least once during the event (1 when the front reached the axis)",
+    },
 ];
+
+/// Columns a file written before `melted_area` existed has (it reads as NaN there).
+const COLUMNS_BEFORE_MELTED_AREA: usize = 11;
 
 /// events.csv.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -100,7 +108,7 @@ impl Events {
     /// The columns in file order, by name (`k` as a float; none as NaN).
     #[must_use]
     pub fn columns(&self) -> Vec<(&'static str, Vec<f64>)> {
-        let get: [fn(&MeltingEvent) -> f64; 11] = [
+        let get: [fn(&MeltingEvent) -> f64; 12] = [
             |e| e.k as f64,
             |e| e.t_onset_s,
             |e| e.r_first_m,
@@ -112,6 +120,7 @@ impl Events {
             |e| e.max_melted_fraction,
             |e| e.recovery,
             |e| e.f_mean_n,
+            |e| e.melted_area,
         ];
         COLUMNS
             .iter()
@@ -135,7 +144,7 @@ impl Events {
             )?;
             write_opt(w, e.t_center_s)?;
             write_opt(w, e.t_end_s)?;
-            for v in [e.max_melted_fraction, e.recovery, e.f_mean_n] {
+            for v in [e.max_melted_fraction, e.recovery, e.f_mean_n, e.melted_area] {
                 w.write_all(b",")?;
                 write_num(w, v)?;
             }
@@ -159,7 +168,12 @@ impl Events {
     pub fn parse(text: &str) -> Result<Self, SchemaError> {
         let csv = NumericCsv::parse(text, FILE)?;
         let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        csv.expect_header(&names, FILE)?;
+        csv.expect_header(&names[..COLUMNS_BEFORE_MELTED_AREA], FILE)?;
+        let has_melted_area = csv
+            .header
+            .get(COLUMNS_BEFORE_MELTED_AREA)
+            .map(String::as_str)
+            == Some(names[COLUMNS_BEFORE_MELTED_AREA]);
         let events = csv
             .rows
             .iter()
@@ -184,6 +198,7 @@ impl Events {
                     max_melted_fraction: r[8],
                     recovery: r[9],
                     f_mean_n: r[10],
+                    melted_area: if has_melted_area { r[11] } else { f64::NAN },
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;

@@ -44,7 +44,7 @@ pub const COLUMNS: [Column; 8] = [
     Column {
         name: "melted_fraction",
         unit: "–",
-        meaning: "melted area fraction (φ below the threshold, or melted during the step)",
+        meaning: "area fraction with φ below the melting threshold now (the accurate scheme melts and regrows a node at once, so it stays near 0 there; events.csv has the extent of each melting)",
     },
     Column {
         name: "F_1d",
