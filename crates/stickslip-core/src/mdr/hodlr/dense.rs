@@ -16,17 +16,17 @@ pub(super) fn matmul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     c
 }
 
-/// Thin SVD (U, σ, V) computed sequentially, so the build does not depend on threads.
+/// Left singular vectors (thin) and singular values of `m`, computed sequentially so that
+/// the build does not depend on threads; the right vectors are not formed.
 ///
 /// # Panics
 /// If the SVD does not converge.
-pub(super) fn thin_svd(m: MatRef<'_, f64>) -> (Mat<f64>, Vec<f64>, Mat<f64>) {
+pub(super) fn left_svd(m: MatRef<'_, f64>) -> (Mat<f64>, Vec<f64>) {
     let (rows, cols) = m.shape();
     let size = rows.min(cols);
     let mut u = Mat::<f64>::zeros(rows, size);
-    let mut v = Mat::<f64>::zeros(cols, size);
     if size == 0 {
-        return (u, Vec::new(), v);
+        return (u, Vec::new());
     }
     let mut s = Diag::<f64>::zeros(size);
     let params: Spec<SvdParams, f64> = Default::default();
@@ -34,7 +34,7 @@ pub(super) fn thin_svd(m: MatRef<'_, f64>) -> (Mat<f64>, Vec<f64>, Mat<f64>) {
         rows,
         cols,
         ComputeSvdVectors::Thin,
-        ComputeSvdVectors::Thin,
+        ComputeSvdVectors::No,
         Par::Seq,
         params,
     ));
@@ -42,14 +42,14 @@ pub(super) fn thin_svd(m: MatRef<'_, f64>) -> (Mat<f64>, Vec<f64>, Mat<f64>) {
         m,
         s.as_mut(),
         Some(u.as_mut()),
-        Some(v.as_mut()),
+        None,
         Par::Seq,
         MemStack::new(&mut buf),
         params,
     )
     .expect("SVD of a small factor did not converge");
     let sigma = (0..size).map(|i| s.column_vector()[i]).collect();
-    (u, sigma, v)
+    (u, sigma)
 }
 
 /// The Householder reflector H = I − τ·v·vᵀ (v₀ = 1) with H·x = β·e₁, applied in place:

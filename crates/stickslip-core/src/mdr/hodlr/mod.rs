@@ -316,6 +316,7 @@ impl HodlrOperator {
             &col_skel.residual,
             target_is_second,
         );
+        // Only the interpolation matrices go on (the skeleton indices are spent).
         let mut rows = Bases {
             rank: row_skel.rank,
             factor: row_skel.factor,
@@ -324,6 +325,7 @@ impl HodlrOperator {
             rank: col_skel.rank,
             factor: col_skel.factor,
         };
+        drop((row_skel.index, col_skel.index));
 
         // 2. Orthonormal bases (couplings absorb the triangular factors), the norm, and
         //    the truncation to rel_tol·ν of the small factors.
@@ -338,6 +340,7 @@ impl HodlrOperator {
                 couplings[id] = matmul(left.as_ref(), r_cols[source].transpose());
             }
         }
+        drop((r_rows, r_cols));
         let hss = Hss {
             tree: &tree,
             diagonal: &diagonal,
@@ -348,12 +351,11 @@ impl HodlrOperator {
         };
         out.norm_estimate = hss.norm_estimate(n, NORM_ITERATIONS);
         let threshold = rel_tol * out.norm_estimate;
-        let side = |bases: &Bases, transpose: bool| {
-            let w = weights(&tree, bases, &couplings, target_is_second, transpose);
-            truncate(&tree, bases, &w, threshold)
+        let side = |bases: Bases, transpose: bool| {
+            let w = weights(&tree, &bases, &couplings, target_is_second, transpose);
+            truncate(&tree, bases, w, threshold)
         };
-        let (new_rows, new_cols) = rayon::join(|| side(&rows, false), || side(&cols, true));
-        drop((rows, cols));
+        let (new_rows, new_cols) = rayon::join(|| side(rows, false), || side(cols, true));
         for (id, node) in tree.iter().enumerate() {
             if let Some((a, b)) = node.children {
                 let (target, source) = if target_is_second { (b, a) } else { (a, b) };

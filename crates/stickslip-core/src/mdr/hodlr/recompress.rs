@@ -5,7 +5,7 @@
 //! All of it works on the small factors (ranks × ranks), O(N·r²) in all.
 
 use super::TreeNode;
-use super::dense::{matmul, r_factor, thin_qr, thin_svd};
+use super::dense::{left_svd, matmul, r_factor, thin_qr};
 use faer::Mat;
 
 /// Nested bases of one side: leaf bases (size × k) and transfers ((k₁ + k₂) × k).
@@ -222,11 +222,13 @@ pub(super) struct Truncated {
 
 /// Truncates orthonormal nested bases, children first: the node's weighted block row
 /// projected on its children's new bases, [P₁ᵀ·E₁; P₂ᵀ·E₂]·W_τ (leaf: W_τ), keeps the
-/// singular vectors with σ ≥ `threshold` as the new transfer (leaf: basis U_τ·X).
+/// singular vectors with σ ≥ `threshold` as the new transfer (leaf: basis U_τ·X). Consumes
+/// the old bases and weights node by node, so that old and new factors are not all held
+/// at once.
 pub(super) fn truncate(
     tree: &[TreeNode],
-    bases: &Bases,
-    weight: &[Mat<f64>],
+    mut bases: Bases,
+    mut weight: Vec<Mat<f64>>,
     threshold: f64,
 ) -> Truncated {
     let nodes = tree.len();
@@ -269,11 +271,12 @@ pub(super) fn truncate(
                 Some(x0)
             }
         };
+        let w = std::mem::replace(&mut weight[id], Mat::zeros(0, 0));
         let z = match &x0 {
-            None => weight[id].clone(),
-            Some(x0) => matmul(x0.as_ref(), weight[id].as_ref()),
+            None => w,
+            Some(x0) => matmul(x0.as_ref(), w.as_ref()),
         };
-        let (u, sigma, _) = thin_svd(z.as_ref());
+        let (u, sigma) = left_svd(z.as_ref());
         let keep = sigma
             .iter()
             .take_while(|&&s| s > 0.0 && s >= threshold)
@@ -281,9 +284,10 @@ pub(super) fn truncate(
         out.dropped[id] = sigma.get(keep).copied().unwrap_or(0.0);
         let new_coords = u.subcols(0, keep).to_owned();
         out.bases.rank[id] = keep;
+        let old = std::mem::replace(&mut bases.factor[id], Mat::zeros(0, 0));
         match x0 {
             None => {
-                out.bases.factor[id] = matmul(bases.factor[id].as_ref(), new_coords.as_ref());
+                out.bases.factor[id] = matmul(old.as_ref(), new_coords.as_ref());
                 out.projection[id] = new_coords;
             }
             Some(x0) => {
