@@ -168,3 +168,31 @@ fn fast_build_at_20000_holds_no_dense_matrix() {
         ops.fast_bytes() / 1_000_000
     );
 }
+
+/// The build runs independent parts side by side where threads are free; the operators
+/// (and so every apply) must not depend on how many there are.
+#[test]
+fn fast_build_does_not_depend_on_the_thread_count() {
+    let grid = Grid::new(A0, 1500).expect("valid grid");
+    let build = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool")
+            .install(|| MdrOperators::with_form(grid, Quadrature::Product, OperatorForm::Fast))
+    };
+    let (one, three) = (build(1), build(3));
+    for x in random_vectors(1500, 5) {
+        let (mut a, mut b) = (vec![0.0; 1500], vec![0.0; 1500]);
+        one.forward(&x, &mut a);
+        three.forward(&x, &mut b);
+        assert_eq!(bits(&a), bits(&b));
+        one.back(&x, &mut a);
+        three.back(&x, &mut b);
+        assert_eq!(bits(&a), bits(&b));
+    }
+    let (f1, b1) = one.fast_operators().expect("fast form");
+    let (f3, b3) = three.fast_operators().expect("fast form");
+    assert_eq!(f1.stored_entries(), f3.stored_entries());
+    assert_eq!(b1.error_bound().to_bits(), b3.error_bound().to_bits());
+}
