@@ -5,7 +5,7 @@
 //! Why: the dense mat-vec of [`TriangularOperator`] streams N²/2 entries per apply
 //! (16 MB, about 330 µs at N = 2000), while the Abel kernel 1/√(r² − x²) is smooth away
 //! from r = x, so every off-diagonal block is numerically of low rank (11–17 at
-//! `rel_tol` 1e-10 for N ≤ 2000, 19 at N = 8000 and 20000, growing like log N).
+//! `rel_tol` 1e-10 for N ≤ 2000, 19 at N = 8000, 21 at N = 20000: growing like log N).
 //!
 //! # Form
 //! The index range 0..N is halved recursively down to leaves of at most
@@ -33,8 +33,8 @@
 //!    candidates (a leaf's rows, or its children's skeletons) with
 //!    A[I, ·] ≈ T·A[J_τ, ·]; the same for columns. The interpolation matrices are nested
 //!    by construction, and a sibling block is coupled by the plain entries
-//!    A[J_target, J_source]. About 190 entries per node and side at N = 2000, 260 at
-//!    N = 20000, against N for a dense row. The threshold of this stage is 0.1·`rel_tol`·ν₀
+//!    A[J_target, J_source]. About 190 sampled entries per row of the operator (both
+//!    sides together) at N = 2000 and 330 at N = 20000, against N/2 for a dense row. The threshold of this stage is 0.1·`rel_tol`·ν₀
 //!    (ν₀ ≤ ‖A‖₂ the source's cheap bound), so that the next stage sets the ranks.
 //! 2. **Recompression** (`recompress.rs`): the skeleton form is made orthonormal (QR of
 //!    the nested bases, the triangular factors moved into the couplings), ν is estimated
@@ -47,16 +47,17 @@
 //! operators' closed-form weights cancel by a factor up to (N)², so at large N their
 //! rounding noise (7e-8 of an entry at N = 20000) would dominate any sampled block and
 //! no sampling can reproduce it; the accurate weights (Gauss rules where the cell is
-//! away from the singular point) are exact to ~1e-15 and give ranks 19 at N = 8000 and
-//! 20000 (the noisy ones 70–100 at N = 8000). The leaves' dense triangles are the
-//! dense builders' bits.
+//! away from the singular point) are exact to ~1e-15 and give ranks 19 at N = 8000, 21
+//! at N = 20000 and 24 at N = 200000 (the noisy ones 70–100 already at N = 8000). The
+//! leaves' dense triangles are the dense builders' bits.
 //!
-//! Time about 0.07 s at N = 2000 (forward and back, one thread; about half with two),
-//! 2 s at N = 20000; peak memory ~80 MB at N = 20000. Deterministic: sequential loops
-//! in a fixed order; independent parts (row and column sides) may run on two threads
-//! with the same result. faer's SVD and matrix products are dispatched by instruction
-//! set, so the factors (not the apply's bits given the factors) may differ in the last
-//! bits between CPUs, as before.
+//! Time (forward and back, release, one thread; about half with two): 0.07 s at
+//! N = 2000, 0.35 s at 8000, 1.2 s at 20000, 13 s at 200000; peak memory 52 MB at
+//! N = 20000 and 0.44 GB at 200000 (of which the factors: 22 MB and 0.21 GB).
+//! Deterministic: sequential loops in a fixed order; independent parts (forward and
+//! back, row and column sides) may run on two threads with the same result. faer's SVD
+//! and matrix products are dispatched by instruction set, so the factors (not the
+//! apply's bits given the factors) may differ in the last bits between CPUs, as before.
 //!
 //! # Accuracy
 //! [`HodlrOperator::error_bound`] B states ‖A x − Ã x‖₂ ≲ B·‖x‖₂ = C·`rel_tol`·ν·‖x‖₂
@@ -70,8 +71,8 @@
 //!   bound, since unsampled columns are not seen (and it ignores the norms of the
 //!   interpolation matrices); it is about a tenth of the truncation part.
 //!
-//! C is 2–3 at N = 125, about 25 at N = 2000, 50 at N = 8000 (the nested truncation
-//! errors may add up over the subtree of a node). Measured against the dense operators
+//! C is 2–3 at N = 125, about 25 at N = 2000, 50 at N = 8000, 110 at N = 20000 and 300
+//! at N = 200000 (the nested truncation errors may add up over the subtree of a node). Measured against the dense operators
 //! (explicit Ã, power iteration on A − Ã) ‖A − Ã‖₂ is 0.1–0.8·`rel_tol`·ν for N ≤ 125
 //! and 1–4·`rel_tol`·ν for N = 1000–4000, and errors on random vectors stay below
 //! 0.1·`rel_tol`·ν·‖x‖₂ (the tests check 0.5). The same threshold at every node (rather
