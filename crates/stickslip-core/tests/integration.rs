@@ -4,6 +4,7 @@
 
 mod drive;
 mod hodlr;
+mod hodlr_build;
 mod landau;
 mod mdr_entries;
 mod mdr_pairs;

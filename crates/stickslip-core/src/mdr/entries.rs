@@ -31,6 +31,18 @@ pub trait OperatorEntries {
         }
     }
 
+    /// As [`Self::row_into`], for the build's samples of the off-diagonal blocks: a
+    /// source may compute these entries more accurately than its dense builder (the
+    /// rounding noise of a cancelling closed form is no smooth function of the indices,
+    /// so sampling cannot reproduce it, and at large N it would swamp the low ranks).
+    /// The default is [`Self::row_into`].
+    ///
+    /// # Panics
+    /// If `out` is shorter than `cols`.
+    fn row_into_accurate(&self, i: usize, cols: &[usize], out: &mut [f64]) {
+        self.row_into(i, cols, out);
+    }
+
     /// A cheap lower bound ν₀ ≤ ‖A‖₂ (operator units), the scale of the build's
     /// sampling thresholds: the closer to ‖A‖₂, the fewer entries the build reads;
     /// too small costs time, never accuracy. The default is the largest Euclidean norm

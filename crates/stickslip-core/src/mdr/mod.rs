@@ -14,7 +14,10 @@
 //!   on smooth data.
 //!
 //! Both are stored as packed triangular matrices ([`TriangularOperator`]) and applied
-//! as mat-vecs; [`MdrOperators::compliance_dense`] gives the composite as a faer matrix.
+//! as mat-vecs ([`OperatorForm::Dense`]), or built straight from entries computed on demand
+//! ([`OperatorEntries`]) into the hierarchical form of [`hodlr`] ([`OperatorForm::Fast`],
+//! O(N log N) memory: the packed matrices then exist only if asked for);
+//! [`MdrOperators::compliance_dense`] gives the composite as a faer matrix.
 
 mod entries;
 pub mod hodlr;
@@ -28,6 +31,7 @@ pub use triangular::{Triangle, TriangularOperator};
 
 use crate::grid::Grid;
 use faer::Mat;
+use std::sync::OnceLock;
 
 /// Which discretisation of the MDR integrals to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -45,12 +49,14 @@ pub enum Quadrature {
 pub enum OperatorForm {
     /// Packed triangular mat-vec, O(N²) per apply (row-parallel from 512 nodes).
     Dense,
-    /// Hierarchical low-rank form ([`hodlr`]) compressed to [`FAST_REL_TOL`], O(N) per apply.
+    /// Hierarchical low-rank form ([`hodlr`]) compressed to [`FAST_REL_TOL`], O(N) per apply,
+    /// built from sampled entries without the dense matrices (O(N log N) time and memory).
     Fast,
 }
 
-/// Relative tolerance of the fast form: ‖A·x − Ã·x‖ ≤ C·tol·‖A‖·‖x‖ with C ≈ 25 at N = 2000
-/// (see [`hodlr::HodlrOperator::error_bound_factor`]), far below the quadrature's own error.
+/// Relative tolerance of the fast form: ‖A·x − Ã·x‖ ≲ C·tol·‖A‖·‖x‖ with C ≈ 25 at N = 2000
+/// (see [`hodlr::HodlrOperator::error_bound_factor`]; measured ‖A − Ã‖₂ 2–4·tol·‖A‖₂ for
+/// N ≤ 4000), far below the quadrature's own error.
 pub const FAST_REL_TOL: f64 = 1e-10;
 
 /// The compressed operators and their work space.
@@ -67,26 +73,36 @@ struct FastForms {
 pub struct MdrOperators {
     grid: Grid,
     quadrature: Quadrature,
-    forward: TriangularOperator,
-    back: TriangularOperator,
+    /// The packed operators: built by [`Self::new`], or on first request in the fast form.
+    forward: OnceLock<TriangularOperator>,
+    back: OnceLock<TriangularOperator>,
     fast: Option<Box<FastForms>>,
     force_3d_m2: Vec<f64>,
     force_1d_m: Vec<f64>,
 }
 
 impl MdrOperators {
-    /// Builds all operators for `grid` with `quadrature`: O(N²) time and memory (N²·8 bytes).
+    /// Builds all operators for `grid` with `quadrature`: O(N²) time and memory
+    /// ([`Self::dense_bytes`]).
     pub fn new(grid: Grid, quadrature: Quadrature) -> Self {
-        let (forward, back, force_3d_m2, force_1d_m) = match quadrature {
+        let (forward, back) = match quadrature {
+            Quadrature::Literal => (literal::forward(&grid), literal::back(&grid)),
+            Quadrature::Product => (product::forward(&grid), product::back(&grid)),
+        };
+        let mut ops = Self::without_dense(grid, quadrature);
+        ops.forward = OnceLock::from(forward);
+        ops.back = OnceLock::from(back);
+        ops
+    }
+
+    /// The force weights, no transform yet.
+    fn without_dense(grid: Grid, quadrature: Quadrature) -> Self {
+        let (force_3d_m2, force_1d_m) = match quadrature {
             Quadrature::Literal => (
-                literal::forward(&grid),
-                literal::back(&grid),
                 literal::force_3d_weights(&grid),
                 literal::force_1d_weights(&grid),
             ),
             Quadrature::Product => (
-                product::forward(&grid),
-                product::back(&grid),
                 product::force_3d_weights(&grid),
                 product::force_1d_weights(&grid),
             ),
@@ -94,29 +110,70 @@ impl MdrOperators {
         Self {
             grid,
             quadrature,
-            forward,
-            back,
+            forward: OnceLock::new(),
+            back: OnceLock::new(),
             fast: None,
             force_3d_m2,
             force_1d_m,
         }
     }
 
-    /// As [`MdrOperators::new`], applied in `form`; the fast form also keeps the dense one
-    /// (for [`MdrOperators::forward_operator`] and analysis).
+    /// As [`MdrOperators::new`], applied in `form`. The fast form is built from entries
+    /// computed on demand (O(N log N) time, O(N·r·log N) memory; forward and back side by
+    /// side where threads are free, with the same result either way) and stores no dense
+    /// operator: [`Self::forward_operator`], [`Self::back_operator`] and
+    /// [`Self::compliance_dense`] build one on first call.
     pub fn with_form(grid: Grid, quadrature: Quadrature, form: OperatorForm) -> Self {
-        let mut ops = Self::new(grid, quadrature);
-        if form == OperatorForm::Fast {
-            let forward = hodlr::HodlrOperator::compress(&ops.forward, FAST_REL_TOL);
-            let back = hodlr::HodlrOperator::compress(&ops.back, FAST_REL_TOL);
-            ops.fast = Some(Box::new(FastForms {
-                forward_scratch: std::sync::Mutex::new(forward.scratch()),
-                back_scratch: std::sync::Mutex::new(back.scratch()),
-                forward,
-                back,
-            }));
+        if form == OperatorForm::Dense {
+            return Self::new(grid, quadrature);
         }
+        let mut ops = Self::without_dense(grid, quadrature);
+        let (forward, back) = match quadrature {
+            Quadrature::Literal => rayon::join(
+                || hodlr::HodlrOperator::build(&literal::ForwardEntries::new(grid), FAST_REL_TOL),
+                || hodlr::HodlrOperator::build(&literal::BackEntries::new(grid), FAST_REL_TOL),
+            ),
+            Quadrature::Product => rayon::join(
+                || hodlr::HodlrOperator::build(&product::ForwardEntries::new(grid), FAST_REL_TOL),
+                || hodlr::HodlrOperator::build(&product::BackEntries::new(grid), FAST_REL_TOL),
+            ),
+        };
+        ops.fast = Some(Box::new(FastForms {
+            forward_scratch: std::sync::Mutex::new(forward.scratch()),
+            back_scratch: std::sync::Mutex::new(back.scratch()),
+            forward,
+            back,
+        }));
         ops
+    }
+
+    /// Bytes the two packed dense operators of N nodes take (8·N(N + 1)): what
+    /// [`Self::new`] allocates, and what [`Self::forward_operator`] plus
+    /// [`Self::back_operator`] allocate in the fast form (e.g. 32 MB at N = 2000,
+    /// 320 GB at N = 200 000). Saturates instead of overflowing.
+    pub fn dense_bytes(nodes: usize) -> usize {
+        nodes
+            .saturating_mul(nodes.saturating_add(1))
+            .saturating_mul(8)
+    }
+
+    /// Whether the packed operators exist: always in the dense form; in the fast form only
+    /// after [`Self::forward_operator`], [`Self::back_operator`] or
+    /// [`Self::compliance_dense`] (then [`Self::dense_bytes`] more are held).
+    pub fn has_dense_operators(&self) -> bool {
+        self.forward.get().is_some() || self.back.get().is_some()
+    }
+
+    /// Bytes held by the fast form's factors (0 in the dense form).
+    pub fn fast_bytes(&self) -> usize {
+        self.fast.as_ref().map_or(0, |f| {
+            8 * (f.forward.stored_entries() + f.back.stored_entries())
+        })
+    }
+
+    /// The fast operators (forward, back), if this is the fast form.
+    pub fn fast_operators(&self) -> Option<(&hodlr::HodlrOperator, &hodlr::HodlrOperator)> {
+        self.fast.as_ref().map(|f| (&f.forward, &f.back))
     }
 
     /// The form the transforms are applied in.
@@ -131,14 +188,14 @@ impl MdrOperators {
     fn apply_forward(&self, x: &[f64], y: &mut [f64]) {
         match &self.fast {
             Some(f) => f.forward.apply(x, y, &mut lock(&f.forward_scratch)),
-            None => apply_sized(&self.forward, x, y),
+            None => apply_sized(self.forward_operator(), x, y),
         }
     }
 
     fn apply_back(&self, x: &[f64], y: &mut [f64]) {
         match &self.fast {
             Some(f) => f.back.apply(x, y, &mut lock(&f.back_scratch)),
-            None => apply_sized(&self.back, x, y),
+            None => apply_sized(self.back_operator(), x, y),
         }
     }
 
@@ -210,21 +267,31 @@ impl MdrOperators {
         &self.force_1d_m
     }
 
-    /// The forward operator in packed form.
+    /// The forward operator in packed form. In the fast form it is built on first call
+    /// (O(N²) time and [`Self::dense_bytes`]/2 memory, kept for later calls): for analysis
+    /// and tests; the transforms themselves never need it.
     pub fn forward_operator(&self) -> &TriangularOperator {
-        &self.forward
+        self.forward.get_or_init(|| match self.quadrature {
+            Quadrature::Literal => literal::forward(&self.grid),
+            Quadrature::Product => product::forward(&self.grid),
+        })
     }
 
-    /// The back operator in packed form.
+    /// The back operator in packed form (in the fast form built on first call, as
+    /// [`Self::forward_operator`]).
     pub fn back_operator(&self) -> &TriangularOperator {
-        &self.back
+        self.back.get_or_init(|| match self.quadrature {
+            Quadrature::Literal => literal::back(&self.grid),
+            Quadrature::Product => product::back(&self.grid),
+        })
     }
 
-    /// The composite back·forward as a dense faer matrix (Pa·m per Pa; divide by G*).
+    /// The composite back·forward of the packed operators as a dense faer matrix (Pa·m per
+    /// Pa; divide by G*), also in the fast form (then building the packed operators first).
     /// O(N³) to build: meant for analysis (spectral radius, direct solves at small N).
     pub fn compliance_dense(&self) -> Mat<f64> {
-        let f = self.forward.to_dense();
-        let b = self.back.to_dense();
+        let f = self.forward_operator().to_dense();
+        let b = self.back_operator().to_dense();
         let mut c = Mat::<f64>::zeros(f.nrows(), f.ncols());
         faer::linalg::matmul::matmul(
             c.as_mut(),

@@ -1,10 +1,10 @@
 //! Packing of the factors into one panel-layout Vec, and the apply kernels (see the
 //! "Apply" section of the module docs).
 
-use super::compress::BasisPass;
+use super::recompress::Bases;
 use super::{HodlrOperator, HodlrScratch, LEAF_MAX_ROWS, RankLevel, TreeNode};
+use crate::mdr::Triangle;
 use crate::mdr::triangular::dot_fixed_order;
-use crate::mdr::{Triangle, TriangularOperator};
 use faer::Mat;
 use faer::traits::pulp::{Arch, Simd, WithSimd};
 
@@ -32,10 +32,10 @@ impl HodlrOperator {
     /// offsets such that siblings' coefficients are adjacent and follow their parent's.
     pub(super) fn pack(
         &mut self,
-        op: &TriangularOperator,
         tree: &[TreeNode],
-        rows: &BasisPass<'_>,
-        cols: &BasisPass<'_>,
+        diagonal: &[Mat<f64>],
+        rows: &Bases,
+        cols: &Bases,
         couplings: &[Mat<f64>],
     ) {
         let n = self.n;
@@ -46,7 +46,7 @@ impl HodlrOperator {
                     Triangle::Lower => 0..i + 1,
                     Triangle::Upper => i..n,
                 };
-                self.data.extend(span.map(|k| op.get(i, k)));
+                self.data.extend(span.map(|k| diagonal[0][(i, k)]));
             }
         }
         let mut x_off = vec![0; tree.len()];
@@ -131,7 +131,7 @@ impl HodlrOperator {
                 let (c0, c1) = leaf_panel_cols(self.triangle, hi - lo, r0, height);
                 for c in c0..c1 {
                     self.data
-                        .extend((0..height).map(|l| op.get(lo + r0 + l, lo + c)));
+                        .extend((0..height).map(|l| diagonal[id][(r0 + l, c)]));
                 }
                 for c in 0..u.ncols() {
                     self.data.extend((0..height).map(|l| u[(r0 + l, c)]));
@@ -148,7 +148,7 @@ impl HodlrOperator {
         self.set_profile(tree, rows, cols);
     }
 
-    fn set_profile(&mut self, tree: &[TreeNode], rows: &BasisPass<'_>, cols: &BasisPass<'_>) {
+    fn set_profile(&mut self, tree: &[TreeNode], rows: &Bases, cols: &Bases) {
         let depth = tree.iter().map(|t| t.depth).max().unwrap_or(0);
         self.profile = (0..=depth)
             .map(|d| {

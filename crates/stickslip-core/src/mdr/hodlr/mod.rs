@@ -1,10 +1,11 @@
-//! Hierarchical low-rank form of the packed triangular MDR operators: memory and apply
-//! O(N·r) (r the rank, growing like log N), built from and checked against the dense ones.
+//! Hierarchical low-rank form of the triangular MDR operators: memory and apply O(N·r)
+//! (r the rank, growing like log N), built from entries computed on demand
+//! ([`OperatorEntries`]) without ever forming the dense matrix.
 //!
 //! Why: the dense mat-vec of [`TriangularOperator`] streams N²/2 entries per apply
 //! (16 MB, about 330 µs at N = 2000), while the Abel kernel 1/√(r² − x²) is smooth away
-//! from r = x, so every off-diagonal block is numerically of low rank (10–17 at
-//! `rel_tol` 1e-10 for N ≤ 2000, growing like log N).
+//! from r = x, so every off-diagonal block is numerically of low rank (11–17 at
+//! `rel_tol` 1e-10 for N ≤ 2000, 19 at N = 8000, 21 at N = 20000: growing like log N).
 //!
 //! # Form
 //! The index range 0..N is halved recursively down to leaves of at most
@@ -20,39 +21,70 @@
 //! block ranks measured by full SVDs, against 128 000 for the nested form; and the
 //! nested form's cost per row grows only with the ranks, not with the number of levels.
 //!
-//! # Accuracy
-//! Ranks are chosen by truncated SVD (faer, sequential, so the build does not depend on
-//! the thread count): a singular value σ is kept if σ ≥ t = `rel_tol`·ν, where ν ≤ ‖A‖₂
-//! is a power-iteration estimate of the spectral norm (a lower bound, so t never exceeds
-//! `rel_tol`·‖A‖₂). The largest dropped σ of every truncation is recorded and gives an
-//! a posteriori bound (see [`HodlrOperator::error_bound`]):
-//!
-//! ‖A x − Ã x‖₂ ≤ C·`rel_tol`·‖A‖₂·‖x‖₂,  C = [`HodlrOperator::error_bound_factor`]
-//!
-//! plus rounding. C is 2–4 at N = 125, about 25 at N = 2000 and 45–70 at N = 8000 (the
-//! nested truncation errors may add up over the subtree of a node), while the errors
-//! measured against the dense operators stay below 0.1·`rel_tol`·‖A‖₂·‖x‖₂.
-//!
-//! The same threshold at every node (rather than smaller ones for small nodes, which
-//! would give C ≈ 10 independent of N) keeps the leaves above the rounding floor below.
-//!
-//! # Rounding floor of the product operators
-//! The product-integration weights are differences of moments that cancel by a factor
-//! of order N, so their entries carry rounding noise. Its singular values, seen as the
-//! ranks jumping towards full once the threshold reaches them, lie near 1e-12·‖A‖₂ at
-//! N = 2000 and approach 1e-10·‖A‖₂ at N = 8000 (column blocks of the forward operator:
-//! ranks 21–24 there against 11–19 for its row blocks and for the back operator); the
-//! literal operators have no such floor. Thresholds near or below the floor compress
-//! noise: at `rel_tol` 1e-12 and N = 2000 the product forward operator stores almost
-//! twice as much as the dense one. The error bound still holds; only speed and memory
-//! are lost. Hence `rel_tol` 1e-10 (N ≤ 4000) to 1e-8 — both far below the O(h²)
-//! discretisation error of the schemes.
-//!
 //! # Build
-//! Reads every entry twice through [`TriangularOperator::get`] (once for row bases, once
-//! for column bases), O(N²) time; the SVDs of the leaf block rows (leaf × N) dominate,
-//! O(N²·leaf): about 0.1 s at N = 2000 and 1.8 s at N = 8000 (release, one thread).
-//! The temporary memory is O(N·r·log N).
+//! Two stages, neither touching more than O(N·log N) entries nor holding more than the
+//! factors (O(N·r) values, plus O(r·log N) per level of the recursion):
+//!
+//! 1. **Skeletons** (`skeleton.rs`): for every node, children first, an interpolative
+//!    decomposition of its block row from *sampled* columns — every column within
+//!    16 nodes of the node's boundary, then 10 Chebyshev points per octave of distance
+//!    (the kernel, seen from the boundary, is smooth on each octave), and the range's far
+//!    end. A pivoted QR of those samples picks skeleton rows J_τ among the node's
+//!    candidates (a leaf's rows, or its children's skeletons) with
+//!    A[I, ·] ≈ T·A[J_τ, ·]; the same for columns. The interpolation matrices are nested
+//!    by construction, and a sibling block is coupled by the plain entries
+//!    A[J_target, J_source]. About 190 sampled entries per row of the operator (both
+//!    sides together) at N = 2000 and 330 at N = 20000, against N/2 for a dense row. The threshold of this stage is 0.1·`rel_tol`·ν₀
+//!    (ν₀ ≤ ‖A‖₂ the source's cheap bound), so that the next stage sets the ranks.
+//! 2. **Recompression** (`recompress.rs`): the skeleton form is made orthonormal (QR of
+//!    the nested bases, the triangular factors moved into the couplings), ν is estimated
+//!    by power iteration on it, and every basis is truncated at t = `rel_tol`·ν by SVDs of
+//!    small matrices: the node's block row, known through the couplings and its
+//!    ancestors' transfers (a top-down pass of Gram factors), projected on its children's
+//!    truncated bases. Only r × r matrices are touched.
+//!
+//! The samples are read through [`OperatorEntries::row_into_accurate`]: the product
+//! operators' closed-form weights cancel by a factor up to (N)², so at large N their
+//! rounding noise (7e-8 of an entry at N = 20000) would dominate any sampled block and
+//! no sampling can reproduce it; the accurate weights (Gauss rules where the cell is
+//! away from the singular point) are exact to ~1e-15 and give ranks 19 at N = 8000, 21
+//! at N = 20000 and 24 at N = 200000 (the noisy ones 70–100 already at N = 8000). The
+//! leaves' dense triangles are the dense builders' bits.
+//!
+//! Time (forward and back, release, one thread; about half with two): 0.07 s at
+//! N = 2000, 0.35 s at 8000, 1.2 s at 20000, 13 s at 200000; peak memory 52 MB at
+//! N = 20000 and 0.44 GB at 200000 (of which the factors: 22 MB and 0.21 GB).
+//! Deterministic: sequential loops in a fixed order; independent parts (forward and
+//! back, row and column sides) may run on two threads with the same result. faer's SVD
+//! and matrix products are dispatched by instruction set, so the factors (not the
+//! apply's bits given the factors) may differ in the last bits between CPUs, as before.
+//!
+//! # Accuracy
+//! [`HodlrOperator::error_bound`] B states ‖A x − Ã x‖₂ ≲ B·‖x‖₂ = C·`rel_tol`·ν·‖x‖₂
+//! ([`HodlrOperator::error_bound_factor`]), the sum of two parts:
+//! - the **truncation**, bounded rigorously (relative to the skeleton form) by the largest
+//!   singular value dropped at every node: a node's basis error e obeys
+//!   e_τ² ≤ e₁² + e₂² + δ_τ², a sibling block's error is ≤ e_row(target) + e_col(source),
+//!   blocks at one depth are disjoint and depths add up;
+//! - the **skeleton stage**, *estimated* by the same formula from the interpolation
+//!   residuals on the sampled columns ([`HodlrOperator::skeleton_error_estimate`]): not a
+//!   bound, since unsampled columns are not seen (and it ignores the norms of the
+//!   interpolation matrices); it is about a tenth of the truncation part.
+//!
+//! C is 2–3 at N = 125, about 25 at N = 2000, 50 at N = 8000, 110 at N = 20000 and 300
+//! at N = 200000 (the nested truncation errors may add up over the subtree of a node).
+//! Measured against the dense operators (explicit Ã, power iteration on A − Ã)
+//! ‖A − Ã‖₂ is 0.1–0.8·`rel_tol`·ν for N ≤ 125 (about half of C there) and
+//! 1–4·`rel_tol`·ν for N = 1000–4000, and errors on random vectors stay below
+//! 0.15·`rel_tol`·ν·‖x‖₂ (the tests check 0.5). The same threshold at every node (rather
+//! than smaller ones for small nodes, which would give C ≈ 10 independent of N) keeps the
+//! ranks of the many small nodes low.
+//!
+//! The product operators' dense builders carry rounding noise of their own,
+//! ‖A_dense − A_exact‖₂ ≈ 3e-11·‖A‖₂ at N = 2000 and growing like N^1.5, which the fast
+//! form does not follow (it approximates the exact weights): at `rel_tol` 1e-12 its
+//! difference to the dense operator is that noise, not the compression; at
+//! [`crate::mdr::FAST_REL_TOL`] and N ≤ 4000 it is negligible.
 //!
 //! # Apply
 //! [`HodlrOperator::apply`]: leaves (x̂ = Vᵀx) → up the tree (x̂_τ = Fᵀ[x̂₁; x̂₂]) → down
@@ -67,21 +99,30 @@
 //! caller-owned [`HodlrScratch`], so the operator stays immutable and shareable.
 
 mod apply;
-mod compress;
+mod dense;
+mod recompress;
+mod skeleton;
 
-use super::{Triangle, TriangularOperator};
+use super::{OperatorEntries, Triangle, TriangularOperator};
 use apply::{Gemv, LeafOut};
-use compress::{BasisPass, Coupler, error_bound, norm_lower_bound};
+use dense::matmul;
 use faer::Mat;
 use faer::traits::pulp::Arch;
+use recompress::{Bases, Hss, error_bound, orthonormalize, truncate, weights};
+use skeleton::SkeletonPass;
 
 /// Largest leaf (rows of a dense diagonal block). Leaf triangles cost about leaf/2 per
 /// row, transfers about 5r²/leaf: measured against 16 and 64, 32 is the fastest at
 /// N = 2000 and as fast at N = 8000.
 pub const LEAF_MAX_ROWS: usize = 32;
 
-/// Power-iteration steps of the norm estimate ν (each is one A and one Aᵀ apply).
+/// Power-iteration steps of the norm estimate ν (each is one Ã and one Ãᵀ apply).
 const NORM_ITERATIONS: usize = 4;
+
+/// Threshold of the skeleton stage relative to the final truncation's (`rel_tol`·ν₀, ν₀
+/// the entries' cheap lower bound of ‖A‖₂): its error stays a small part of the total,
+/// and the truncation, not the sampling, sets the ranks.
+const SKELETON_REL_TOL: f64 = 0.1;
 
 /// Ranks of one level of the tree, for reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -116,8 +157,10 @@ pub struct HodlrOperator {
     triangle: Triangle,
     rel_tol: f64,
     norm_estimate: f64,
-    /// A posteriori bound B of ‖A − Ã‖₂ (operator units).
+    /// B of ‖A − Ã‖₂ ≲ B: the truncation's bound plus the skeleton estimate (operator units).
     error_bound: f64,
+    /// The skeleton stage's part of `error_bound`, estimated from sampled residuals.
+    skeleton_error: f64,
     /// Every small matrix of the apply, in the panel layout of `apply::gemv`.
     data: Vec<f64>,
     /// N ≤ [`LEAF_MAX_ROWS`]: `data` holds the packed rows, applied like the dense operator.
@@ -174,70 +217,54 @@ fn build_tree(n: usize) -> Vec<TreeNode> {
 }
 
 impl HodlrOperator {
-    /// Compresses `op` (keeping singular values ≥ `rel_tol`·ν, ν ≤ ‖A‖₂) so that
-    /// ‖A x − Ã x‖₂ ≤ C·`rel_tol`·‖A‖₂·‖x‖₂ with C = [`Self::error_bound_factor`]
-    /// (plus rounding); `rel_tol` = 0 keeps every non-zero singular value. O(N²) time.
+    /// [`Self::build`] from the stored entries of a dense packed operator (read only where
+    /// the build samples). Its rounding noise is sampled too, so for the product
+    /// operators below their noise floor (`rel_tol` ≲ 1e-11 at N = 2000) build from
+    /// [`crate::mdr::product::ForwardEntries`] and [`crate::mdr::product::BackEntries`]
+    /// instead, which sample accurate entries.
+    ///
+    /// # Panics
+    /// As [`Self::build`].
+    pub fn compress(op: &TriangularOperator, rel_tol: f64) -> Self {
+        Self::build(op, rel_tol)
+    }
+
+    /// Builds the hierarchical form of the operator whose entries `entries` computes,
+    /// reading O(N·log N) of them (see "Build" in the module docs), truncated at
+    /// `rel_tol`·ν (ν ≤ ‖Ã‖₂ a power-iteration estimate): ‖A x − Ã x‖₂ ≲ C·`rel_tol`·ν·‖x‖₂
+    /// with C = [`Self::error_bound_factor`] (see "Accuracy" for what is bounded and what
+    /// is estimated). `rel_tol` = 0 keeps every non-zero singular value of what the
+    /// samples see. N ≤ [`LEAF_MAX_ROWS`] gives the exact dense operator.
     ///
     /// # Panics
     /// If `rel_tol` is negative or not finite, or if an SVD fails to converge.
-    pub fn compress(op: &TriangularOperator, rel_tol: f64) -> Self {
+    pub fn build<E: OperatorEntries + Sync + ?Sized>(entries: &E, rel_tol: f64) -> Self {
         assert!(
             rel_tol.is_finite() && rel_tol >= 0.0,
             "rel_tol = {rel_tol} must be finite and >= 0"
         );
-        let n = op.size();
-        let triangle = op.triangle();
+        let n = entries.size();
+        let triangle = entries.triangle();
         let tree = build_tree(n);
-        let norm_estimate = if n == 0 { 0.0 } else { norm_lower_bound(op) };
-        let threshold = rel_tol * norm_estimate;
+        let nodes = tree.len();
         let (row_side, col_side, target_is_second) = match triangle {
             Triangle::Lower => (Side::Left, Side::Right, true),
             Triangle::Upper => (Side::Right, Side::Left, false),
         };
-
-        let nodes = tree.len();
-        let col_entry = |i: usize, k: usize| op.get(k, i);
-        let mut cols = BasisPass {
-            tree: &tree,
-            n,
-            side: col_side,
-            entry: &col_entry,
-            threshold,
-            rank: vec![0; nodes],
-            dropped: vec![0.0; nodes],
-            factor: vec![Mat::zeros(0, 0); nodes],
-            expanded: Some(vec![Mat::zeros(0, 0); nodes]),
-            couple: None,
-        };
-        cols.visit(0);
-        let col_expanded = cols.expanded.take().unwrap_or_default();
-        let row_entry = |i: usize, k: usize| op.get(i, k);
-        let mut rows = BasisPass {
-            tree: &tree,
-            n,
-            side: row_side,
-            entry: &row_entry,
-            threshold,
-            rank: vec![0; nodes],
-            dropped: vec![0.0; nodes],
-            factor: vec![Mat::zeros(0, 0); nodes],
-            expanded: None,
-            couple: Some(Coupler {
-                source_basis: &col_expanded,
-                target_is_second,
-                blocks: vec![Mat::zeros(0, 0); nodes],
-            }),
-        };
-        rows.visit(0);
-        let couplings = rows.couple.take().map(|c| c.blocks).unwrap_or_default();
-
-        let bound = error_bound(&tree, &rows.dropped, &cols.dropped, target_is_second);
+        let diagonal: Vec<Mat<f64>> = tree
+            .iter()
+            .map(|t| match t.children {
+                Some(_) => Mat::zeros(0, 0),
+                None => dense_block(entries, t.lo, t.hi),
+            })
+            .collect();
         let mut out = Self {
             n,
             triangle,
             rel_tol,
-            norm_estimate,
-            error_bound: bound,
+            norm_estimate: 0.0,
+            error_bound: 0.0,
+            skeleton_error: 0.0,
             data: Vec::new(),
             single_leaf: false,
             leaf_in: Vec::new(),
@@ -248,7 +275,116 @@ impl HodlrOperator {
             y_coeff_len: 0,
             profile: Vec::new(),
         };
-        out.pack(op, &tree, &rows, &cols, &couplings);
+        if n <= LEAF_MAX_ROWS {
+            // One dense leaf: exact, no bases.
+            let none = || Bases {
+                rank: vec![0; nodes],
+                factor: vec![Mat::zeros(0, 0); nodes],
+            };
+            let (rows, cols) = (none(), none());
+            let hss = Hss {
+                tree: &tree,
+                diagonal: &diagonal,
+                rows: &rows,
+                cols: &cols,
+                couplings: &[],
+                target_is_second,
+            };
+            out.norm_estimate = hss.norm_estimate(n, NORM_ITERATIONS);
+            out.pack(&tree, &diagonal, &rows, &cols, &[]);
+            return out;
+        }
+
+        // 1. Skeletons from sampled entries, at a threshold well below the final one
+        //    (scaled by a cheap lower bound of ‖A‖₂, so never looser than intended).
+        let skeleton_threshold = SKELETON_REL_TOL * rel_tol * entries.norm_lower_bound();
+        // Independent passes: run side by side where threads are free (same bits either way).
+        let (row_skel, col_skel) = rayon::join(
+            || SkeletonPass::new(entries, &tree, row_side, false, skeleton_threshold).run(),
+            || SkeletonPass::new(entries, &tree, col_side, true, skeleton_threshold).run(),
+        );
+        let mut couplings = vec![Mat::zeros(0, 0); nodes];
+        for (id, node) in tree.iter().enumerate() {
+            if let Some((a, b)) = node.children {
+                let (target, source) = if target_is_second { (b, a) } else { (a, b) };
+                couplings[id] = entry_block(
+                    entries,
+                    &row_skel.index[target],
+                    &col_skel.index[source],
+                    true,
+                );
+            }
+        }
+        out.skeleton_error = error_bound(
+            &tree,
+            &row_skel.residual,
+            &col_skel.residual,
+            target_is_second,
+        );
+        // Only the interpolation matrices go on (the skeleton indices are spent).
+        let mut rows = Bases {
+            rank: row_skel.rank,
+            factor: row_skel.factor,
+        };
+        let mut cols = Bases {
+            rank: col_skel.rank,
+            factor: col_skel.factor,
+        };
+        drop((row_skel.index, col_skel.index));
+
+        // 2. Orthonormal bases (couplings absorb the triangular factors), the norm, and
+        //    the truncation to rel_tol·ν of the small factors.
+        let (r_rows, r_cols) = rayon::join(
+            || orthonormalize(&tree, &mut rows),
+            || orthonormalize(&tree, &mut cols),
+        );
+        for (id, node) in tree.iter().enumerate() {
+            if let Some((a, b)) = node.children {
+                let (target, source) = if target_is_second { (b, a) } else { (a, b) };
+                let left = matmul(r_rows[target].as_ref(), couplings[id].as_ref());
+                couplings[id] = matmul(left.as_ref(), r_cols[source].transpose());
+            }
+        }
+        drop((r_rows, r_cols));
+        let hss = Hss {
+            tree: &tree,
+            diagonal: &diagonal,
+            rows: &rows,
+            cols: &cols,
+            couplings: &couplings,
+            target_is_second,
+        };
+        out.norm_estimate = hss.norm_estimate(n, NORM_ITERATIONS);
+        let threshold = rel_tol * out.norm_estimate;
+        let side = |bases: Bases, transpose: bool| {
+            let w = weights(&tree, &bases, &couplings, target_is_second, transpose);
+            truncate(&tree, bases, w, threshold)
+        };
+        let (new_rows, new_cols) = rayon::join(|| side(rows, false), || side(cols, true));
+        for (id, node) in tree.iter().enumerate() {
+            if let Some((a, b)) = node.children {
+                let (target, source) = if target_is_second { (b, a) } else { (a, b) };
+                let left = matmul(
+                    new_rows.projection[target].transpose(),
+                    couplings[id].as_ref(),
+                );
+                couplings[id] = matmul(left.as_ref(), new_cols.projection[source].as_ref());
+            }
+        }
+        out.error_bound = out.skeleton_error
+            + error_bound(
+                &tree,
+                &new_rows.dropped,
+                &new_cols.dropped,
+                target_is_second,
+            );
+        out.pack(
+            &tree,
+            &diagonal,
+            &new_rows.bases,
+            &new_cols.bases,
+            &couplings,
+        );
         out
     }
 
@@ -262,27 +398,36 @@ impl HodlrOperator {
         self.triangle
     }
 
-    /// The relative tolerance it was compressed with.
+    /// The relative tolerance it was built with.
     pub fn rel_tol(&self) -> f64 {
         self.rel_tol
     }
 
-    /// ν, the power-iteration lower bound of ‖A‖₂ the thresholds were scaled by
-    /// (units of the operator: N/m per Pa for the forward, m/m for the back operator).
+    /// ν, the power-iteration lower bound of ‖Ã‖₂ (≈ ‖A‖₂) of the skeleton form that the
+    /// truncation threshold was scaled by (units of the operator: N/m per Pa for the
+    /// forward, m/m for the back operator).
     pub fn norm_estimate(&self) -> f64 {
         self.norm_estimate
     }
 
-    /// B in ‖A x − Ã x‖₂ ≤ B·‖x‖₂ (rounding aside), computed after the build from the
-    /// singular values that were dropped (operator units).
+    /// B in ‖A x − Ã x‖₂ ≲ B·‖x‖₂ (rounding aside, operator units): the truncation's
+    /// rigorous bound from the singular values that were dropped, plus
+    /// [`Self::skeleton_error_estimate`] (see "Accuracy" in the module docs).
     pub fn error_bound(&self) -> f64 {
         self.error_bound
     }
 
-    /// C = B/(`rel_tol`·ν) in ‖A x − Ã x‖₂ ≤ C·`rel_tol`·‖A‖₂·‖x‖₂; 0 when nothing
-    /// was dropped. A priori (every dropped σ at the threshold) C is the sum over
-    /// depths of √(nodes under the target child) + √(nodes under the source child),
-    /// 45 at N = 2000 and 100 at N = 8000; the recorded values give about half that.
+    /// The skeleton stage's part of [`Self::error_bound`] (operator units): an estimate
+    /// from the interpolation residuals on the sampled entries, not a bound.
+    pub fn skeleton_error_estimate(&self) -> f64 {
+        self.skeleton_error
+    }
+
+    /// C = B/(`rel_tol`·ν) in ‖A x − Ã x‖₂ ≲ C·`rel_tol`·ν·‖x‖₂; 0 when nothing
+    /// was dropped. A priori (every dropped σ at the threshold) the truncation part is the
+    /// sum over depths of √(nodes under the target child) + √(nodes under the source
+    /// child), 45 at N = 2000 and 100 at N = 8000; the recorded values give about half
+    /// that, plus about a tenth for the skeleton estimate.
     pub fn error_bound_factor(&self) -> f64 {
         let scale = self.rel_tol * self.norm_estimate;
         if scale > 0.0 {
@@ -344,4 +489,34 @@ impl HodlrOperator {
     pub fn apply_portable(&self, x: &[f64], y: &mut [f64], scratch: &mut HodlrScratch) {
         self.apply_with(Arch::Scalar, x, y, scratch);
     }
+}
+
+/// The leaf's diagonal block A[lo..hi, lo..hi] (zeros outside the triangle), with the
+/// dense builder's bits.
+fn dense_block<E: OperatorEntries + ?Sized>(entries: &E, lo: usize, hi: usize) -> Mat<f64> {
+    let idx: Vec<usize> = (lo..hi).collect();
+    entry_block(entries, &idx, &idx, false)
+}
+
+/// A[rows, cols] for increasing index lists, from the accurate entries (off-diagonal
+/// blocks) or the dense builder's.
+fn entry_block<E: OperatorEntries + ?Sized>(
+    entries: &E,
+    rows: &[usize],
+    cols: &[usize],
+    accurate: bool,
+) -> Mat<f64> {
+    let mut block = Mat::<f64>::zeros(rows.len(), cols.len());
+    let mut buf = vec![0.0; cols.len()];
+    for (r, &i) in rows.iter().enumerate() {
+        if accurate {
+            entries.row_into_accurate(i, cols, &mut buf);
+        } else {
+            entries.row_into(i, cols, &mut buf);
+        }
+        for (c, &v) in buf.iter().enumerate() {
+            block[(r, c)] = v;
+        }
+    }
+    block
 }
