@@ -54,7 +54,7 @@ impl Simulation {
             // at the end once the coupling solve has given the end strain.
             let y1 = phi1 * phi1;
             let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
-            let z = error_estimate::propagator_exponent(y0, y1, c_eff, two_gamma, dt_s);
+            let z = error_estimate::propagator_exponent(y0, y1, c_eff, b, two_gamma, dt_s);
             let (w0, w1) = error_estimate::defect_weights(z);
             self.est_base[i] =
                 dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
@@ -84,7 +84,7 @@ impl Simulation {
                     let ys = thr * thr;
                     let h_c = theta * dt_s;
                     let eps_c = eps0 + theta * (eps1 - eps0);
-                    let zc = error_estimate::propagator_exponent(y0, ys, c_eff, two_gamma, h_c);
+                    let zc = error_estimate::propagator_exponent(y0, ys, c_eff, b, two_gamma, h_c);
                     let (w0c, w1c) = error_estimate::defect_weights(zc);
                     self.est_base[i] = h_c
                         * (w0c * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0))

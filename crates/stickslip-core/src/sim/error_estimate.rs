@@ -35,11 +35,16 @@
 
 /// Weights (w0, w1) of the defect at the start and at the end of a step (module docs).
 ///
-/// Series for |z| < 0.01 (the closed forms cancel there); `z` is clamped to [−40, 700]
-/// (beyond −40 an amplification of e^40 means the error is hopeless anyway).
+/// Series for |z| < 0.01 (the closed forms cancel there); above [`STIFF_Z`] e^(−z) is below
+/// rounding against 1 and the weights are 1/z² and (z − 1)/z² without an exponential;
+/// `z` is clamped below at −40 (an amplification of e^40 means the error is hopeless anyway).
 #[must_use]
 pub fn defect_weights(z: f64) -> (f64, f64) {
-    let z = z.clamp(-40.0, 700.0);
+    let z = z.max(-40.0);
+    if z > STIFF_Z {
+        let inv = 1.0 / z;
+        return (inv * inv, (z - 1.0) * inv * inv);
+    }
     if z.abs() < 0.01 {
         // w0 = Σ (−z)^k/(k!(k+2)), w1 = Σ (−z)^k/(k+2)!
         let w0 = 0.5 - z / 3.0 + z * z / 8.0 - z * z * z / 30.0;
@@ -47,18 +52,41 @@ pub fn defect_weights(z: f64) -> (f64, f64) {
         return (w0, w1);
     }
     let e = (-z).exp();
-    let one_minus_e = -(-z).exp_m1();
+    // 1 − e^(−z) directly where it does not cancel, expm1 where it would.
+    let one_minus_e = if z.abs() > 0.5 {
+        1.0 - e
+    } else {
+        -(-z).exp_m1()
+    };
     let w0 = (one_minus_e - z * e) / (z * z);
     let w1 = (z - one_minus_e) / (z * z);
     (w0, w1)
 }
 
+/// Above this exponent the defect weights take their stiff forms (e^(−36) ≈ 2e-16).
+pub const STIFF_Z: f64 = 36.0;
+
 /// The exponent z = −ln(∂y1/∂y0) of the frozen Bernoulli step from y0 to y1 over `h_s` with
 /// coefficient `c_pa` (see the module docs); 0 when y0 or y1 is 0.
+///
+/// When the linearisation at the step's end, 2γ·(c + 2b·y1)·h, is already beyond
+/// [`STIFF_Z`] (a node slaved to its strain, the common case in stick phases) that value is
+/// returned instead: the weights only need z's size there, and the logarithm is saved.
 #[must_use]
-pub fn propagator_exponent(y0: f64, y1: f64, c_pa: f64, two_gamma: f64, h_s: f64) -> f64 {
+pub fn propagator_exponent(
+    y0: f64,
+    y1: f64,
+    c_pa: f64,
+    b_pa: f64,
+    two_gamma: f64,
+    h_s: f64,
+) -> f64 {
     if y0 <= 0.0 || y1 <= 0.0 {
         return 0.0;
+    }
+    let z_end = two_gamma * (c_pa + 2.0 * b_pa * y1) * h_s;
+    if z_end > STIFF_Z {
+        return z_end;
     }
     -two_gamma * c_pa * h_s - 2.0 * (y1 / y0).ln()
 }
@@ -152,13 +180,16 @@ mod tests {
             };
             let y0 = 0.3;
             let d = (y(y0 * (1.0 + 1e-6)) - y(y0 * (1.0 - 1e-6))) / (2e-6 * y0);
-            let z = propagator_exponent(y0, y(y0), c, two_gamma, h);
+            let z = propagator_exponent(y0, y(y0), c, b, two_gamma, h);
             assert!(
                 ((-z).exp() / d - 1.0).abs() < 1e-6,
                 "c {c}: {} vs {d}",
                 (-z).exp()
             );
         }
+        // A step long enough to be stiff returns the end's linearisation instead.
+        let zl = propagator_exponent(0.75, 0.75, -1.5e6, b, two_gamma, 1e-5);
+        assert!(zl > STIFF_Z, "{zl}");
     }
 
     #[test]
