@@ -171,8 +171,7 @@ pub struct EventTracker {
     cycle: CycleSums,
     /// Time after the first onset during which no node was solid, s.
     no_solid_s: f64,
-    /// Time and force of the step before the previous one: with `last_t_s`/`last_f_n` and the
-    /// new sample they locate a force maximum between step ends.
+    /// Time and force of the step before the previous one (t_end is located no earlier).
     #[serde(default)]
     prev_t_s: f64,
     #[serde(default)]
@@ -214,21 +213,10 @@ impl EventTracker {
                 self.no_solid_s += dt;
             }
         }
-        // A force maximum between step ends: the parabola through the last three samples,
-        // when the middle one is the largest, gives the peak to third order in the step
-        // instead of the first order of the sampled maximum.
-        let peak = parabola_peak(
-            (self.prev_t_s, self.prev_f_n),
-            (self.last_t_s, self.last_f_n),
-            (s.t_s, s.f_n),
-        );
         self.prev_t_s = self.last_t_s;
         self.prev_f_n = self.last_f_n;
         self.last_t_s = s.t_s;
         self.last_f_n = s.f_n;
-        if let Some(p) = peak {
-            self.f_max_since_onset_n = self.f_max_since_onset_n.max(p);
-        }
         self.f_max_since_onset_n = self.f_max_since_onset_n.max(s.f_n);
         if !self.open && s.melted_nodes > 0 {
             self.open = true;
@@ -325,46 +313,9 @@ impl EventTracker {
     }
 }
 
-/// The largest value of the parabola through three samples (t, f) when the middle sample is
-/// a strict local maximum and the vertex lies between the outer times; `None` otherwise.
-fn parabola_peak(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> Option<f64> {
-    let ((t0, f0), (t1, f1), (t2, f2)) = (a, b, c);
-    if !(t0 < t1 && t1 < t2) || !(f1 > f0 && f1 >= f2) {
-        return None;
-    }
-    // Divided differences: f = f1 + d1·(t − t1) + d2·(t − t1)(t − t0)... written around t1.
-    let s01 = (f1 - f0) / (t1 - t0);
-    let s12 = (f2 - f1) / (t2 - t1);
-    let curv = (s12 - s01) / (t2 - t0);
-    if curv >= 0.0 {
-        return None;
-    }
-    // f(t) = f1 + g·(t − t1) + curv·(t − t1)², g the slope at t1.
-    let g = s01 + curv * (t1 - t0);
-    let dt = -g / (2.0 * curv);
-    if !(t0 - t1..=t2 - t1).contains(&dt) {
-        return None;
-    }
-    let peak = f1 + g * dt + curv * dt * dt;
-    peak.is_finite().then_some(peak.max(f1))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_parabola_through_three_samples_finds_the_peak_between_them() {
-        let f = |t: f64| 3.0 - 2.0 * (t - 1.3) * (t - 1.3);
-        let p = parabola_peak((0.5, f(0.5)), (1.0, f(1.0)), (2.0, f(2.0))).unwrap();
-        assert!((p - 3.0).abs() < 1e-12, "{p}");
-        // Not a maximum in the middle: nothing located.
-        assert_eq!(parabola_peak((0.0, 1.0), (1.0, 0.5), (2.0, 2.0)), None);
-        assert_eq!(
-            parabola_peak((f64::NAN, f64::NAN), (1.0, 2.0), (2.0, 1.0)),
-            None
-        );
-    }
 
     fn sample(t_s: f64, melted: usize, unrecovered: usize) -> StepSample {
         StepSample {
