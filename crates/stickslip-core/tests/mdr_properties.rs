@@ -167,3 +167,22 @@ fn dense_compliance_equals_two_step_apply() {
         assert!((ci - u[i]).abs() <= 1e-12 * scale, "row {i}");
     }
 }
+
+#[test]
+fn force_from_weights_alone_equals_the_operators_force_bit_for_bit() {
+    for quad in [Quadrature::Literal, Quadrature::Product] {
+        for n in [1, 2, 3, 17, 64, 301] {
+            let grid = Grid::new(A0, n).unwrap();
+            let tau: Vec<f64> = (0..n)
+                .map(|i| 1e6 * (1.0 + (i as f64 * 0.37).sin()))
+                .collect();
+            let ops = MdrOperators::new(grid, quad);
+            let direct = stickslip_core::mdr::force_3d_n(&grid, quad, &tau);
+            assert_eq!(
+                direct.to_bits(),
+                ops.force_3d_n(&tau).to_bits(),
+                "{quad:?}, N = {n}"
+            );
+        }
+    }
+}

@@ -173,8 +173,16 @@ pub fn force<'py>(
     quadrature: &str,
 ) -> PyResult<f64> {
     let x = data(&tau);
-    let ops = operators(py, radius, x.len(), "dense", quadrature)?;
-    Ok(ops.force_3d_n(&x))
+    let quadrature = quadrature_of(quadrature)?;
+    if x.is_empty() {
+        return Err(PyValueError::new_err(
+            "an empty array; allowed: at least one node value",
+        ));
+    }
+    let grid = Grid::new(radius, x.len())
+        .map_err(|e| PyValueError::new_err(format!("radius = {radius:e} m: {e}")))?;
+    // The weights alone: O(N), no operator (a dense one would cost 8·N² bytes).
+    Ok(py.detach(|| stickslip_core::mdr::force_3d_n(&grid, quadrature, &x)))
 }
 
 /// The node radii r_i = i·radius/N, i = 0 … N−1, in m (``radius`` a0 in m, ``n`` = N ≥ 1):

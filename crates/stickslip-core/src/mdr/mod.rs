@@ -319,6 +319,21 @@ fn apply_sized(op: &TriangularOperator, x: &[f64], y: &mut [f64]) {
 }
 
 #[track_caller]
+/// F = 2π∫τ r dr (Eq. 16) on `grid` with the weights of `quadrature`, in N, without building
+/// any operator: O(N) time and memory. Equal, bit for bit, to
+/// [`MdrOperators::force_3d_n`] of operators on the same grid and quadrature.
+///
+/// # Panics
+/// If `tau_pa.len()` differs from the grid's node count.
+#[must_use]
+pub fn force_3d_n(grid: &Grid, quadrature: Quadrature, tau_pa: &[f64]) -> f64 {
+    let weights = match quadrature {
+        Quadrature::Literal => literal::force_3d_weights(grid),
+        Quadrature::Product => product::force_3d_weights(grid),
+    };
+    dot(&weights, tau_pa)
+}
+
 fn dot(w: &[f64], v: &[f64]) -> f64 {
     assert_eq!(w.len(), v.len(), "vector length must equal the node count");
     w.iter().zip(v).map(|(a, b)| a * b).sum()
