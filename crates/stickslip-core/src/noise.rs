@@ -88,12 +88,28 @@ pub enum NoiseError {
 /// For a Gaussian source: its seed and, per node, the position of that node's ChaCha8 stream in
 /// 32-bit words (positions beyond 2^64 words would need ~10^19 draws per node and are not
 /// representable). For `Off`/`Floor`: seed 0 and no positions.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct NoiseState {
     /// Seed of the streams (0 for sources that draw nothing).
     pub seed: u64,
     /// Word position of each node's stream, indexed by node.
     pub word_pos: Vec<u64>,
+}
+
+/// Field by field, so that `clone_from` reuses the stream positions' buffer.
+impl Clone for NoiseState {
+    fn clone(&self) -> Self {
+        Self {
+            seed: self.seed,
+            word_pos: self.word_pos.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        let Self { seed, word_pos } = source;
+        self.seed = *seed;
+        self.word_pos.clone_from(word_pos);
+    }
 }
 
 /// Source of the noise term for a fixed number of nodes.

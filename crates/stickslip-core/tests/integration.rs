@@ -2,6 +2,7 @@
 //! and one copy of the dependencies' generic code instead of one per file (the test
 //! command's compile time, P4 of reports/performance.md).
 
+mod alloc_free;
 mod drive;
 mod hodlr;
 mod hodlr_build;

@@ -158,7 +158,7 @@ struct CycleSums {
 }
 
 /// Detects events step by step; its state is checkpointable.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, PartialEq, Serialize, Deserialize)]
 pub struct EventTracker {
     config: EventConfig,
     events: Vec<MeltingEvent>,
@@ -176,6 +176,65 @@ pub struct EventTracker {
     prev_t_s: f64,
     #[serde(default)]
     prev_f_n: f64,
+}
+
+/// Field by field, so that `clone_from` reuses the event list's buffer (see `SimState`).
+impl Clone for EventTracker {
+    fn clone(&self) -> Self {
+        let Self {
+            config,
+            events,
+            open,
+            last_end_s,
+            f_max_since_onset_n,
+            last_t_s,
+            last_f_n,
+            cycle,
+            no_solid_s,
+            prev_t_s,
+            prev_f_n,
+        } = self;
+        Self {
+            config: *config,
+            events: events.clone(),
+            open: *open,
+            last_end_s: *last_end_s,
+            f_max_since_onset_n: *f_max_since_onset_n,
+            last_t_s: *last_t_s,
+            last_f_n: *last_f_n,
+            cycle: *cycle,
+            no_solid_s: *no_solid_s,
+            prev_t_s: *prev_t_s,
+            prev_f_n: *prev_f_n,
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        let Self {
+            config,
+            events,
+            open,
+            last_end_s,
+            f_max_since_onset_n,
+            last_t_s,
+            last_f_n,
+            cycle,
+            no_solid_s,
+            prev_t_s,
+            prev_f_n,
+        } = source;
+        self.config = *config;
+        self.events.clone_from(events);
+        self.open = *open;
+        self.last_end_s = *last_end_s;
+        self.f_max_since_onset_n = *f_max_since_onset_n;
+        self.last_t_s = *last_t_s;
+        self.last_f_n = *last_f_n;
+        self.cycle = *cycle;
+        self.no_solid_s = *no_solid_s;
+        self.prev_t_s = *prev_t_s;
+        self.prev_f_n = *prev_f_n;
+    }
 }
 
 impl EventTracker {

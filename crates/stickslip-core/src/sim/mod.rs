@@ -73,7 +73,7 @@ pub struct NumericalFailure {
 }
 
 /// Everything that evolves; serialisable so a run can be checkpointed and resumed bit-identically.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, PartialEq, Serialize, Deserialize)]
 pub struct SimState {
     /// Steps taken.
     pub step: u64,
@@ -142,6 +142,119 @@ pub struct SimState {
     /// Nodes that melted at least once during the open event (cleared while none is open).
     #[serde(default)]
     pub swept: Vec<bool>,
+}
+
+/// Field by field, so that `clone_from` reuses every buffer: adaptive stepping saves and
+/// restores the state on every attempt, and a derived `clone_from` would allocate each vector
+/// anew (the exhaustive patterns make a new field a compile error here until it is handled).
+impl Clone for SimState {
+    fn clone(&self) -> Self {
+        let Self {
+            step,
+            drive,
+            phi,
+            u0_m,
+            u3d_m,
+            u3d_prev_m,
+            eps,
+            tau_pa,
+            force_n,
+            noise,
+            events,
+            coupling_iterations,
+            last_dt_s,
+            u3d_prev2_m,
+            prev_dt_s,
+            next_dt_s,
+            accepted_steps,
+            rejected_steps,
+            forced_steps,
+            melted_in_step,
+            last_melt_s,
+            controller,
+            accel_change_prev_m_per_s2,
+            swept,
+        } = self;
+        Self {
+            step: *step,
+            drive: *drive,
+            phi: phi.clone(),
+            u0_m: u0_m.clone(),
+            u3d_m: u3d_m.clone(),
+            u3d_prev_m: u3d_prev_m.clone(),
+            eps: eps.clone(),
+            tau_pa: tau_pa.clone(),
+            force_n: *force_n,
+            noise: noise.clone(),
+            events: events.clone(),
+            coupling_iterations: *coupling_iterations,
+            last_dt_s: *last_dt_s,
+            u3d_prev2_m: u3d_prev2_m.clone(),
+            prev_dt_s: *prev_dt_s,
+            next_dt_s: *next_dt_s,
+            accepted_steps: *accepted_steps,
+            rejected_steps: *rejected_steps,
+            forced_steps: *forced_steps,
+            melted_in_step: melted_in_step.clone(),
+            last_melt_s: last_melt_s.clone(),
+            controller: *controller,
+            accel_change_prev_m_per_s2: *accel_change_prev_m_per_s2,
+            swept: swept.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        let Self {
+            step,
+            drive,
+            phi,
+            u0_m,
+            u3d_m,
+            u3d_prev_m,
+            eps,
+            tau_pa,
+            force_n,
+            noise,
+            events,
+            coupling_iterations,
+            last_dt_s,
+            u3d_prev2_m,
+            prev_dt_s,
+            next_dt_s,
+            accepted_steps,
+            rejected_steps,
+            forced_steps,
+            melted_in_step,
+            last_melt_s,
+            controller,
+            accel_change_prev_m_per_s2,
+            swept,
+        } = source;
+        self.step = *step;
+        self.drive = *drive;
+        self.phi.clone_from(phi);
+        self.u0_m.clone_from(u0_m);
+        self.u3d_m.clone_from(u3d_m);
+        self.u3d_prev_m.clone_from(u3d_prev_m);
+        self.eps.clone_from(eps);
+        self.tau_pa.clone_from(tau_pa);
+        self.force_n = *force_n;
+        self.noise.clone_from(noise);
+        self.events.clone_from(events);
+        self.coupling_iterations = *coupling_iterations;
+        self.last_dt_s = *last_dt_s;
+        self.u3d_prev2_m.clone_from(u3d_prev2_m);
+        self.prev_dt_s = *prev_dt_s;
+        self.next_dt_s = *next_dt_s;
+        self.accepted_steps = *accepted_steps;
+        self.rejected_steps = *rejected_steps;
+        self.forced_steps = *forced_steps;
+        self.melted_in_step.clone_from(melted_in_step);
+        self.last_melt_s.clone_from(last_melt_s);
+        self.controller = *controller;
+        self.accel_change_prev_m_per_s2 = *accel_change_prev_m_per_s2;
+        self.swept.clone_from(swept);
+    }
 }
 
 /// Scalar observables at the current time.
