@@ -172,7 +172,7 @@ pub struct Measured {
     pub wall_s: f64,
     /// Wall time of the time loop (run.json `wall_seconds`), s.
     pub loop_s: f64,
-    /// Steps taken (run.json `steps`: the half steps kept when adaptive).
+    /// Steps taken (run.json `steps`: the accepted steps when adaptive).
     pub steps: u64,
     /// Rejected adaptive attempts.
     pub rejected_steps: u64,

@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 use stickslip_report::fmt::{opt, sig};
 use stickslip_report::palette::PALETTE;
 use stickslip_report::plot::{LegendAt, Marker, Panel, Series, render_svg};
+use stickslip_report::stats::log_log_slope;
 
 /// The band of weak orders theory allows here: ½ (first passage dominated by the noise) to 1
 /// (the noise step's weak order; first passage carried through by the drift).
@@ -68,6 +69,44 @@ fn deterministic_match(w: &WeakOrder) -> Option<(String, f64)> {
         .map(|(e, d)| (e.error_s - d).abs() / (2.0 * e.se_s))
         .fold(0.0_f64, f64::max);
     Some((text, worst))
+}
+
+/// The noise's own part of the mean's bias (weak error minus the deterministic error, same
+/// standard error), its observed order over the levels where it exceeds 2·SE, in words.
+fn noise_part(w: &WeakOrder) -> String {
+    let parts: Vec<(f64, f64, f64)> = w
+        .errors
+        .iter()
+        .filter_map(|e| Some((e.dt_s, e.error_s - e.deterministic_s?, e.se_s)))
+        .collect();
+    let resolved: Vec<(f64, f64)> = parts
+        .iter()
+        .filter(|(_, d, se)| d.abs() > 2.0 * se)
+        .map(|&(h, d, _)| (h, d.abs()))
+        .collect();
+    let listed = parts
+        .iter()
+        .map(|(h, d, se)| format!("{} ± {} ns at {h:e} s", sig(d * 1e9, 2), sig(se * 1e9, 2)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let order = (resolved.len() >= 2).then(|| log_log_slope(&resolved));
+    format!(
+        "The rest, the noise's own part of the bias (weak error minus deterministic error), \
+         is {listed}: resolved (beyond 2·SE) at {} level(s), {}; where unresolved it is",
+        resolved.len(),
+        match order {
+            Some(p) => format!(
+                "observed order **{}** there, {}",
+                super::p2(Some(p)),
+                if p >= THEORY_BAND.0 - BAND_SLACK && p <= THEORY_BAND.1 + BAND_SLACK {
+                    "within the noise theory's ½–1 (±0.2)"
+                } else {
+                    "**not** the noise theory's ½–1 (±0.2)"
+                }
+            ),
+            None => "too few for an order".to_string(),
+        }
+    )
 }
 
 /// Writes "## 6. Noisy fixed steps: weak order" (nothing for studies without it).
@@ -183,7 +222,7 @@ pub(super) fn section(md: &mut String, r: &Results) {
                         s.seeds
                     )
                 } else {
-                    "The rest is the noise's own bias, resolved to".to_string()
+                    noise_part(&n.mean)
                 },
                 n.mean
                     .errors
