@@ -50,6 +50,12 @@ pub struct RunSpec {
     pub end_s: f64,
     /// Optional change of step: from time t (s) on, step with Δt' (s) instead of `dt_s`.
     pub switch: Option<(f64, f64)>,
+    /// `Some(tolerance)`: the default adaptive stepping with this `time.tolerance` (`dt_s` is
+    /// then the first step tried); `None`: fixed steps of `dt_s`.
+    pub tolerance: Option<f64>,
+    /// `Some((σ, seed))`: gaussian noise of amplitude σ from `seed` instead of the scene's
+    /// floor (fixed steps only: the scene refuses adaptive steps with gaussian noise).
+    pub noise: Option<(f64, u64)>,
 }
 
 impl RunSpec {
@@ -61,10 +67,21 @@ impl RunSpec {
             dt_s,
             end_s: FIG2_END_S,
             switch: None,
+            tolerance: None,
+            noise: None,
         }
     }
 
-    /// The scene of this run: fig2 with fixed steps of `dt_s` to `end_s`.
+    /// fig2 with the default adaptive stepping at `tolerance` and `nodes` over the paper's
+    /// 1.3 ms (the scene's Δt is the first step tried).
+    pub fn adaptive(nodes: usize, tolerance: f64) -> Self {
+        Self {
+            tolerance: Some(tolerance),
+            ..Self::fig2(Scheme::Accurate, nodes, 1e-8)
+        }
+    }
+
+    /// The scene of this run: fig2 with fixed steps of `dt_s` (or adaptive steps) to `end_s`.
     ///
     /// # Panics
     /// If the overrides do not resolve (N ≥ 1 and 0 < Δt ≤ end always do).
@@ -75,21 +92,29 @@ impl RunSpec {
             Scheme::Accurate => "accurate",
             Scheme::Literal => "literal",
         };
-        Scene::from_toml_str(
-            FIG2_SCENE,
-            &[
-                format!("time.scheme={scheme}"),
-                "time.stepping=fixed".to_string(),
-                format!("contact.nodes={}", self.nodes),
-                format!("time.dt={:e}", self.dt_s),
-                format!("time.end={:e}", self.end_s),
-                format!("output.profile_times=[{:e}]", self.end_s),
-                format!("output.event_merge_gap={MERGE_GAP_S:e}"),
-                // Nothing but the observer records: one row at the end.
-                format!("output.series_interval={:e}", self.end_s),
-            ],
-        )
-        .unwrap_or_else(|e| panic!("fig2 run {self:?}: {e}"))
+        let mut sets = vec![
+            format!("time.scheme={scheme}"),
+            format!("contact.nodes={}", self.nodes),
+            format!("time.dt={:e}", self.dt_s),
+            format!("time.end={:e}", self.end_s),
+            format!("output.profile_times=[{:e}]", self.end_s),
+            format!("output.event_merge_gap={MERGE_GAP_S:e}"),
+            // Nothing but the observer records: one row at the end.
+            format!("output.series_interval={:e}", self.end_s),
+        ];
+        match self.tolerance {
+            Some(tol) => {
+                sets.push("time.stepping=adaptive".to_string());
+                sets.push(format!("time.tolerance={tol:e}"));
+            }
+            None => sets.push("time.stepping=fixed".to_string()),
+        }
+        if let Some((sigma, seed)) = self.noise {
+            sets.push("lubricant.noise.kind=gaussian".to_string());
+            sets.push(format!("lubricant.noise.sigma={sigma:e}"));
+            sets.push(format!("lubricant.noise.seed={seed}"));
+        }
+        Scene::from_toml_str(FIG2_SCENE, &sets).unwrap_or_else(|e| panic!("fig2 run {self:?}: {e}"))
     }
 }
 
@@ -108,6 +133,10 @@ pub struct EventRecord {
     pub f_peak_n: f64,
     /// Radius of the outermost node melted at the onset, m.
     pub r_first_m: f64,
+    /// The core's `t_end`: when the film had recovered, located inside the step (None while
+    /// open at the end, and in studies written before it was recorded), s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_end_s: Option<f64>,
 }
 
 /// Everything a study needs from one run.
@@ -123,9 +152,22 @@ pub struct RunRecord {
     pub wall_s: f64,
     /// The core's error message if a step failed (the record then stops there).
     pub failure: Option<String>,
+    /// Steps kept (fixed steps: all of them; adaptive: the accepted ones).
+    pub steps: u64,
+    /// Adaptive: rejected attempts (0 with fixed steps).
+    pub rejected_steps: u64,
+    /// Adaptive: accepted attempts that brought an onset and were taken again ending at the
+    /// located melting time (each one more evaluation of the step; 0 with fixed steps).
+    pub onset_retakes: u64,
 }
 
 impl RunRecord {
+    /// Evaluations of the accurate (or literal) step: one per step kept, per rejected attempt
+    /// and per onset retake.
+    pub fn evaluations(&self) -> u64 {
+        self.steps + self.rejected_steps + self.onset_retakes
+    }
+
     /// Time of force sample j, s.
     pub fn sample_time_s(j: usize) -> f64 {
         j as f64 * SAMPLE_DT_S
@@ -152,6 +194,7 @@ pub fn run(spec: &RunSpec) -> RunRecord {
     let mut prev_f = sim0.state().force_n;
     let mut onsets: Vec<Option<f64>> = Vec::new();
     let located_by_core = spec.scheme == Scheme::Accurate;
+    let mut retakes = 0_u64;
     let mut observe = |sim: &stickslip_core::sim::Simulation| {
         let t = sim.time_s();
         let state = sim.state();
@@ -163,6 +206,12 @@ pub fn run(spec: &RunSpec) -> RunRecord {
             }
             let w = ((ts - prev_t) / (t - prev_t)).clamp(0.0, 1.0);
             force.push(prev_f + w * (f - prev_f));
+        }
+        // `step_adaptive` retakes the step that brings an onset to end at the located melting
+        // time, and then drops the extrapolation across that kink: last_dt_s = 0 after such a
+        // step only (every other step leaves its length there).
+        if spec.tolerance.is_some() && state.last_dt_s == 0.0 {
+            retakes += 1;
         }
         if sim.events().len() > onsets.len() {
             let mut theta_min: Option<f64> = None;
@@ -216,6 +265,7 @@ pub fn run(spec: &RunSpec) -> RunRecord {
             onset_s: onset_s.unwrap_or(e.t_onset_s),
             f_peak_n: e.f_peak_n,
             r_first_m: e.r_first_m,
+            t_end_s: e.t_end_s,
         })
         .collect();
     RunRecord {
@@ -224,5 +274,8 @@ pub fn run(spec: &RunSpec) -> RunRecord {
         force_samples_n: force,
         wall_s,
         failure: outcome.failure.as_ref().map(ToString::to_string),
+        steps: outcome.counts.steps,
+        rejected_steps: outcome.counts.rejected_steps,
+        onset_retakes: retakes,
     }
 }

@@ -9,6 +9,10 @@
 //! - [`fig2`] and [`simulation`]: whole-simulation convergence of fig2 (event onsets, peak
 //!   forces, stick-phase force) refining N and Δt separately for each scheme;
 //! - [`work_precision`]: error against wall seconds, against a much finer reference;
+//! - [`same_n`]: same-N references (fixed steps, Richardson) and errors against them;
+//! - [`tolerance`]: the default adaptive stepping per `time.tolerance` against same-N
+//!   references, with the controller before the redesign as measured;
+//! - [`noise`]: the weak order of fixed steps with gaussian noise (first onset over seeds);
 //! - [`report`]: `reports/convergence.md`, `convergence.json`, `convergence_*.svg`, drawn and
 //!   formatted with the reporting kit (`stickslip-report`);
 //! - [`performance`]: `cargo xtask bench` (T1–T4), the release binary run as a user would.
@@ -22,12 +26,15 @@
 
 pub mod celik;
 pub mod fig2;
+pub mod noise;
 pub mod operators;
 pub mod performance;
 pub mod report;
+pub mod same_n;
 pub mod simulation;
 pub mod steppers;
 pub mod study;
+pub mod tolerance;
 pub mod work_precision;
 
 pub use celik::observed_orders;
@@ -70,6 +77,12 @@ pub struct Settings {
     pub repeats: usize,
     /// Largest N allowed in the simulation studies.
     pub max_nodes: usize,
+    /// The tolerance study (absent in studies written before it existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<tolerance::ToleranceSettings>,
+    /// The noise study (absent in studies written before it existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<noise::NoiseSettings>,
 }
 
 impl Settings {
@@ -91,6 +104,8 @@ impl Settings {
             ref_dts_s: [5e-9, 2.5e-9, 1.25e-9],
             repeats: 3,
             max_nodes,
+            tolerance: Some(tolerance::ToleranceSettings::full(max_nodes, 3)),
+            noise: Some(noise::NoiseSettings::full()),
         }
     }
 
@@ -109,6 +124,8 @@ impl Settings {
             ref_dts_s: [2e-8, 1e-8, 5e-9],
             repeats: 1,
             max_nodes: 200,
+            tolerance: Some(tolerance::ToleranceSettings::quick()),
+            noise: Some(noise::NoiseSettings::quick()),
         }
     }
 }
@@ -165,6 +182,12 @@ pub struct Results {
     pub work_precision: WorkPrecision,
     /// Where the accurate scheme's Δt error of the first onset is made.
     pub localisation: simulation::Localisation,
+    /// The tolerance study of the default adaptive stepping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<tolerance::ToleranceStudy>,
+    /// The weak order of noisy fixed steps.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<noise::NoiseStudy>,
 }
 
 fn dev_profile() -> String {
@@ -288,6 +311,18 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
         }
         points.extend(curve);
     }
+    let tolerance = settings
+        .tolerance
+        .as_ref()
+        .map(|t| tolerance::study(t, &mut progress));
+    let noise = settings
+        .noise
+        .as_ref()
+        .map(|n| noise::study(n, &mut progress));
+    log(&format!(
+        "{} tolerance and noise studies done",
+        stamp(&start)
+    ));
     Results {
         generated_by: "cargo xtask convergence (stickslip-convergence)".into(),
         total_wall_s: start.elapsed().as_secs_f64(),
@@ -310,6 +345,8 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
             repeats: settings.repeats,
         },
         localisation,
+        tolerance,
+        noise,
     }
 }
 
@@ -439,6 +476,9 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
         }
         if let Some(n) = ref_nodes {
             settings.ref_nodes = n;
+        }
+        if let (Some(t), Some(r)) = (settings.tolerance.as_mut(), repeats) {
+            t.repeats = r;
         }
         eprintln!(
             "convergence: N levels {:?}, dt levels {:?}, reference N = {}; this takes a while",

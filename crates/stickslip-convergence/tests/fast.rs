@@ -13,14 +13,23 @@
 //!   (its different limit: the axis melts first);
 //! - first event, N = 25, 50, 100 at Δt = 1e-8 s: accurate onset order 1 in N (0.7 … 1.4),
 //!   literal f_peak order 1 in N (0.8 … 1.2), literal onset moving by < 10 ns with N.
+//! - tolerance study path, first event at N = 25: the same-N reference (fixed steps 4e-8,
+//!   2e-8, 1e-8 s, Richardson) has onset order 2 (1.6 … 2.6) and a stated uncertainty below
+//!   the errors it judges; the adaptive default's onset error falls from tolerance 1e-3 to
+//!   1e-4 by more than 3× (slope 0.4 … 1.2; tol^(2/3) would be 4.6×) while its evaluations
+//!   grow, and the onset step is retaken (at least once);
+//! - the old controller's data file parses (N = 200, three evaluations per attempt);
+//! - noise: gaussian seeds give different first onsets, every seed melts.
 //!
-//! The whole file runs in about 2 s in the debug profile (the core is built with opt-level 3).
+//! The whole file runs in a few seconds in the release profile.
 
 use stickslip_convergence::celik::three_grid;
 use stickslip_convergence::fig2::{RunSpec, run};
 use stickslip_convergence::operators;
+use stickslip_convergence::same_n::{SameNReference, event_errors};
 use stickslip_convergence::steppers;
 use stickslip_convergence::study::Study;
+use stickslip_convergence::tolerance;
 use stickslip_core::config::Scheme;
 
 fn in_band(what: &str, p: f64, lo: f64, hi: f64) {
@@ -173,4 +182,88 @@ fn fig2_first_event_in_n() {
     for w in lit.windows(2) {
         assert!((w[1].0 - w[0].0).abs() < 1e-8, "{lit:?}");
     }
+}
+
+fn first_event_run(spec: &mut RunSpec) -> stickslip_convergence::fig2::RunRecord {
+    spec.end_s = 6.2e-4;
+    let r = run(spec);
+    assert!(r.failure.is_none(), "{:?}", r.failure);
+    assert_eq!(r.events.len(), 1, "{spec:?}");
+    r
+}
+
+#[test]
+fn tolerance_study_against_a_same_n_reference() {
+    let dts = [4e-8, 2e-8, 1e-8];
+    let levels: Vec<_> = dts
+        .iter()
+        .map(|&dt| {
+            tolerance::values(&first_event_run(&mut RunSpec::fig2(
+                Scheme::Accurate,
+                25,
+                dt,
+            )))
+        })
+        .collect();
+    let reference = SameNReference::from_levels(25, dts, [&levels[0], &levels[1], &levels[2]]);
+    let p = reference.orders[0].expect("onset order");
+    in_band("same-N reference onset order", p, 1.6, 2.6);
+    let mut errors = Vec::new();
+    for tol in [1e-3, 1e-4] {
+        let r = first_event_run(&mut RunSpec::adaptive(25, tol));
+        assert_eq!(
+            r.evaluations(),
+            r.steps + r.rejected_steps + r.onset_retakes
+        );
+        assert!(r.onset_retakes >= 1, "tol {tol}: the onset step is retaken");
+        let e = event_errors(&tolerance::values(&r), &reference);
+        let onset = e.first_onset_s.expect("same events");
+        eprintln!(
+            "tol {tol:e}: onset error {onset:e} s, {} evaluations",
+            r.evaluations()
+        );
+        errors.push((onset, r.evaluations()));
+    }
+    assert!(
+        reference.onset_uncertainty_s < 0.5 * errors[1].0,
+        "reference ± {:e} s against the error {:e} s it judges",
+        reference.onset_uncertainty_s,
+        errors[1].0
+    );
+    assert!(errors[0].0 > 3.0 * errors[1].0, "{errors:?}");
+    assert!(errors[1].1 > errors[0].1, "{errors:?}");
+    let (slope, used, _) =
+        tolerance::fitted_slope(&[(1e-3, errors[0].0), (1e-4, errors[1].0)], 0.0);
+    assert_eq!(used, 2);
+    in_band("onset error against tolerance", slope.unwrap(), 0.4, 1.2);
+}
+
+#[test]
+fn the_old_controller_data_file_reads() {
+    let old = tolerance::old_controller();
+    assert_eq!((old.nodes, old.evaluations_per_attempt), (200, 3));
+    assert!(old.runs.windows(2).all(|w| w[0].tolerance > w[1].tolerance));
+    assert!(
+        old.runs
+            .iter()
+            .all(|r| r.events.len() == 10 && r.loop_s.len() == 3)
+    );
+}
+
+#[test]
+fn gaussian_seeds_differ_and_melt() {
+    let onsets: Vec<f64> = (1..=3)
+        .map(|seed| {
+            let mut spec = RunSpec::fig2(Scheme::Accurate, 25, 4e-8);
+            spec.end_s = 6.0e-4;
+            spec.noise = Some((1.0, seed));
+            let r = run(&spec);
+            assert!(r.failure.is_none(), "{:?}", r.failure);
+            r.events.first().expect("an onset before 600 us").onset_s
+        })
+        .collect();
+    assert!(
+        onsets[0] != onsets[1] && onsets[1] != onsets[2],
+        "{onsets:?}"
+    );
 }

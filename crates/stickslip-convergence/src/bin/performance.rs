@@ -36,8 +36,7 @@ fn main() -> ExitCode {
         sweep_nodes: vec![125, 250, 500, 1000, 2000, 4000, 8000],
         sweep_steps: 200,
         full_run_limit_s: 60.0,
-        reference_nodes: 1000,
-        reference_tolerance: 1e-6,
+        reference_dts_s: [1e-8, 5e-9, 2.5e-9],
         quick: false,
         reports_dir: root.join("reports"),
     };
@@ -59,8 +58,7 @@ fn main() -> ExitCode {
                 settings.repeats = 1;
                 settings.sweep_nodes = vec![125, 250, 500];
                 settings.sweep_steps = 50;
-                settings.reference_nodes = 250;
-                settings.reference_tolerance = 1e-5;
+                settings.reference_dts_s = [4e-8, 2e-8, 1e-8];
                 Ok(())
             }
             "--repeats" => value("--repeats").and_then(|v| {

@@ -18,12 +18,15 @@
 //!   window projects ≤ `full_run_limit_s`, else extrapolated and marked so), elastic against
 //!   rigid substrate; the profile on a window (rigid, elastic, coupling iterations).
 //! - **P3** fig2 with the default settings at N = [`T1_NODES`]: wall time on 1 and 2 threads,
-//!   largest onset error against the reference.
+//!   onset, t_end and f_peak errors against a same-N reference ([`crate::same_n`]: fixed
+//!   steps of `reference_dts_s` at N = [`T1_NODES`], Richardson on the two finest), so the
+//!   error is the time stepping's alone.
 //! - **P4** a fresh clone's build and test times, read from `reports/build-timing.json`
 //!   (`cargo xtask build-timing` measures them; too long to rerun here).
 //! - **P5** a 32 × 32 friction map at N = 50 with 1 and 2 jobs ([`sweep`]).
 //! - **T3** loop time per step against N (fixed steps, fast and dense operators), log–log slope.
-//! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`].
+//! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`], against a
+//!   same-N reference at N = [`T4_NODES`] as for P3.
 
 pub mod report;
 pub mod sweep;
@@ -31,6 +34,7 @@ mod targets;
 
 pub use report::write_report;
 
+use crate::same_n::{EventErrors, EventValues, SameNReference, event_errors};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -89,10 +93,8 @@ pub struct BenchSettings {
     pub sweep_steps: usize,
     /// Run T2 in full when its window projects at most this long, s.
     pub full_run_limit_s: f64,
-    /// Nodes of the reference run.
-    pub reference_nodes: usize,
-    /// Tolerance of the reference run.
-    pub reference_tolerance: f64,
+    /// Fixed steps of the same-N references of P3 and T4, coarse to fine (ratio 2), s.
+    pub reference_dts_s: [f64; 3],
     /// Fewer and shorter runs (smoke test of the pipeline, not for the report).
     pub quick: bool,
     /// Where `build-timing.json` is read from (P4).
@@ -170,7 +172,7 @@ pub struct Measured {
     pub wall_s: f64,
     /// Wall time of the time loop (run.json `wall_seconds`), s.
     pub loop_s: f64,
-    /// Steps taken (run.json `steps`: the half steps kept when adaptive).
+    /// Steps taken (run.json `steps`: the accepted steps when adaptive).
     pub steps: u64,
     /// Rejected adaptive attempts.
     pub rejected_steps: u64,
@@ -178,6 +180,8 @@ pub struct Measured {
     pub coupling_iterations: u64,
     /// Event onsets (events.csv), s.
     pub onsets_s: Vec<f64>,
+    /// Onsets, t_end and f_peak (events.csv).
+    pub events: EventValues,
     /// What the run resolved to.
     pub resolved: Resolved,
 }
@@ -231,6 +235,11 @@ pub fn run_cli(
         rejected_steps: info.rejected_steps,
         coupling_iterations: info.coupling_iterations,
         onsets_s: output.events.onsets_s(),
+        events: EventValues {
+            onsets_s: output.events.events().iter().map(|e| e.t_onset_s).collect(),
+            t_ends_s: output.events.events().iter().map(|e| e.t_end_s).collect(),
+            f_peaks_n: output.events.events().iter().map(|e| e.f_peak_n).collect(),
+        },
         resolved: Resolved::of(info),
     })
 }
@@ -273,6 +282,9 @@ pub struct Timed {
     pub events: usize,
     /// Coupling-solver iterations of the last run.
     pub coupling_iterations: u64,
+    /// Event quantities of the last run (not written: the errors are).
+    #[serde(skip)]
+    pub event_values: EventValues,
 }
 
 impl Timed {
@@ -313,6 +325,7 @@ fn timed(
         max_onset_error_us: 1e6 * max_onset_error_s(&last.onsets_s, reference_s),
         events: last.onsets_s.len(),
         coupling_iterations: last.coupling_iterations,
+        event_values: last.events,
     })
 }
 
@@ -359,8 +372,10 @@ pub struct Performance {
     pub fig2_accurate_s: f64,
     /// T1 on 1 thread.
     pub fig2_accurate_1thread_s: f64,
-    /// T1 largest onset error against the reference, µs.
+    /// T1 largest onset error against its same-N reference, µs.
     pub fig2_accurate_max_onset_error_us: f64,
+    /// T1 (2 threads) errors against its same-N reference: onsets, t_end, f_peak.
+    pub fig2_accurate_errors: EventErrors,
     /// T1 details (2 threads, 1 thread).
     pub fig2_accurate_runs: Vec<Timed>,
     /// The literal scheme at the paper's N and Δt, extrapolated to the whole run, s.
@@ -396,13 +411,10 @@ pub struct Performance {
     pub cost_per_step: Vec<CostPoint>,
     /// T4 points (N = [`T4_NODES`]).
     pub work_precision: Vec<WpPoint>,
-    /// Reference onsets (adaptive, `reference_nodes`, `reference_tolerance`), s.
-    pub reference_onsets_s: Vec<f64>,
-    /// Reference settings.
-    pub reference_settings: Vec<String>,
-    /// Largest onset difference of the reference to a half-resolution, 10× looser run, µs:
-    /// an upper estimate of the reference's own error.
-    pub reference_uncertainty_us: f64,
+    /// P3's same-N reference (N = [`T1_NODES`], fixed steps, Richardson).
+    pub p3_reference: SameNReference,
+    /// T4's same-N reference (N = [`T4_NODES`]).
+    pub t4_reference: SameNReference,
     /// P1: fig2 as shipped (the scene's own N, default adaptive accurate settings), 2 threads.
     pub shipped: Timed,
     /// P1: settings of its reference (same N, tighter tolerance).
@@ -433,6 +445,33 @@ fn window(window_s: f64) -> [String; 2] {
     ]
 }
 
+/// The same-N reference at `nodes`: three fixed-step runs of the CLI with
+/// `s.reference_dts_s`, Richardson on the two finest ([`SameNReference::from_levels`]).
+///
+/// # Errors
+/// A run that failed.
+pub fn same_n_reference(s: &BenchSettings, nodes: usize) -> Result<SameNReference, String> {
+    let mut levels = Vec::new();
+    let mut walls = Vec::new();
+    for dt in s.reference_dts_s {
+        let sets = vec![
+            set("contact.nodes", nodes),
+            set("time.stepping", "fixed"),
+            set("time.dt", format!("{dt:e}")),
+        ];
+        let m = run_cli(s, &format!("reference_{nodes}"), &sets, 2)?;
+        walls.push(m.wall_s);
+        levels.push(m.events);
+    }
+    let mut r = SameNReference::from_levels(
+        nodes,
+        s.reference_dts_s,
+        [&levels[0], &levels[1], &levels[2]],
+    );
+    r.wall_s = walls;
+    Ok(r)
+}
+
 /// Runs all measurements.
 ///
 /// # Errors
@@ -447,23 +486,14 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let paper_dt_s = scene.config.time.dt_s;
     let scene_end_s = scene.config.time.end_s;
 
-    // Reference: the accurate scheme at high resolution, and a check run at half of it.
-    progress("reference");
-    let ref_sets = vec![
-        set("contact.nodes", s.reference_nodes),
-        set("time.tolerance", format!("{:e}", s.reference_tolerance)),
-    ];
-    let reference = run_cli(s, "reference", &ref_sets, 2)?;
-    let check_sets = vec![
-        set("contact.nodes", s.reference_nodes / 2),
-        set(
-            "time.tolerance",
-            format!("{:e}", 10.0 * s.reference_tolerance),
-        ),
-    ];
-    let check = run_cli(s, "reference_check", &check_sets, 2)?;
-    let reference_uncertainty_us = 1e6 * max_onset_error_s(&check.onsets_s, &reference.onsets_s);
-    let r = &reference.onsets_s;
+    // Same-N references of P3 and T4: fixed steps, Richardson on the two finest.
+    progress(&format!(
+        "same-N references at N = {T1_NODES} and {T4_NODES}"
+    ));
+    let p3_reference = same_n_reference(s, T1_NODES)?;
+    let t4_reference = same_n_reference(s, T4_NODES)?;
+    let r = &p3_reference.onsets_s;
+    let r4 = &t4_reference.onsets_s;
 
     // T1.
     progress(&format!(
@@ -532,7 +562,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let (full_resolution_s, full_resolution_measured, full_resolution_steps) =
         if !s.quick && projected <= s.full_run_limit_s {
             progress("T2: full run");
-            let full = timed(s, "t2_full", &full_sets, 2, 1, r)?;
+            let full = timed(s, "t2_full", &full_sets, 2, 1, &shipped_reference.onsets_s)?;
             let (wall, steps) = (full.wall_s, full.steps);
             full_resolution_runs.push(full);
             (wall, true, steps)
@@ -596,7 +626,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
             set("contact.nodes", T4_NODES),
             set("time.tolerance", format!("{tol:e}")),
         ];
-        let t = timed(s, "t4", &sets, 2, s.repeats, r)?;
+        let t = timed(s, "t4", &sets, 2, s.repeats, r4)?;
         work_precision.push(WpPoint {
             method: "adaptive".into(),
             parameter: tol,
@@ -618,7 +648,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
             set("time.stepping", "fixed"),
             set("time.dt", format!("{dt:e}")),
         ];
-        let t = timed(s, "t4", &sets, 2, s.repeats, r)?;
+        let t = timed(s, "t4", &sets, 2, s.repeats, r4)?;
         work_precision.push(WpPoint {
             method: "fixed".into(),
             parameter: dt,
@@ -647,6 +677,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         fig2_accurate_s,
         fig2_accurate_1thread_s: t1_one.wall_s,
         fig2_accurate_max_onset_error_us: t1_two.max_onset_error_us,
+        fig2_accurate_errors: event_errors(&t1_two.event_values, &p3_reference),
         fig2_accurate_runs: vec![t1_two, t1_one],
         fig2_literal_extrapolated_s,
         literal_window_s,
@@ -664,9 +695,8 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         slope_dense,
         cost_per_step,
         work_precision,
-        reference_onsets_s: reference.onsets_s,
-        reference_settings: ref_sets,
-        reference_uncertainty_us,
+        p3_reference,
+        t4_reference,
         total_s: start.elapsed().as_secs_f64(),
         machine: format!(
             "{} logical CPUs; release build; wall times of whole processes",

@@ -1,4 +1,4 @@
-//! Section 5 of the report, findings for the engine: the accurate scheme's order in Δt, the
+//! Section 7 of the report, findings for the engine: the accurate scheme's order in Δt, the
 //! literal scheme beyond its stability limit, where onsets are located, and what N costs.
 
 use super::{
@@ -14,9 +14,9 @@ use stickslip_core::preflight::EULER_STABILITY_LIMIT;
 use stickslip_report::fmt::{sig, tick};
 use stickslip_report::stats::log_log_slope;
 
-/// Writes "## 5. Findings for the engine".
+/// Writes "## 7. Findings for the engine".
 pub(super) fn section(md: &mut String, r: &Results, paper: &Paper) {
-    let _ = writeln!(md, "## 5. Findings for the engine\n");
+    let _ = writeln!(md, "## 7. Findings for the engine\n");
     let e_dt = max_error_per_level(&sims(r, "accurate", Refined::Dt, "onset"), 1e-6);
     let at_paper_dt = e_dt
         .iter()
@@ -30,7 +30,8 @@ pub(super) fn section(md: &mut String, r: &Results, paper: &Paper) {
          when φ is slaved to ε), melting is located inside the step and is instantaneous \
          (φ touches the threshold and recovers), and event onsets are located on the node's \
          exact path. At the paper's Δt = {:e} s the largest onset error (Δt part, N = {}) is \
-         {} µs. Adaptive, error-controlled steps: reports/performance.md, T4.",
+         {} µs. Adaptive, error-controlled steps: §5 here (per tolerance, against same-N \
+         references) and reports/performance.md, T4.",
         p2(median_p(r, "accurate", Refined::Dt, "onset")),
         paper.dt_s,
         r.settings.sim_dts_nodes,

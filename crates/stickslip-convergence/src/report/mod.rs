@@ -3,15 +3,17 @@
 //! points, the page frame (introduction, definitions, how to reproduce), the quantities of the
 //! shipped fig2 scene the prose quotes ([`Paper`]) and the lookups and table helpers the
 //! sections share; each section (answers, operators, steppers, whole simulation,
-//! work–precision, findings) has its own file with its text and figures.
+//! work–precision, tolerance, noise, findings) has its own file with its text and figures.
 //!
 //! Every number in the text is computed from the results (or from the shipped scene and the
 //! core's parameters), so re-rendering (`--render-only`) keeps text and data consistent.
 
 mod answers;
 mod findings;
+mod noise;
 mod operators;
 mod steppers;
+mod tolerance;
 mod whole_simulation;
 mod work_precision;
 
@@ -55,7 +57,7 @@ pub fn write_all(r: &Results, dir: &Path) -> Result<Vec<PathBuf>, String> {
 
 /// Every figure: (file name, SVG text).
 fn figures(r: &Results) -> Result<Vec<(String, String)>, String> {
-    Ok(vec![
+    let mut out = vec![
         ("convergence_operators.svg".into(), operators::figure(r)?),
         ("convergence_steppers.svg".into(), steppers::figure(r)?),
         (
@@ -70,7 +72,14 @@ fn figures(r: &Results) -> Result<Vec<(String, String)>, String> {
             "convergence_work_precision.svg".into(),
             work_precision::figure(r)?,
         ),
-    ])
+    ];
+    if r.tolerance.is_some() {
+        out.push(("convergence_tolerance.svg".into(), tolerance::figure(r)?));
+    }
+    if let Some(n) = &r.noise {
+        out.push(("convergence_noise.svg".into(), noise::figure(n)?));
+    }
+    Ok(out)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -411,6 +420,8 @@ fn markdown(r: &Results) -> String {
     steppers::section(&mut md, r, &paper);
     whole_simulation::section(&mut md, r, &paper);
     work_precision::section(&mut md, r, &paper);
+    tolerance::section(&mut md, r);
+    noise::section(&mut md, r);
     findings::section(&mut md, r, &paper);
     let _ = writeln!(md, "## Reproduce\n");
     let _ = writeln!(

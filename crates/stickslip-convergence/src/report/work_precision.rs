@@ -200,7 +200,7 @@ fn caption(r: &Results, paper: &Paper) -> String {
         "the accurate onset error falls like (wall time)^{} here (least-squares slope) — each \
          halving of the error costs about {}× the time (fixed steps; the cost per step grows \
          like N^{} at these N); the literal onset error stays at {} µs however much time it \
-         gets{}. {} Adaptive, error-controlled steps against fixed ones — the work–precision \
+         gets{}. {} {}Adaptive, error-controlled steps against fixed ones — the work–precision \
          curve of the fast methods — are in [performance.md](performance.md) (T4, \
          `performance_work_precision.svg`, from `cargo xtask bench`).",
         slope.map_or("–".into(), |s| format!("{s:.2}")),
@@ -215,7 +215,14 @@ fn caption(r: &Results, paper: &Paper) -> String {
                 unstable.join(", ")
             )
         },
-        comparison
+        comparison,
+        if r.tolerance.as_ref().is_some_and(|t| t.old.is_some()) {
+            "The second row: the default adaptive stepping per tolerance against its same-N \
+             reference (§5), the current controller against the one before the redesign, by \
+             step evaluations and by loop wall time measured in one session. "
+        } else {
+            ""
+        }
     )
 }
 
@@ -261,5 +268,6 @@ pub(super) fn figure(r: &Results) -> Result<String, String> {
         }
         panels.push(p);
     }
+    panels.extend(super::tolerance::work_precision_panels(r));
     render_svg(&panels, 3, 560, 430)
 }
