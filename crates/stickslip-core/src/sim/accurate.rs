@@ -173,23 +173,16 @@ impl Simulation {
         }
         let drive = match (&self.config.drive, self.config.integrator) {
             (Drive::Rigid(_), _) => error_estimate::DriveError::default(),
-            (Drive::Spring(sp), Integrator::Verlet) => {
-                let a0 = sp.acceleration_m_per_s2(before.t_s, before.x_m, f_before);
-                let d = &s.drive;
-                let a1 = sp.acceleration_m_per_s2(d.t_s, d.x_m, s.force_n);
-                let change = a1 - a0;
-                let est = error_estimate::verlet_error(
-                    dt_s,
-                    change,
-                    s.prev_dt_s,
-                    s.accel_change_prev_m_per_s2,
-                );
-                self.state.accel_change_prev_m_per_s2 = change;
-                est
-            }
-            (Drive::Spring(sp), Integrator::Split) => {
-                // Only the friction force's kicks carry an error: Verlet's on a = −F/m.
-                let change = -(s.force_n - f_before) / sp.mass_kg;
+            (Drive::Spring(sp), integrator @ (Integrator::Verlet | Integrator::Split)) => {
+                // Verlet's remainder on the acceleration's change over the step; with the split
+                // integrator only the friction force's kicks carry an error (a = −F/m).
+                let change = if integrator == Integrator::Split {
+                    -(s.force_n - f_before) / sp.mass_kg
+                } else {
+                    let d = &s.drive;
+                    sp.acceleration_m_per_s2(d.t_s, d.x_m, s.force_n)
+                        - sp.acceleration_m_per_s2(before.t_s, before.x_m, f_before)
+                };
                 let est = error_estimate::verlet_error(
                     dt_s,
                     change,
