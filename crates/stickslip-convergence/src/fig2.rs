@@ -194,7 +194,6 @@ pub fn run(spec: &RunSpec) -> RunRecord {
     let mut prev_f = sim0.state().force_n;
     let mut onsets: Vec<Option<f64>> = Vec::new();
     let located_by_core = spec.scheme == Scheme::Accurate;
-    let mut retakes = 0_u64;
     let mut observe = |sim: &stickslip_core::sim::Simulation| {
         let t = sim.time_s();
         let state = sim.state();
@@ -206,12 +205,6 @@ pub fn run(spec: &RunSpec) -> RunRecord {
             }
             let w = ((ts - prev_t) / (t - prev_t)).clamp(0.0, 1.0);
             force.push(prev_f + w * (f - prev_f));
-        }
-        // `step_adaptive` retakes the step that brings an onset to end at the located melting
-        // time, and then drops the extrapolation across that kink: last_dt_s = 0 after such a
-        // step only (every other step leaves its length there).
-        if spec.tolerance.is_some() && state.last_dt_s == 0.0 {
-            retakes += 1;
         }
         if sim.events().len() > onsets.len() {
             let mut theta_min: Option<f64> = None;
@@ -276,6 +269,6 @@ pub fn run(spec: &RunSpec) -> RunRecord {
         failure: outcome.failure.as_ref().map(ToString::to_string),
         steps: outcome.counts.steps,
         rejected_steps: outcome.counts.rejected_steps,
-        onset_retakes: retakes,
+        onset_retakes: outcome.counts.onset_retakes,
     }
 }

@@ -606,6 +606,7 @@ impl Driver {
                 accepted_steps: state.accepted_steps,
                 rejected_steps: state.rejected_steps,
                 forced_steps: state.forced_steps,
+                onset_retakes: state.onset_retakes,
                 coupling_iterations: state.coupling_iterations,
             },
             t_final_s: self.sim.time_s(),

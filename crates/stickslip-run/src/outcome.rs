@@ -37,7 +37,7 @@ impl RunStatus {
 /// Step counters of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub struct StepCounts {
-    /// Steps taken (with adaptive stepping: the half steps kept, two per accepted step).
+    /// Steps taken (with adaptive stepping: the accepted ones).
     pub steps: u64,
     /// Adaptive stepping: accepted steps (0 with fixed steps).
     pub accepted_steps: u64,
@@ -45,6 +45,11 @@ pub struct StepCounts {
     pub rejected_steps: u64,
     /// Adaptive stepping: steps accepted at time.dt_min above the tolerance.
     pub forced_steps: u64,
+    /// Adaptive stepping: accepted attempts that brought a melting onset and were taken again
+    /// ending at the located melting time (0 with fixed steps). Step evaluations are
+    /// accepted + rejected + onset retakes.
+    #[serde(default)]
+    pub onset_retakes: u64,
     /// Coupling-solver iterations summed over all steps (accurate scheme).
     pub coupling_iterations: u64,
 }

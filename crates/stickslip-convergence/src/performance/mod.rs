@@ -61,6 +61,9 @@ pub const P1_SPEEDUP_GOAL: f64 = 300.0;
 pub const P1_ONSET_GOAL_US: f64 = 0.01;
 /// P1: the reference's tolerance (the default's hundredth).
 pub const P1_REFERENCE_TOLERANCE: f64 = 1e-6;
+/// P1 profile: the approach run ends at this fraction of the first onset's time.
+pub const APPROACH_FRACTION: f64 = 0.999;
+
 /// P2: the goal for elastic over rigid substrate at fixed steps.
 pub const P2_RATIO_GOAL: f64 = 1.5;
 /// P3: the goal for fig2 at N = [`T1_NODES`], whole process, s.
@@ -176,6 +179,8 @@ pub struct Measured {
     pub steps: u64,
     /// Rejected adaptive attempts.
     pub rejected_steps: u64,
+    /// Adaptive attempts retaken to end at a located onset.
+    pub onset_retakes: u64,
     /// Coupling-solver iterations.
     pub coupling_iterations: u64,
     /// Event onsets (events.csv), s.
@@ -233,6 +238,7 @@ pub fn run_cli(
         loop_s: info.wall_seconds,
         steps: info.steps,
         rejected_steps: info.rejected_steps,
+        onset_retakes: info.onset_retakes,
         coupling_iterations: info.coupling_iterations,
         onsets_s: output.events.onsets_s(),
         events: EventValues {
@@ -276,6 +282,8 @@ pub struct Timed {
     pub steps: u64,
     /// Rejected steps of the last run.
     pub rejected_steps: u64,
+    /// Onset retakes of the last run.
+    pub onset_retakes: u64,
     /// Largest onset error against the reference, µs.
     pub max_onset_error_us: f64,
     /// Events of the last run.
@@ -292,6 +300,18 @@ impl Timed {
     #[must_use]
     pub fn us_per_step(&self) -> f64 {
         1e6 * self.loop_s / self.steps.max(1) as f64
+    }
+
+    /// Evaluations of the step: steps kept, rejected attempts and onset retakes.
+    #[must_use]
+    pub fn evaluations(&self) -> u64 {
+        self.steps + self.rejected_steps + self.onset_retakes
+    }
+
+    /// Loop time per evaluation of the step, µs.
+    #[must_use]
+    pub fn us_per_evaluation(&self) -> f64 {
+        1e6 * self.loop_s / self.evaluations().max(1) as f64
     }
 }
 
@@ -322,6 +342,7 @@ fn timed(
         walls_s: walls,
         steps: last.steps,
         rejected_steps: last.rejected_steps,
+        onset_retakes: last.onset_retakes,
         max_onset_error_us: 1e6 * max_onset_error_s(&last.onsets_s, reference_s),
         events: last.onsets_s.len(),
         coupling_iterations: last.coupling_iterations,
@@ -421,6 +442,16 @@ pub struct Performance {
     pub shipped_reference_settings: Vec<String>,
     /// P1: fig2_literal_extrapolated_s / shipped.wall_s.
     pub shipped_speedup: f64,
+    /// P1 profile: the shipped scene with a rigid substrate, the same adaptive settings
+    /// (everything but the elastic coupling: its loop time per evaluation).
+    pub shipped_rigid: Timed,
+    /// P1 profile: the shipped scene up to [`APPROACH_FRACTION`] of its first onset (the
+    /// approach to the first melting: how many evaluations it takes).
+    pub shipped_approach: Timed,
+    /// P1 profile: the shipped scene up to the first event's end (the reference's t_end).
+    pub shipped_first_event: Timed,
+    /// P1 profile: the shipped scene up to [`APPROACH_FRACTION`] of the second onset.
+    pub shipped_first_cycle: Timed,
     /// P2: the whole fixed-step run with a rigid substrate (when T2 ran in full).
     pub rigid_full: Option<Timed>,
     /// P4: a fresh clone's build and test times, if measured (`cargo xtask build-timing`).
@@ -520,6 +551,24 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         s.repeats.min(3),
         &shipped_reference.onsets_s,
     )?;
+
+    progress("P1 profile: rigid substrate, and the approach to the first onset");
+    let mut rigid_shipped_sets = shipped_sets.clone();
+    rigid_shipped_sets.push(set("contact.substrate", "rigid"));
+    let shipped_rigid = timed(s, "p1_rigid", &rigid_shipped_sets, 2, s.repeats.min(3), &[])?;
+    let ev = &shipped_reference.events;
+    if ev.onsets_s.len() < 2 {
+        return Err("P1: the reference has fewer than two onsets".into());
+    }
+    let up_to = |tag: &str, end_s: f64| {
+        let mut sets = shipped_sets.clone();
+        sets.extend(window(end_s));
+        timed(s, tag, &sets, 2, 1, &[])
+    };
+    let shipped_approach = up_to("p1_approach", APPROACH_FRACTION * ev.onsets_s[0])?;
+    let first_end_s = ev.t_ends_s[0].ok_or("P1: the reference's first event has no end")?;
+    let shipped_first_event = up_to("p1_first_event", first_end_s)?;
+    let shipped_first_cycle = up_to("p1_first_cycle", APPROACH_FRACTION * ev.onsets_s[1])?;
 
     // The paper's algorithm at its own settings, on a window.
     let literal_window_s = if s.quick { 5e-6 } else { 3.4e-5 };
@@ -668,6 +717,10 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         shipped,
         shipped_reference_settings,
         shipped_speedup,
+        shipped_rigid,
+        shipped_approach,
+        shipped_first_event,
+        shipped_first_cycle,
         rigid_full,
         build,
         sweep,

@@ -356,7 +356,8 @@ mod tests {
             loop_s: 0.9 * wall_s,
             walls_s: vec![wall_s],
             steps,
-            rejected_steps: 0,
+            rejected_steps: 10,
+            onset_retakes: 10,
             max_onset_error_us: 0.01,
             events: 10,
             coupling_iterations: 2 * steps,
@@ -413,6 +414,10 @@ mod tests {
             shipped: timed(1.9, 3392),
             shipped_reference_settings: vec!["time.tolerance=1e-6".into()],
             shipped_speedup: 97.0 / 1.9,
+            shipped_rigid: timed(1.0, 2000),
+            shipped_approach: timed(0.2, 380),
+            shipped_first_event: timed(0.25, 400),
+            shipped_first_cycle: timed(0.5, 700),
             rigid_full: Some(timed(20.0, 130_000)),
             build: Some(BuildTiming {
                 commit: "0123456789abcdef".into(),
@@ -479,6 +484,15 @@ mod tests {
             "{md}"
         );
         assert!(md.contains("| rust build | 60.0 | 40 % | ok |"), "{md}");
+        // P1's profile: 3392 + 10 + 10 evaluations in 0.9·1.9 s; the rigid run 0.9 s over 2020.
+        assert!(md.contains("| 3412, 1.01 per accepted step |"), "{md}");
+        assert!(md.contains("| 501 µs (2.0 coupling iterations"), "{md}");
+        assert!(
+            md.contains("| 446 µs per evaluation (2020 evaluations) |"),
+            "{md}"
+        );
+        assert!(md.contains("| 20 evaluations | |"), "{md}");
+        assert!(md.contains("| 300 evaluations | |"), "{md}");
         assert!(cost_figure(&p).is_ok() && wp_figure(&p).is_ok());
     }
 }

@@ -108,6 +108,7 @@ impl Simulation {
                     // Retake the step to end just after the located onset (the margin keeps
                     // the crossing inside it despite rounding).
                     self.state.clone_from(&saved);
+                    self.state.onset_retakes += 1;
                     cut_to_onset = true;
                     h_try = theta * h * (1.0 + 1e-9);
                     continue;

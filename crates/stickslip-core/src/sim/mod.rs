@@ -113,7 +113,7 @@ pub struct SimState {
     /// Adaptive stepping: the step to try next, s (0 = start from `time.dt`).
     #[serde(default)]
     pub next_dt_s: f64,
-    /// Adaptive stepping: accepted steps (each taken as two halves).
+    /// Adaptive stepping: accepted steps.
     #[serde(default)]
     pub accepted_steps: u64,
     /// Adaptive stepping: rejected attempts (error above tolerance, or a failed sub-step).
@@ -123,6 +123,10 @@ pub struct SimState {
     /// tolerance.
     #[serde(default)]
     pub forced_steps: u64,
+    /// Adaptive stepping: accepted attempts that brought a melting onset and were taken again
+    /// ending at the located melting time (each one more evaluation of the step).
+    #[serde(default)]
+    pub onset_retakes: u64,
     /// Nodes that melted during the last step (accurate scheme), whatever their φ at its end:
     /// melting is instantaneous there, so these count as melted for events and observables.
     #[serde(default)]
@@ -169,6 +173,7 @@ impl Clone for SimState {
             accepted_steps,
             rejected_steps,
             forced_steps,
+            onset_retakes,
             melted_in_step,
             last_melt_s,
             controller,
@@ -195,6 +200,7 @@ impl Clone for SimState {
             accepted_steps: *accepted_steps,
             rejected_steps: *rejected_steps,
             forced_steps: *forced_steps,
+            onset_retakes: *onset_retakes,
             melted_in_step: melted_in_step.clone(),
             last_melt_s: last_melt_s.clone(),
             controller: *controller,
@@ -224,6 +230,7 @@ impl Clone for SimState {
             accepted_steps,
             rejected_steps,
             forced_steps,
+            onset_retakes,
             melted_in_step,
             last_melt_s,
             controller,
@@ -249,6 +256,7 @@ impl Clone for SimState {
         self.accepted_steps = *accepted_steps;
         self.rejected_steps = *rejected_steps;
         self.forced_steps = *forced_steps;
+        self.onset_retakes = *onset_retakes;
         self.melted_in_step.clone_from(melted_in_step);
         self.last_melt_s.clone_from(last_melt_s);
         self.controller = *controller;
@@ -399,6 +407,7 @@ impl Simulation {
             accepted_steps: 0,
             rejected_steps: 0,
             forced_steps: 0,
+            onset_retakes: 0,
             melted_in_step: vec![false; n],
             last_melt_s: vec![-1.0; n],
             controller: ControllerMemory::default(),

@@ -126,7 +126,8 @@ pub fn markdown() -> String {
          resolved), `derived` (b, A, eps_c, phi0, omega, g_eff, nodes, steps_planned, \
          lagged_sweep_contraction, melting_force, critical_displacement, spring_period, \
          euler_number, first_onset_estimate), `warnings`, `steps`, `accepted_steps`, \
-         `rejected_steps`, `forced_steps`, `t_final`, `wall_seconds`, `coupling_iterations`, \
+         `rejected_steps`, `forced_steps`, `onset_retakes`, `t_final`, `wall_seconds`, \
+         `coupling_iterations`, \
          `seed`, `events`, `series_rows`, `columns` (file → column → unit) and `summary` (n_events, \
          t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean, recovery, \
          melted_time_fraction, regime).\n",

@@ -146,6 +146,10 @@ pub struct RunInfo {
     pub rejected_steps: u64,
     /// Adaptive stepping: steps accepted at time.dt_min above the tolerance.
     pub forced_steps: u64,
+    /// Adaptive stepping: accepted attempts that brought a melting onset and were taken again
+    /// ending at the located melting time; step evaluations = accepted + rejected + these.
+    #[serde(default)]
+    pub onset_retakes: u64,
     /// Time reached, s.
     pub t_final: f64,
     /// Wall-clock time of the time loop, s; for a resumed run, summed over its processes (each
@@ -192,6 +196,7 @@ impl RunInfo {
             accepted_steps: 0,
             rejected_steps: 0,
             forced_steps: 0,
+            onset_retakes: 0,
             t_final: 0.0,
             wall_seconds: 0.0,
             coupling_iterations: 0,
@@ -209,6 +214,7 @@ impl RunInfo {
         self.accepted_steps = c.accepted_steps;
         self.rejected_steps = c.rejected_steps;
         self.forced_steps = c.forced_steps;
+        self.onset_retakes = c.onset_retakes;
         self.coupling_iterations = c.coupling_iterations;
     }
 
