@@ -50,6 +50,35 @@ pub const MAX_POINTS: usize = 100_000;
 /// values is invalid is a `refused` row).
 pub const HARD_MAX_POINTS: usize = 10_000_000;
 
+/// The point at fraction `f` of a log range from `from` to `to` (both > 0). A point a whole
+/// number of decades from either end is that end with its decimal exponent shifted, parsed
+/// from text: exactly the nearest double to 1e8 in 1e7 … 1e10, not 1.0000000000000018e8, so
+/// values written by hand (`--set`, `[set]`, grouping on 1e8) match them.
+fn log_point(from: f64, to: f64, f: f64) -> f64 {
+    let decades = f * (to.log10() - from.log10());
+    let shifted = |end: f64, k: f64| {
+        let text = format!("{end:e}");
+        let (mantissa, exponent) = text.split_once('e')?;
+        let exponent: i64 = exponent.parse().ok()?;
+        format!("{mantissa}e{}", exponent + k as i64)
+            .parse::<f64>()
+            .ok()
+    };
+    let whole = |d: f64| (d - d.round()).abs() < 1e-9 && d.round().abs() < 600.0;
+    let from_to = decades - (to.log10() - from.log10());
+    if whole(decades) {
+        if let Some(v) = shifted(from, decades.round()) {
+            return v;
+        }
+    }
+    if whole(from_to) {
+        if let Some(v) = shifted(to, from_to.round()) {
+            return v;
+        }
+    }
+    (from.ln() + f * (to.ln() - from.ln())).exp()
+}
+
 /// One axis of a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
@@ -321,7 +350,7 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                 }
                 let f = j as f64 / (n - 1) as f64;
                 if log {
-                    (r.from.ln() + f * (r.to.ln() - r.from.ln())).exp()
+                    log_point(r.from, r.to, f)
                 } else {
                     r.from + f * (r.to - r.from)
                 }
@@ -636,5 +665,50 @@ pub fn point_count(axes: &[Axis], allow_large: bool) -> Result<usize, SweepError
                  Python), at most {HARD_MAX_POINTS} with it"
             ),
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::log_point;
+
+    fn range(from: f64, to: f64, n: usize) -> Vec<f64> {
+        (0..n)
+            .map(|j| log_point(from, to, j as f64 / (n - 1) as f64))
+            .collect()
+    }
+
+    #[test]
+    fn log_ranges_hit_every_decade_exactly() {
+        assert_eq!(range(1e7, 1e10, 4), vec![1e7, 1e8, 1e9, 1e10]);
+        // Every power of ten between powers-of-ten ends, at several points per decade.
+        for lo in -30_i32..30 {
+            for span in 1..6 {
+                for per_decade in [1, 2, 3, 4, 10] {
+                    let from: f64 = format!("1e{lo}").parse().unwrap();
+                    let to: f64 = format!("1e{}", lo + span).parse().unwrap();
+                    let n = (span * per_decade + 1) as usize;
+                    let v = range(from, to, n);
+                    for k in 0..=span {
+                        let exact: f64 = format!("1e{}", lo + k).parse().unwrap();
+                        let j = (k * per_decade) as usize;
+                        assert_eq!(v[j], exact, "1e{lo} … 1e{} ({n} points)", lo + span);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn whole_decades_from_either_end_and_other_points_unchanged() {
+        // From a non-decade start: 3e-5 … 3e-1 hits 3e-4, 3e-3, 3e-2 as written.
+        assert_eq!(range(3e-5, 3e-1, 5), vec![3e-5, 3e-4, 3e-3, 3e-2, 3e-1]);
+        // Decades counted from the end: 2.5 … 2.5e3 in 7 points.
+        let v = range(2.5, 2.5e3, 7);
+        assert_eq!([v[0], v[2], v[4], v[6]], [2.5, 25.0, 250.0, 2500.0]);
+        // Points between decades are the geometric ones.
+        let mid = (1e7f64.ln() + 0.5 * (1e8f64.ln() - 1e7f64.ln())).exp();
+        assert_eq!(range(1e7, 1e8, 3)[1], mid);
+        assert!((mid / 10f64.powf(7.5) - 1.0).abs() < 1e-14);
     }
 }
