@@ -225,7 +225,12 @@ pub fn run(opts: &Options) -> Result<bool, String> {
     ];
     for s in &sections {
         let cols = 2;
-        let svg = render_svg(&s.figure.1, cols, 620, 480)?;
+        let svg = render_svg(
+            &s.figure.1,
+            cols,
+            stickslip_report::map::PANEL_PX.0,
+            stickslip_report::map::PANEL_PX.1,
+        )?;
         stickslip_report::write_atomic(&reports.join(&s.figure.0), svg.as_bytes())
             .map_err(|e| format!("{}: {e}", s.figure.0))?;
     }

@@ -3,24 +3,26 @@
 //! log-spaced), failed and refused points marked; further axes (and word axes) give one pair
 //! of panels per value.
 
-use crate::fmt::sig;
-use crate::palette::{self, sequential};
-use crate::plot::{Cell, LegendAt, Marker, Panel, Scale, Series};
+use crate::palette;
+use crate::plot::{Cell, ColorBar, Marker, Panel, Scale, Series};
 use plotters::style::RGBColor;
 use stickslip_run::summary::Regime;
 use stickslip_run::sweep::map::{MapJson, MapRow, SUMMARY_COLUMNS};
 use stickslip_run::sweep::record::PointStatus;
 use stickslip_run::sweep::{Axis, value_text};
 
-/// Quantities a map can show as colours.
-pub const QUANTITIES: [&str; 6] = [
-    "recovery",
-    "period_last",
-    "x_period_last",
-    "f_peak_last",
-    "t_first_onset",
-    "n_events",
-];
+/// Quantities a map can show as colours: every numeric column of map.csv after the axes
+/// (the summary's numbers and `wall_s`); a numeric axis may be shown too.
+pub fn quantities() -> Vec<&'static str> {
+    SUMMARY_COLUMNS
+        .iter()
+        .map(|c| c.name)
+        .filter(|&n| n != "regime")
+        .collect()
+}
+
+/// Pixel size of one map panel (room for the colour bar and legend beside the chart).
+pub const PANEL_PX: (u32, u32) = (800, 500);
 
 /// Cell edges around sorted axis values: midpoints (geometric on a log axis), the ends half
 /// a step out.
@@ -101,13 +103,21 @@ fn layout(axes: &[Axis]) -> Result<Layout, String> {
 /// # Errors
 /// When no axis is numeric or `quantity` is not a summary column.
 pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
-    if !SUMMARY_COLUMNS.iter().any(|c| c.name == quantity) || quantity == "regime" {
+    let axes = &json.sweep.axes;
+    let axis_quantity = axes.iter().any(|a| a.key == quantity && numeric(a));
+    if !quantities().contains(&quantity) && !axis_quantity {
+        let numeric_axes: Vec<&str> = axes
+            .iter()
+            .filter(|a| numeric(a))
+            .map(|a| a.key.as_str())
+            .collect();
         return Err(format!(
-            "quantity {quantity:?}; allowed: one of {}",
-            QUANTITIES.join(", ")
+            "quantity {quantity:?}; allowed: a numeric column of map.csv ({}) or a numeric \
+             axis ({})",
+            quantities().join(", "),
+            numeric_axes.join(", ")
         ));
     }
-    let axes = &json.sweep.axes;
     let lay = layout(axes)?;
     let sweep = &json.sweep;
     let facet_values: Vec<Vec<String>> = {
@@ -125,7 +135,7 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
         .table
         .rows
         .iter()
-        .map(|r| r.number(quantity))
+        .map(|r| quantity_of(axes, r, quantity))
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
@@ -167,6 +177,14 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
         ));
     }
     Ok(out)
+}
+
+/// A row's value of `quantity`: a map.csv column, or a numeric axis.
+fn quantity_of(axes: &[Axis], row: &MapRow, quantity: &str) -> f64 {
+    match axes.iter().position(|a| a.key == quantity) {
+        Some(i) => row.values[i].parse().unwrap_or(f64::NAN),
+        None => row.number(quantity),
+    }
 }
 
 fn coords(lay: &Layout, row: &MapRow) -> (f64, f64) {
@@ -239,7 +257,7 @@ fn pair(
         if two_d { &y_label } else { "" },
     )
     .scales(xs, ys)
-    .legend(LegendAt::UpperRight);
+    .legend_outside();
     for r in rows {
         let (x, y) = cell_of(axes, lay, r);
         regime.cells.push(Cell {
@@ -271,36 +289,29 @@ fn pair(
     regime.series.push(failed(PointStatus::Failed));
     regime.series.push(failed(PointStatus::Refused));
     // The quantity.
-    let values: Vec<f64> = rows.iter().map(|r| r.number(quantity)).collect();
-    let log_colour = lo > 0.0 && hi / lo > 10.0;
-    let norm = |v: f64| {
-        if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
-            0.5
-        } else if log_colour {
-            (v / lo).ln() / (hi / lo).ln()
-        } else {
-            (v - lo) / (hi - lo)
-        }
+    let values: Vec<f64> = rows
+        .iter()
+        .map(|r| quantity_of(axes, r, quantity))
+        .collect();
+    let u = match axes.iter().find(|a| a.key == quantity) {
+        Some(a) => a.unit(),
+        None => unit(quantity),
     };
-    let u = match unit(quantity) {
-        "–" => "",
-        other => other,
-    };
+    let u = if u == "–" { "" } else { u };
     let title = if u.is_empty() {
         quantity.to_string()
     } else {
         format!("{quantity} [{u}]")
     };
+    let bar = ColorBar::new(lo, hi, title.clone());
+    let log_colour = bar.log;
     let mut q = Panel::new(
-        &format!(
-            "{name}: {title}{}{suffix}",
-            if log_colour { ", log colour" } else { "" }
-        ),
+        &format!("{name}: {title}{suffix}"),
         &x_label,
         if two_d { &y_label } else { &title },
     )
     .scales(xs, ys)
-    .legend(LegendAt::UpperRight);
+    .legend_outside();
     if two_d {
         for (r, &v) in rows.iter().zip(&values) {
             let (x, y) = cell_of(axes, lay, r);
@@ -308,28 +319,14 @@ fn pair(
                 x,
                 y,
                 color: if v.is_finite() {
-                    sequential(norm(v))
+                    bar.color(v)
                 } else {
                     RGBColor(225, 225, 225)
                 },
             });
         }
         if lo.is_finite() {
-            let mid = if log_colour {
-                (lo * hi).sqrt()
-            } else {
-                0.5 * (lo + hi)
-            };
-            for v in [lo, mid, hi] {
-                q.series.push(
-                    Series::new(
-                        format!("{} {u}", sig(v, 3)),
-                        Vec::new(),
-                        sequential(norm(v)),
-                    )
-                    .points(),
-                );
-            }
+            q = q.colorbar(bar);
         }
         if values.iter().any(|v| !v.is_finite()) {
             q.series

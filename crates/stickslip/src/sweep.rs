@@ -101,12 +101,14 @@ pub enum SweepCommand {
         #[arg(long, value_enum, default_value_t = Keep::Summary)]
         keep: Keep,
     },
-    /// Render the map of DIR as SVG: regimes as colours and one quantity.
+    /// Render the map of DIR as SVG: regimes as colours and one quantity with a colour bar.
     Plot {
         /// Sweep directory (with map.json).
         dir: PathBuf,
-        /// The quantity of the second panel.
-        #[arg(long, default_value = "recovery", value_parser = clap::builder::PossibleValuesParser::new(stickslip_report::map::QUANTITIES))]
+        /// The quantity of the second panel: any numeric column of map.csv (n_events,
+        /// t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean,
+        /// recovery, melted_time_fraction, wall_s) or a numeric axis key.
+        #[arg(long, default_value = "recovery")]
         quantity: String,
         /// Output file [default: DIR/map_<quantity>.svg].
         #[arg(long)]
@@ -453,7 +455,12 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
         Ok(p) => p,
         Err(e) => return crate::fail(e, 2),
     };
-    let svg = match stickslip_report::plot::render_svg(&panels, 2, 620, 480) {
+    let svg = match stickslip_report::plot::render_svg(
+        &panels,
+        2,
+        stickslip_report::map::PANEL_PX.0,
+        stickslip_report::map::PANEL_PX.1,
+    ) {
         Ok(s) => s,
         Err(e) => return crate::fail(format!("cannot draw the map: {e}"), 1),
     };

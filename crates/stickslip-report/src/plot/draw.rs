@@ -87,7 +87,7 @@ fn ranges(panel: &Panel) -> Range2 {
 }
 
 /// 1, 2, 5 × 10^k inside [lo, hi] (only 10^k when the range spans more than four decades).
-fn decade_ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub(super) fn decade_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let mut out = Vec::new();
     if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
         return out;
@@ -139,11 +139,12 @@ fn panel<DB: DrawingBackend>(
     panel: &Panel,
 ) -> Result<(), String> {
     let ((x0, x1), (y0, y1)) = ranges(panel);
+    let strip = panel.legend_outside || panel.colorbar.is_some();
     let mut builder = ChartBuilder::on(area);
     builder
         .caption(&panel.title, ("sans-serif", 20))
         .margin(12)
-        .margin_right(26)
+        .margin_right(if strip { 26 + STRIP_PX } else { 26 })
         .x_label_area_size(50)
         .y_label_area_size(76);
     // Key points only matter on log axes (a linear axis may start at 0).
@@ -158,7 +159,7 @@ fn panel<DB: DrawingBackend>(
         Scale::Log => decade_ticks(y0, y1),
         Scale::Linear => Vec::new(),
     };
-    match (panel.x_scale, panel.y_scale) {
+    let drawn = match (panel.x_scale, panel.y_scale) {
         (Scale::Linear, Scale::Linear) => fill(
             builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?,
             panel,
@@ -184,7 +185,104 @@ fn panel<DB: DrawingBackend>(
                 .map_err(err)?,
             panel,
         ),
+    };
+    drawn?;
+    if strip {
+        side_strip(area, panel)?;
     }
+    Ok(())
+}
+
+/// Width of the strip right of a chart that holds its colour bar and legend, px.
+const STRIP_PX: u32 = 170;
+
+/// The strip right of the chart: the colour bar (if any) and below it the legend (if it is
+/// outside), drawn in pixels so nothing covers the data.
+fn side_strip<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &Panel,
+) -> Result<(), String> {
+    let (w, h) = area.dim_in_pixel();
+    let left = w as i32 - STRIP_PX as i32 - 8;
+    let font = ("sans-serif", 13).into_font();
+    let mut y = 48;
+    if let Some(bar) = &panel.colorbar {
+        area.draw(&Text::new(bar.label.clone(), (left, y), font.clone()))
+            .map_err(err)?;
+        y += 20;
+        let bar_h = ((h as f64) * 0.45) as i32;
+        let steps = 64;
+        for k in 0..steps {
+            // Top is hi.
+            let f_hi = 1.0 - f64::from(k) / f64::from(steps);
+            let f_lo = 1.0 - f64::from(k + 1) / f64::from(steps);
+            let y0 = y + (f64::from(bar_h) * (1.0 - f_hi)) as i32;
+            let y1 = y + (f64::from(bar_h) * (1.0 - f_lo)).ceil() as i32;
+            let colour = crate::palette::sequential(0.5 * (f_hi + f_lo));
+            area.draw(&Rectangle::new(
+                [(left, y0), (left + 18, y1)],
+                colour.filled(),
+            ))
+            .map_err(err)?;
+        }
+        area.draw(&Rectangle::new(
+            [(left, y), (left + 18, y + bar_h)],
+            RGBColor(150, 150, 150).stroke_width(1),
+        ))
+        .map_err(err)?;
+        for (v, text) in bar.ticks() {
+            let f = bar.norm(v);
+            if !(-1e-9..=1.0 + 1e-9).contains(&f) {
+                continue;
+            }
+            let ty = y + (f64::from(bar_h) * (1.0 - f)).round() as i32;
+            area.draw(&PathElement::new(
+                vec![(left + 18, ty), (left + 23, ty)],
+                DARK.stroke_width(1),
+            ))
+            .map_err(err)?;
+            area.draw(&Text::new(text, (left + 27, ty - 7), font.clone()))
+                .map_err(err)?;
+        }
+        y += bar_h + 22;
+    }
+    if panel.legend_outside {
+        for s in panel.series.iter().filter(|s| !s.label.is_empty()) {
+            let c = s.color;
+            let mid = y + 7;
+            let swatch: DynElement<'static, DB, (i32, i32)> = match (s.style, s.marker) {
+                (Style::Dashed | Style::Reference, _) => DashedPathElement::new(
+                    vec![(left, mid), (left + 24, mid)],
+                    6,
+                    4,
+                    c.stroke_width(2),
+                )
+                .into_dyn(),
+                (Style::Solid, None) => {
+                    PathElement::new(vec![(left, mid), (left + 24, mid)], c.stroke_width(2))
+                        .into_dyn()
+                }
+                (_, Some(Marker::Cross)) => {
+                    Cross::new((left + 12, mid), 5, c.stroke_width(2)).into_dyn()
+                }
+                (_, Some(Marker::Triangle)) => {
+                    TriangleMarker::new((left + 12, mid), 5, c.filled()).into_dyn()
+                }
+                (_, Some(Marker::Square)) => Rectangle::new(
+                    [(left + 8, mid - 4), (left + 16, mid + 4)],
+                    c.stroke_width(2),
+                )
+                .into_dyn(),
+                _ => Rectangle::new([(left + 5, mid - 6), (left + 19, mid + 6)], c.filled())
+                    .into_dyn(),
+            };
+            area.draw(&swatch).map_err(err)?;
+            area.draw(&Text::new(s.label.clone(), (left + 30, y), font.clone()))
+                .map_err(err)?;
+            y += 20;
+        }
+    }
+    Ok(())
 }
 
 /// Everything inside the axes, for any pair of coordinate kinds.
@@ -443,7 +541,7 @@ where
             )))
             .map_err(err)?;
     }
-    if panel.series.iter().any(|s| !s.label.is_empty()) {
+    if !panel.legend_outside && panel.series.iter().any(|s| !s.label.is_empty()) {
         chart
             .configure_series_labels()
             .position(panel.legend.clone())

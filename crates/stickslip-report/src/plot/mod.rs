@@ -143,6 +143,125 @@ pub struct Note {
     pub color: RGBColor,
 }
 
+/// A continuous colour scale (the sequential palette from `lo` to `hi`) drawn as a bar
+/// beside the chart, with ticks that suit its range: 1, 2, 5 per decade on a log scale, a
+/// round step (1, 2, 2.5 or 5 × 10^k) with as many decimals as it needs on a linear one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColorBar {
+    /// Value at the bottom.
+    pub lo: f64,
+    /// Value at the top.
+    pub hi: f64,
+    /// Logarithmic colour (both ends > 0).
+    pub log: bool,
+    /// Title above the bar (quantity and unit).
+    pub label: String,
+}
+
+impl ColorBar {
+    /// A bar from `lo` to `hi`, logarithmic when both are positive and span more than a
+    /// decade.
+    pub fn new(lo: f64, hi: f64, label: impl Into<String>) -> Self {
+        Self {
+            lo,
+            hi,
+            log: lo > 0.0 && hi / lo > 10.0,
+            label: label.into(),
+        }
+    }
+
+    /// Where `v` falls on the bar, 0 … 1 (½ when the range is a single value).
+    #[must_use]
+    pub fn norm(&self, v: f64) -> f64 {
+        if self.hi.partial_cmp(&self.lo) != Some(std::cmp::Ordering::Greater) {
+            0.5
+        } else if self.log {
+            (v / self.lo).ln() / (self.hi / self.lo).ln()
+        } else {
+            (v - self.lo) / (self.hi - self.lo)
+        }
+    }
+
+    /// The colour of `v`.
+    #[must_use]
+    pub fn color(&self, v: f64) -> RGBColor {
+        crate::palette::sequential(self.norm(v).clamp(0.0, 1.0))
+    }
+
+    /// The tick values and their texts.
+    #[must_use]
+    pub fn ticks(&self) -> Vec<(f64, String)> {
+        let (lo, hi) = (self.lo, self.hi);
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Vec::new();
+        }
+        if hi <= lo {
+            return vec![(lo, crate::fmt::sig(lo, 4))];
+        }
+        if self.log {
+            let mut t = draw::decade_ticks(lo, hi);
+            if t.len() > 9 {
+                t.retain(|v| (v.log10() - v.log10().round()).abs() < 1e-9);
+            }
+            if t.len() > 9 {
+                let stride = t.len().div_ceil(9);
+                t = t.into_iter().step_by(stride).collect();
+            }
+            if t.len() < 2 {
+                t = vec![lo, hi];
+            }
+            return t.into_iter().map(|v| (v, crate::fmt::tick(v))).collect();
+        }
+        let (step, decimals) = round_step((hi - lo) / 5.0);
+        let big = lo.abs().max(hi.abs());
+        let scientific = big >= 1e5 || big < 1e-3;
+        // The ends count as on a tick within rounding (0.35 / 0.05 = 6.999…).
+        let first = (lo / step - 1e-9).ceil() as i64;
+        let last = (hi / step + 1e-9).floor() as i64;
+        (first..=last)
+            .map(|k| k as f64 * step)
+            .map(|v| {
+                let text = if scientific {
+                    crate::fmt::sig(v, significant(v, step))
+                } else {
+                    format!("{v:.decimals$}")
+                };
+                (v, text)
+            })
+            .collect()
+    }
+}
+
+/// A round step near `raw` (1, 2, 2.5 or 5 × 10^k) and the decimals it needs.
+fn round_step(raw: f64) -> (f64, usize) {
+    let e = raw.log10().floor();
+    let base = 10f64.powf(e);
+    let m = raw / base;
+    let (mantissa, extra) = if m < 1.5 {
+        (1.0, 0)
+    } else if m < 2.2 {
+        (2.0, 0)
+    } else if m < 3.5 {
+        (2.5, 1)
+    } else if m < 7.5 {
+        (5.0, 0)
+    } else {
+        (10.0, 0)
+    };
+    let step = mantissa * base;
+    let decimals = (-(step.log10().floor())).max(0.0) as usize + extra;
+    (step, decimals)
+}
+
+/// Significant digits that tell multiples of `step` apart near `v`.
+fn significant(v: f64, step: f64) -> usize {
+    if v == 0.0 {
+        return 1;
+    }
+    let digits = (v.abs().log10().floor() - step.log10().floor()) as i64 + 2;
+    digits.clamp(1, 8) as usize
+}
+
 /// One chart.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Panel {
@@ -178,6 +297,10 @@ pub struct Panel {
     pub headroom: f64,
     /// Explicit x ticks (log x; default 1, 2, 5 per decade).
     pub x_ticks: Option<Vec<f64>>,
+    /// Legend in a strip right of the chart, where it cannot cover data.
+    pub legend_outside: bool,
+    /// Colour bar in the strip right of the chart (above the legend).
+    pub colorbar: Option<ColorBar>,
 }
 
 impl Panel {
@@ -200,7 +323,23 @@ impl Panel {
             y_range: None,
             headroom: 0.06,
             x_ticks: None,
+            legend_outside: false,
+            colorbar: None,
         }
+    }
+
+    /// Puts the legend in a strip right of the chart.
+    #[must_use]
+    pub fn legend_outside(mut self) -> Self {
+        self.legend_outside = true;
+        self
+    }
+
+    /// Adds a colour bar (in the strip right of the chart).
+    #[must_use]
+    pub fn colorbar(mut self, bar: ColorBar) -> Self {
+        self.colorbar = Some(bar);
+        self
     }
 
     /// Adds series.
@@ -370,6 +509,63 @@ pub fn render_svg(
 mod tests {
     use super::*;
     use crate::palette::PALETTE;
+
+    fn texts(bar: &ColorBar) -> Vec<String> {
+        bar.ticks().into_iter().map(|t| t.1).collect()
+    }
+
+    #[test]
+    fn colour_bar_ticks_follow_the_range() {
+        // A narrow range near 1 gets four decimals, not five times "1.000".
+        let bar = ColorBar::new(0.99957, 0.99999, "recovery");
+        assert!(!bar.log);
+        assert_eq!(texts(&bar), ["0.9996", "0.9997", "0.9998", "0.9999"]);
+        // Decades get a log bar with 1, 2, 5 ticks.
+        let bar = ColorBar::new(1e-6, 3e-4, "t [s]");
+        assert!(bar.log);
+        assert_eq!(
+            texts(&bar),
+            [
+                "1e-6", "2e-6", "5e-6", "1e-5", "2e-5", "5e-5", "1e-4", "2e-4"
+            ]
+        );
+        // Many decades: only powers of ten, then every k-th.
+        assert_eq!(texts(&ColorBar::new(1e-9, 1e-1, "q")).len(), 9);
+        assert_eq!(
+            texts(&ColorBar::new(1e-20, 1e-1, "q")),
+            ["1e-20", "1e-17", "1e-14", "1e-11", "1e-8", "1e-5", "0.01"]
+        );
+        // Plain ranges.
+        assert_eq!(
+            texts(&ColorBar::new(0.0, 10.0, "n")),
+            ["0", "2", "4", "6", "8", "10"]
+        );
+        assert_eq!(
+            texts(&ColorBar::new(0.1, 0.35, "f")),
+            ["0.10", "0.15", "0.20", "0.25", "0.30", "0.35"]
+        );
+        // Large values in scientific form, still distinct.
+        let t = texts(&ColorBar::new(1.21e6, 1.26e6, "F"));
+        let mut d = t.clone();
+        d.dedup();
+        assert_eq!(t, d, "{t:?}");
+        assert!(t.len() >= 3, "{t:?}");
+        // Colours run from one end to the other.
+        let bar = ColorBar::new(1.0, 1000.0, "x");
+        assert!((bar.norm(1.0)).abs() < 1e-12 && (bar.norm(1000.0) - 1.0).abs() < 1e-12);
+        assert!((bar.norm(10f64.powf(1.5)) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn outside_legends_and_colour_bars_render() {
+        let pts: Vec<(f64, f64)> = (1..=5).map(|i| (f64::from(i), f64::from(i))).collect();
+        let p = Panel::new("t", "x", "y")
+            .with(vec![Series::new("a line", pts, PALETTE[0])])
+            .legend_outside()
+            .colorbar(ColorBar::new(0.99957, 0.99999, "recovery"));
+        let svg = render_svg(&[p], 1, 700, 400).unwrap();
+        assert!(svg.contains("a line") && svg.contains("0.9998") && svg.contains("recovery"));
+    }
 
     #[test]
     fn every_scale_combination_renders_lines_markers_cells_and_guides() {

@@ -79,6 +79,29 @@ fn log_point(from: f64, to: f64, f: f64) -> f64 {
     (from.ln() + f * (to.ln() - from.ln())).exp()
 }
 
+/// Whether listed values are log-spaced: all positive, and (sorted) their ratios more even
+/// than their differences — [0.3, 1, 3, 10] is, [1, 2, 3, 4] is not; two values when they
+/// span a decade or more.
+fn log_spaced(values: &[f64]) -> bool {
+    if values.len() < 2 || !values.iter().all(|&x| x > 0.0 && x.is_finite()) {
+        return false;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    if v.len() == 2 {
+        return v[1] / v[0] >= 10.0;
+    }
+    // Spread of the steps: largest over smallest.
+    let spread = |steps: Vec<f64>| {
+        let lo = steps.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = steps.iter().copied().fold(0.0, f64::max);
+        if lo > 0.0 { hi / lo } else { f64::INFINITY }
+    };
+    let linear = spread(v.windows(2).map(|w| w[1] - w[0]).collect());
+    let ratios = spread(v.windows(2).map(|w| (w[1] / w[0]).ln()).collect());
+    ratios < linear
+}
+
 /// One axis of a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
@@ -87,7 +110,7 @@ pub struct Axis {
     /// Its values, in order (numbers, or words of a choice key).
     pub values: Vec<toml::Value>,
     /// Values spaced logarithmically (from `range.scale = "log"`, or explicit positive
-    /// values whose ratios are equal).
+    /// values whose ratios are more even than their differences): plotted on a log axis.
     pub log: bool,
 }
 
@@ -288,13 +311,7 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                 ));
             }
             let nums: Vec<f64> = values.iter().map(value_number).collect();
-            let log = nums.len() >= 3
-                && nums.iter().all(|&x| x > 0.0)
-                && nums.windows(3).all(|w| {
-                    let (r1, r2) = (w[1] / w[0], w[2] / w[1]);
-                    (r1 / r2 - 1.0).abs() < 1e-6 && (r1 - 1.0).abs() > 1e-9
-                });
-            (values.clone(), log)
+            (values.clone(), log_spaced(&nums))
         }
         (None, Some(r)) => {
             if !matches!(spec.value, ValueType::Real | ValueType::Integer) {
@@ -670,7 +687,18 @@ pub fn point_count(axes: &[Axis], allow_large: bool) -> Result<usize, SweepError
 
 #[cfg(test)]
 mod tests {
-    use super::log_point;
+    use super::{log_point, log_spaced};
+
+    #[test]
+    fn listed_values_are_log_spaced_when_their_ratios_are_even() {
+        assert!(log_spaced(&[0.3, 1.0, 3.0, 10.0]));
+        assert!(log_spaced(&[10.0, 1.0, 100.0]));
+        assert!(log_spaced(&[1e7, 1e8]));
+        assert!(!log_spaced(&[1.0, 2.0, 3.0, 4.0]));
+        assert!(!log_spaced(&[1.0, 2.0]));
+        assert!(!log_spaced(&[-1.0, 1.0, 10.0]));
+        assert!(!log_spaced(&[5.0]));
+    }
 
     fn range(from: f64, to: f64, n: usize) -> Vec<f64> {
         (0..n)
