@@ -12,9 +12,13 @@ use stickslip_core::preflight::{Finding, Preflight};
 const PROBE_TARGET_S: f64 = 0.05;
 /// Most loop iterations the probe takes.
 const PROBE_MAX_STEPS: u64 = 4096;
-/// Adaptive steps per melting event, for the estimate: fig2 at the default tolerance takes
-/// about 3354 half steps for 1000 stick-phase steps and 10 events (reports/performance.md).
-pub const ADAPTIVE_HALF_STEPS_PER_EVENT: f64 = 140.0;
+/// Adaptive step evaluations per stick–slip cycle at [`ADAPTIVE_REFERENCE_TOLERANCE`], for the
+/// estimate: `stickslip run validation/scenes/fig2.toml --set contact.nodes=200` takes 3010
+/// accepted steps, 43 rejected and 10 onset retakes for its approach and 10 events, 278 per
+/// cycle; the steps crowd into the film's slowing down before each melting.
+pub const ADAPTIVE_STEPS_PER_CYCLE: f64 = 280.0;
+/// The tolerance [`ADAPTIVE_STEPS_PER_CYCLE`] was counted at; steps scale as its cube root.
+pub const ADAPTIVE_REFERENCE_TOLERANCE: f64 = 5e-5;
 
 /// A rough cost estimate.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -77,13 +81,18 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
             } else {
                 0.0
             };
-            let base = 2.0 * t.end_s / a.dt_max_s;
+            let per_cycle =
+                ADAPTIVE_STEPS_PER_CYCLE * (ADAPTIVE_REFERENCE_TOLERANCE / a.tolerance).cbrt();
+            let floor = (t.end_s / a.dt_max_s).ceil();
             (
-                base + ADAPTIVE_HALF_STEPS_PER_EVENT * events,
+                (per_cycle * (events + 1.0)).max(floor),
                 format!(
-                    "adaptive: about 2·time.end/time.dt_max = {base:.0} half steps, plus \
-                     {ADAPTIVE_HALF_STEPS_PER_EVENT} per melting event for at most {events:.0} \
-                     events (stamp travel / eps_c·h0); rough"
+                    "adaptive: about {per_cycle:.0} steps per stick–slip cycle at time.tolerance \
+                     = {:e} ({ADAPTIVE_STEPS_PER_CYCLE} at {ADAPTIVE_REFERENCE_TOLERANCE:e}, \
+                     times the cube root of their ratio) for the approach and at most \
+                     {events:.0} events (stamp travel / eps_c·h0), and at least \
+                     time.end/time.dt_max = {floor:.0}; rough",
+                    a.tolerance
                 ),
             )
         }

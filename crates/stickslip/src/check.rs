@@ -26,7 +26,15 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     say!("omega = {} rad/s", d.omega_rad_per_s);
     say!("g_eff = {:e} Pa", c.contact.g_eff_pa);
     say!("nodes = {}", c.simulated_nodes());
-    say!("steps = {}", scene.steps);
+    if c.time.adaptive.is_some() {
+        say!(
+            "steps = {} (time.end/time.dt: what fixed steps of time.dt would take; adaptive \
+             steps follow time.tolerance instead: see steps_estimate below)",
+            scene.steps
+        );
+    } else {
+        say!("steps = {} (time.end/time.dt)", scene.steps);
+    }
     say!(
         "lagged_sweep_contraction = {:.4} (rho of the paper's lagged elastic sweep at t = 0; \
          the literal scheme needs < 1)",
@@ -85,6 +93,7 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
             say!("{tag}: {} ({})", f.message, f.key);
         }
     }
-    crate::print_findings(&report.warnings, false);
+    // The warnings are part of the report on stdout; printing them again on stderr (as `run`
+    // does) showed each one twice.
     ExitCode::SUCCESS
 }

@@ -252,7 +252,7 @@ impl Display {
         let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
             let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
             if let Ok(style) = ProgressStyle::with_template(
-                "{elapsed_precise} [{wide_bar}] {pos}/{len} points, {msg}, eta {eta}",
+                "{elapsed_precise} [{wide_bar}] {pos}/{len} points, {msg}",
             ) {
                 bar.set_style(style);
             }
@@ -269,7 +269,14 @@ impl Display {
         if let Some(bar) = &self.bar {
             bar.set_length(p.total as u64);
             bar.set_position(p.done as u64);
-            bar.set_message(format!("{} failed, {} skipped", p.failed, p.skipped));
+            // The rate of the points run by this invocation (skipped ones cost nothing).
+            let run = p.done.saturating_sub(p.skipped) as f64;
+            let to_run = p.total.saturating_sub(p.skipped) as f64;
+            let eta = crate::progress::eta_text(p.elapsed_s, run / to_run.max(1.0));
+            bar.set_message(format!(
+                "{} failed, {} skipped, eta {eta}",
+                p.failed, p.skipped
+            ));
         } else if !self.quiet && p.elapsed_s - self.last_line_s >= 10.0 {
             self.last_line_s = p.elapsed_s;
             eprintln!(

@@ -168,6 +168,16 @@ const CASES: &[Case] = &[
         &["contact.nodes = 2.5", "wrong type", "an integer"],
     ),
     case(
+        "whole float for nodes: shown as given, with the integer to write",
+        None,
+        &["contact.nodes=2e2"],
+        &[
+            "contact.nodes = 2e2 (a float)",
+            "wrong type",
+            "written without a decimal point or exponent: 200",
+        ],
+    ),
+    case(
         "number for name",
         None,
         &["name=5"],

@@ -363,10 +363,23 @@ pub(crate) fn from_de_error(root: &toml::Table, e: &toml::de::Error) -> SceneErr
         // An array where a number belongs reads `invalid type: sequence, expected f64`, as does
         // a nested array in an array of numbers: the key's own type decides.
         let is_array = matches!(lookup(root, &path_keys), Some(toml::Value::Array(_)));
+        let given = lookup(root, &path_keys);
+        // A float where an integer belongs: 2e2 is a float in TOML (and in `--set`), and
+        // showing it as "200" would hide why it is refused.
+        let whole_float = match given {
+            Some(toml::Value::Float(f)) if expected == "i64" && f.fract() == 0.0 => Some(*f),
+            _ => None,
+        };
+        let value = whole_float.map_or(value, |f| format!("{f:e} (a float)"));
         let allowed = match expected {
             "f64" if is_array && takes_array(&path_keys) => "an array of numbers".to_string(),
             "f64" => "a number (float or integer)".to_string(),
-            "i64" => "an integer".to_string(),
+            "i64" => match whole_float {
+                Some(f) if f.abs() < 9e15 => {
+                    format!("an integer, written without a decimal point or exponent: {f:.0}")
+                }
+                _ => "an integer".to_string(),
+            },
             "a string" => "a string".to_string(),
             "a sequence" => "an array of numbers".to_string(),
             e if e.starts_with("struct ") => "a table".to_string(),
