@@ -393,7 +393,7 @@ impl SimConfig {
         }
     }
 
-    /// The fig2 scene of the paper (SPEC §4) with the given scheme, floor noise φ ≥ 1e-6.
+    /// The fig2 scene of the paper (docs/model.md#the-papers-scenes) with the given scheme, floor noise φ ≥ 1e-6.
     pub fn fig2(scheme: Scheme) -> Self {
         let lubricant = LandauParams {
             tau_max_pa: 1e6,
