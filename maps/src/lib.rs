@@ -1,7 +1,7 @@
-//! stickslip-maps: the showcase friction maps of `maps/*.toml`, run in-process through the
-//! run library's sweep engine, drawn with the reporting kit, and checked against what physics
-//! says they must show (docs/model.md#regimes-and-friction-maps). `cargo xtask maps` writes `reports/maps.md` and
-//! `reports/maps_*.svg`.
+//! stickslip-maps: the showcase friction maps of `maps/*.toml`, run in-process through the run
+//! library's sweep engine, drawn with the reporting kit, and checked against what physics says they
+//! must show (docs/model.md#regimes-and-friction-maps). `cargo xtask maps` writes `reports/maps.md`
+//! and `reports/maps_*.svg`.
 //!
 //! - [`rigid`]: rigid drive, speed × temperature (A0): sliding for A0 ≤ 0, stick–slip at slow
 //!   speed, the loss of recovery at high speed, the critical speed on paper against the map;

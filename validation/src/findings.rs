@@ -204,8 +204,8 @@ fn rigid_fast(runs: &Runs) -> Option<String> {
          and ⟨φ⟩ never exceeds {} (solid: φ0 = {}); the largest recovery ⟨φ⟩/√(A/a) of a later \
          cycle is {}, and run.json classifies the run as `{regime}`: the stamp shears each \
          re-solidifying film back past εc before φ has grown. The expectation \
-         ([docs/model.md](../docs/model.md#the-papers-scenes)) is that the film \"melts every few tenths of a µs and never \
-         recovers\": {}.",
+         ([docs/model.md](../docs/model.md#the-papers-scenes)) is that the film \"melts every \
+         few tenths of a µs and never recovers\": {}.",
         fmt::trim(fast.info.velocity_m_per_s()),
         ev.len(),
         fmt::time(fast.info.end_s(), 2),

@@ -1,5 +1,5 @@
-//! The per-run summary and regime (docs/model.md#regimes-and-friction-maps), computed from the run's events and the event
-//! tracker's totals (every step counted, not sampled rows).
+//! The per-run summary and regime (docs/model.md#regimes-and-friction-maps), computed from the
+//! run's events and the event tracker's totals (every step counted, not sampled rows).
 //!
 //! - `n_events`, `t_first_onset`; `period_last` and `x_period_last`: time and stamp advance
 //!   between the last two onsets; `f_peak_first`, `f_peak_last`: the peaks that preceded the
