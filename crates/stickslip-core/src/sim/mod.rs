@@ -113,7 +113,7 @@ pub struct SimState {
     /// Adaptive stepping: the step to try next, s (0 = start from `time.dt`).
     #[serde(default)]
     pub next_dt_s: f64,
-    /// Adaptive stepping: accepted steps (each taken as two halves).
+    /// Adaptive stepping: accepted steps.
     #[serde(default)]
     pub accepted_steps: u64,
     /// Adaptive stepping: rejected attempts (error above tolerance, or a failed sub-step).
