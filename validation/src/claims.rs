@@ -1,5 +1,5 @@
-//! The paper's claims C1–C10 (SPEC §5) as measured criteria on run outputs read through the
-//! run library's schema ([`RunOutput`]).
+//! The paper's claims C1–C10 (docs/model.md#the-papers-claims) as measured criteria on run outputs
+//! read through the run library's schema ([`RunOutput`]).
 //!
 //! Every claim states its criterion with the threshold, and the reason for the threshold sits
 //! next to the constant. A claim whose runs are missing or failed is a failing claim: nothing

@@ -195,15 +195,17 @@ fn rigid_fast(runs: &Runs) -> Option<String> {
         .summary
         .as_ref()
         .map_or_else(|| "?".to_string(), |s| s.regime.name().to_string());
-    // SPEC §4: "melts every few tenths of a µs and never recovers".
+    // The expectation (docs/model.md#the-papers-scenes, rigid_fast): "melts every few tenths of a
+    // µs and never recovers".
     let reproduced = every < 1e-6 && phi_after < 0.5 * phi0;
     Some(format!(
         "**Rigid drive at V0 = {} m/s: the film never recovers its strength.** {} events in {}, \
          one every {} (CV {}). After the first event (peak {} mN) F peaks at only {} mN ({} %) \
          and ⟨φ⟩ never exceeds {} (solid: φ0 = {}); the largest recovery ⟨φ⟩/√(A/a) of a later \
          cycle is {}, and run.json classifies the run as `{regime}`: the stamp shears each \
-         re-solidifying film back past εc before φ has grown. SPEC §4 expects \"melts every few \
-         tenths of a µs and never recovers\": {}.",
+         re-solidifying film back past εc before φ has grown. The expectation \
+         ([docs/model.md](../docs/model.md#the-papers-scenes)) is that the film \"melts every \
+         few tenths of a µs and never recovers\": {}.",
         fmt::trim(fast.info.velocity_m_per_s()),
         ev.len(),
         fmt::time(fast.info.end_s(), 2),

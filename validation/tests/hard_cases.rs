@@ -98,9 +98,9 @@ fn case6_extreme_sizes_are_invariant_and_rejections_are_named() {
     assert_checks(&c);
 }
 
-/// The flat-punch pair (SPEC §3): τ = 1/(π√(a0² − r²)) ⇔ q = 1 ⇔ u3D·G* = 1 ⇔ F = 2a0, with the
-/// 1/√ singularity at the edge r = a0 (the grid's last node is a0 − h, so τ is finite on it).
-/// Both quadratures at N = 1, 2, 3, 8000 and a0 from 1e-9 to 1e12 m.
+/// The flat-punch pair (docs/model.md#exact-answers): τ = 1/(π√(a0² − r²)) ⇔ q = 1 ⇔
+/// u3D·G* = 1 ⇔ F = 2a0, with the 1/√ singularity at the edge r = a0 (the grid's last node is
+/// a0 − h, so τ is finite on it). Both quadratures at N = 1, 2, 3, 8000 and a0 from 1e-9 to 1e12 m.
 #[test]
 fn edge_singularity_operators() {
     // fig2's a0 (the reference, index 1), then a0·2^-14 ≈ 1.2e-9 m and a0·2^55 ≈ 7.2e11 m (the

@@ -207,3 +207,233 @@ fn architecture_names_every_crate_and_run_library_module() {
         "ARCHITECTURE.md does not name: {missing:?}"
     );
 }
+
+/// The tracked files (`git ls-files`), relative to the root; without git (an unpacked archive)
+/// every file below the root but `.git/` and `target/`.
+fn tracked_files(root: &Path) -> Vec<String> {
+    let listed = std::process::Command::new("git")
+        .arg("-C")
+        .arg(root)
+        .args(["ls-files", "-z"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success() && !o.stdout.is_empty());
+    if let Some(out) = listed {
+        return String::from_utf8_lossy(&out.stdout)
+            .split('\0')
+            .filter(|p| !p.is_empty())
+            .map(str::to_string)
+            .collect();
+    }
+    fn walk(root: &Path, dir: &Path, out: &mut Vec<String>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let name = entry.file_name();
+            if name == ".git" || name == "target" {
+                continue;
+            }
+            if path.is_dir() {
+                walk(root, &path, out);
+            } else if let Ok(rel) = path.strip_prefix(root) {
+                out.push(rel.display().to_string());
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(root, root, &mut out);
+    out
+}
+
+/// This file: it spells out what the checks below look for.
+const THIS_FILE: &str = "xtask/tests/tidy.rs";
+
+/// The tracked text files (other than this one) and their contents.
+fn tracked_texts(root: &Path) -> Vec<(String, String)> {
+    tracked_files(root)
+        .into_iter()
+        .filter(|p| p != THIS_FILE)
+        .filter_map(|p| {
+            let bytes = std::fs::read(root.join(&p)).ok()?;
+            let text = String::from_utf8(bytes).ok()?;
+            Some((p, text))
+        })
+        .collect()
+}
+
+/// Whether `text` holds `word` with no letter, digit or `_` on either side.
+fn contains_word(text: &str, word: &str) -> bool {
+    let part = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+    text.match_indices(word).any(|(i, _)| {
+        !part(text[..i].chars().next_back()) && !part(text[i + word.len()..].chars().next())
+    })
+}
+
+#[test]
+fn no_tracked_file_cites_files_outside_the_repository() {
+    // A clone has nothing beside the repository: the design notes the project started from
+    // are not part of it. Pointers go to docs/model.md, docs/reference.md or the paper's
+    // equation numbers. The needles are assembled so that this file does not hold them.
+    let root = workspace_root();
+    let spec = ["SP", "EC"].concat();
+    let needles = [
+        format!("{spec} §"),
+        format!("{spec}.md"),
+        ["INTER", "FACE.md"].concat(),
+        ["..", "/shared"].concat(),
+    ];
+    let files = tracked_texts(&root);
+    assert!(files.len() > 50, "found only {} tracked files", files.len());
+    let mut offenders = Vec::new();
+    for (path, text) in &files {
+        for (n, line) in text.lines().enumerate() {
+            // The bare word as a file name (in parentheses, or before a section number);
+            // identifiers that merely contain it as one part of a longer name are not citations.
+            if needles.iter().any(|needle| line.contains(needle.as_str()))
+                || contains_word(line, &spec)
+            {
+                offenders.push(format!("{path}:{}: {}", n + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "these lines cite files that are not in the repository; point at docs/model.md, \
+         docs/reference.md or the paper's equation numbers instead:\n{}",
+        offenders.join("\n")
+    );
+}
+
+/// GitHub's anchor of a Markdown heading: lower case, punctuation dropped, spaces as hyphens.
+fn heading_anchor(heading: &str) -> String {
+    heading
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || *c == ' ' || *c == '-' || *c == '_')
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+#[test]
+fn links_into_the_documentation_name_existing_sections() {
+    // "docs/model.md#the-drive" in a comment, a scene or a report must lead somewhere.
+    let root = workspace_root();
+    let files = tracked_texts(&root);
+    let mut anchors: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+    for (path, text) in &files {
+        if !path.ends_with(".md") {
+            continue;
+        }
+        let name = path.rsplit('/').next().unwrap_or(path).to_string();
+        let mut fenced = false;
+        for line in text.lines() {
+            if line.starts_with("```") {
+                fenced = !fenced;
+            } else if !fenced && line.starts_with('#') {
+                let heading = line.trim_start_matches('#');
+                anchors
+                    .entry(name.clone())
+                    .or_default()
+                    .push(heading_anchor(heading));
+            }
+        }
+    }
+    let mut broken = Vec::new();
+    for doc in ["model.md", "reference.md"] {
+        let known = anchors.get(doc).cloned().unwrap_or_default();
+        assert!(!known.is_empty(), "docs/{doc} has no headings");
+        let link = format!("{doc}#");
+        for (path, text) in &files {
+            for (n, line) in text.lines().enumerate() {
+                for (i, _) in line.match_indices(&link) {
+                    let anchor: String = line[i + link.len()..]
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '-' || *c == '_')
+                        .collect();
+                    if !known.contains(&anchor) {
+                        broken.push(format!("{path}:{}: {doc}#{anchor}", n + 1));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        broken.is_empty(),
+        "links to sections that do not exist:\n{}",
+        broken.join("\n")
+    );
+}
+
+/// The value of `key = "…"` on its own line in `text`, the first one after the line `section`.
+fn toml_string(text: &str, section: &str, key: &str) -> Option<String> {
+    text.lines()
+        .skip_while(|l| l.trim() != section)
+        .skip(1)
+        .take_while(|l| !l.trim_start().starts_with('['))
+        .find_map(|l| {
+            let (k, v) = l.split_once('=')?;
+            (k.trim() == key).then(|| v.trim().trim_matches('"').to_string())
+        })
+}
+
+#[test]
+fn licence_and_citation_agree_with_the_workspace() {
+    let root = workspace_root();
+    let read =
+        |p: &str| std::fs::read_to_string(root.join(p)).unwrap_or_else(|e| panic!("{p}: {e}"));
+    let manifest = read("Cargo.toml");
+    let version = toml_string(&manifest, "[workspace.package]", "version").expect("version");
+    let licence = toml_string(&manifest, "[workspace.package]", "license").expect("license");
+    assert_eq!(licence, "MIT OR Apache-2.0");
+    for file in ["LICENSE-MIT", "LICENSE-APACHE"] {
+        assert!(root.join(file).is_file(), "{file} is missing");
+    }
+    // Every crate inherits the workspace's licence.
+    let mut missing = Vec::new();
+    for path in tracked_files(&root) {
+        if path.ends_with("/Cargo.toml") {
+            let text = read(&path);
+            if text.contains("[package]")
+                && toml_string(&text, "[package]", "license.workspace") != Some("true".to_string())
+            {
+                missing.push(path);
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "these crates do not set license.workspace = true: {missing:?}"
+    );
+    let pyproject = read("crates/stickslip-py/pyproject.toml");
+    assert!(
+        pyproject.contains(&licence),
+        "crates/stickslip-py/pyproject.toml must declare {licence}"
+    );
+    let cff = read("CITATION.cff");
+    let field = |key: &str| {
+        cff.lines()
+            .find_map(|l| l.strip_prefix(key))
+            .map(|v| v.trim().trim_matches(['"', '\'']).to_string())
+    };
+    assert_eq!(
+        field("version:").as_deref(),
+        Some(version.as_str()),
+        "CITATION.cff's version must be the workspace's"
+    );
+    // CFF takes SPDX identifiers, one per list item: the dual licence is the list of both.
+    let cff_licences: Vec<&str> = cff
+        .lines()
+        .skip_while(|l| l.trim() != "license:")
+        .skip(1)
+        .map_while(|l| l.strip_prefix("  - "))
+        .map(str::trim)
+        .collect();
+    let spdx: Vec<&str> = licence.split(" OR ").collect();
+    assert_eq!(
+        cff_licences, spdx,
+        "CITATION.cff's license must list {spdx:?}"
+    );
+}

@@ -98,12 +98,13 @@ pub struct TimeConfig {
 
 /// Error control of adaptive stepping (see [`crate::sim::Simulation::step_adaptive`]).
 ///
-/// Each step of length h is taken once whole and once as two halves; the halves are kept
-/// when their difference, measured in the scales of [`crate::sim::ErrorScales`], is within
-/// `tolerance`. The next h follows from the first-order error model, err ∝ h².
+/// Each attempt is one accurate step whose local error is estimated from the step itself
+/// ([`crate::sim::error_estimate`]) in scales that follow the state ([`crate::sim::StepError`]);
+/// it is kept when that error is within `tolerance`, and the next step comes from the PI
+/// controller of order 3 ([`crate::sim::step_control`]; docs/model.md#adaptive-steps).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct AdaptiveConfig {
-    /// Allowed local error per step, relative to the error scales (the scene default is 1e-4).
+    /// Allowed local error per step, relative to the error scales (the scene default is 5e-5).
     pub tolerance: f64,
     /// Longest step, s.
     pub dt_max_s: f64,
@@ -393,7 +394,8 @@ impl SimConfig {
         }
     }
 
-    /// The fig2 scene of the paper (SPEC §4) with the given scheme, floor noise φ ≥ 1e-6.
+    /// The fig2 scene of the paper (docs/model.md#the-papers-scenes) with the given scheme,
+    /// floor noise φ ≥ 1e-6.
     pub fn fig2(scheme: Scheme) -> Self {
         let lubricant = LandauParams {
             tau_max_pa: 1e6,

@@ -1,4 +1,5 @@
-//! MDR operators against the exact pairs of SPEC §3: errors, observed orders, both norms.
+//! MDR operators against the exact pairs of docs/model.md#exact-answers: errors, observed orders,
+//! both norms.
 
 use stickslip_core::grid::Grid;
 use stickslip_core::mdr::pairs::{self, ExactPair};

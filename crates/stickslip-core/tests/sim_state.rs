@@ -14,7 +14,8 @@ fn small_fig2(scheme: Scheme, nodes: usize) -> SimConfig {
 
 #[test]
 fn lagged_sweep_contraction_scales_with_substrate_softness() {
-    // ρ ∝ 1/G*: fig2 (G* = 1e9 Pa) contracts, a ten times softer substrate does not (SPEC §2).
+    // ρ ∝ 1/G*: fig2 (G* = 1e9 Pa) contracts, a ten times softer substrate does not
+    // (docs/model.md#the-literal-scheme).
     let rho = |g: f64, scheme| {
         let mut c = small_fig2(scheme, 200);
         c.contact.g_eff_pa = g;

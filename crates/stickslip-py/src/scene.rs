@@ -12,7 +12,7 @@ use stickslip_run::{ResolvedScene, Scene};
 
 const NO_OVERRIDES: &[&str] = &[];
 
-/// A validated scene: the keys of a scene file (INTERFACE.md, all quantities SI), with every
+/// A validated scene: the keys of a scene file (docs/reference.md, all quantities SI), with every
 /// default filled in and every value checked.
 ///
 /// Build one with ``Scene.load(path)``, ``Scene.from_dict(d)`` or ``Scene.from_toml(text)``;

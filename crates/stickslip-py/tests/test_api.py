@@ -1,5 +1,5 @@
-"""The Python surface of INTERFACE.md: Scene (load, from_dict, overrides, to_dict, to_toml),
-run and its RunResult, to_pandas, the GIL released during a run."""
+"""The Python surface of the package (docs/python.md): Scene (load, from_dict, overrides,
+to_dict, to_toml), run and its RunResult, to_pandas, the GIL released during a run."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
-"""stickslip.mdr against the exact pairs of SPEC §3 (uniform stress, smooth pair, flat punch
-back transform), the fast form against the dense one, units (compliance in metres) and
-argument checks."""
+"""stickslip.mdr against the exact pairs of docs/model.md#exact-answers (uniform stress, smooth
+pair, flat punch back transform), the fast form against the dense one, units (compliance in
+metres) and argument checks."""
 
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
-//! The one palette of the reports: Okabe–Ito (colour-blind safe) for categories, a
-//! viridis-like ramp for continuous values, and the colours of the regimes of SPEC §6.
+//! The one palette of the reports: Okabe–Ito (colour-blind safe) for categories, a viridis-like
+//! ramp for continuous values, and the colours of the regimes
+//! (docs/model.md#regimes-and-friction-maps).
 
 use plotters::style::RGBColor;
 

@@ -7,7 +7,8 @@
 //! - [`sink`]: results in memory ([`sink::memory::MemorySink`]) or in an output directory
 //!   ([`sink::dir`]: atomic files, run.json status from the start, checkpoints, resume);
 //! - [`schema`]: one type per output file, writer and reader together;
-//! - [`outcome`] and [`summary`]: what a run hands back, and its SPEC §6 summary and regime;
+//! - [`outcome`] and [`summary`]: what a run hands back, and its summary and regime
+//!   (docs/model.md#regimes-and-friction-maps);
 //! - [`check`]: what `stickslip check` reports (preflight, plausibility, a timed probe);
 //! - [`sweep`]: friction maps, points run in-process on threads, sharded, resumable, merged;
 //! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file;

@@ -106,7 +106,7 @@ pub struct RunOutcome {
     pub failure: Option<NumericalFailure>,
     /// Melting events.
     pub events: Vec<MeltingEvent>,
-    /// Summary and regime (SPEC §6).
+    /// Summary and regime (docs/model.md#regimes-and-friction-maps).
     pub summary: RunSummary,
     /// Step counters.
     pub counts: StepCounts,

@@ -1,5 +1,5 @@
-//! The per-run summary and regime of SPEC §6, computed from the run's events and the event
-//! tracker's totals (every step counted, not sampled rows).
+//! The per-run summary and regime (docs/model.md#regimes-and-friction-maps), computed from the
+//! run's events and the event tracker's totals (every step counted, not sampled rows).
 //!
 //! - `n_events`, `t_first_onset`; `period_last` and `x_period_last`: time and stamp advance
 //!   between the last two onsets; `f_peak_first`, `f_peak_last`: the peaks that preceded the
@@ -14,7 +14,7 @@
 //!   (R ≥ [`RegimeThresholds::stick_slip_recovery`]), `partial` (R ≥
 //!   [`RegimeThresholds::smooth_recovery`]), `smooth` (below).
 //!
-//! One refinement of SPEC §6, where its rules meet the event rule: when the film never
+//! One refinement of the regime rules, where they meet the event rule: when the film never
 //! regrows above the recovery level after the first melting, no second onset can be told
 //! apart, so the run has one event that is still open at its end. If that event's own
 //! recovery (the largest ⟨φ⟩/√(A/a) since its onset) stays below the smooth threshold, the
@@ -27,7 +27,7 @@
 use serde::{Deserialize, Serialize};
 use stickslip_core::sim::events::MeltingEvent;
 
-/// Regime of a run (SPEC §6).
+/// Regime of a run (docs/model.md#regimes-and-friction-maps).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Regime {
@@ -125,7 +125,7 @@ impl RegimeThresholds {
     }
 }
 
-/// The summary of one run (SPEC §6), SI units.
+/// The summary of one run (docs/model.md#regimes-and-friction-maps), SI units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
     /// Number of melting events.

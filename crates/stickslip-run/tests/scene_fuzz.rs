@@ -33,7 +33,7 @@ const VARIANTS: &[&[&str]] = &[
     ],
 ];
 
-/// Keys of INTERFACE.md that a resolved scene may leave out (e.g. Eq. 9's moduli).
+/// Scene keys (docs/reference.md) that a resolved scene may leave out (e.g. Eq. 9's moduli).
 const EXTRA_KEYS: &[&str] = &[
     "contact.g1",
     "contact.nu1",

@@ -32,8 +32,8 @@ fn run_until(scene: &ResolvedScene, t_s: f64) -> Driver {
 
 #[test]
 fn complete_melting_gives_zero_force_and_free_spring_motion() {
-    // A ≤ 0 (SPEC §1): the film melts completely, F = 0, and the stamp follows the free
-    // spring X = V0 t − (V0/ω) sin ωt to Verlet's second-order accuracy.
+    // A ≤ 0 (docs/model.md#the-lubricant-film): the film melts completely, F = 0, and the stamp
+    // follows the free spring X = V0 t − (V0/ω) sin ωt to Verlet's second-order accuracy.
     for scheme in ["literal", "accurate"] {
         let scene = small_fig2(scheme, 20, &["temperature.A0=-1e5"]);
         let Drive::Spring(spring) = scene.config.drive else {

@@ -1,5 +1,5 @@
 //! The `stickslip` command line: `run`, `check`, `resume`, `sweep` and `keys` (see
-//! INTERFACE.md and `docs/reference.md`).
+//! `docs/reference.md`).
 //!
 //! This crate holds arguments, progress, signals, printing and exit codes only; scenes, the
 //! time loop and the output files are the run library's (`stickslip-run`).

@@ -530,7 +530,8 @@ fn first_melting(r: &Results, paper: &Paper) -> String {
     });
     if lit_axis && acc_edge {
         "In every literal run every event starts at r = 0 (the axis); in every accurate run at \
-         the outermost node r = a0 − h (the edge), as SPEC claim C4 expects."
+         the outermost node r = a0 − h (the edge), as the paper's claim C4 expects \
+         ([docs/model.md](../docs/model.md#the-papers-claims))."
             .to_string()
     } else {
         "(First-melting radii: see `runs[].events[].r_first_m` in the JSON.)".to_string()

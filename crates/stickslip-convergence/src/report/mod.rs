@@ -479,8 +479,9 @@ fn definitions(md: &mut String, r: &Results, paper: &Paper) {
         .fold(f64::INFINITY, f64::min);
     let _ = writeln!(
         md,
-        "- **Scene**: fig2 of the paper (SPEC §4) over {} ms with {noise}, both schemes of the \
-         core (`literal`: plain sums, explicit Euler, lagged coupling; `accurate`: product \
+        "- **Scene**: fig2 of the paper ([docs/model.md](../docs/model.md#the-papers-scenes)) \
+         over {} ms with {noise}, both schemes of the core (`literal`: plain sums, explicit \
+         Euler, lagged coupling; `accurate`: product \
          integration, exact Landau step, coupling solved each step, located re-solidification), \
          fixed steps, every run through the run library's driver. A melting that begins within \
          {} µs of the previous event's end continues that event (`output.event_merge_gap`). {}\n\

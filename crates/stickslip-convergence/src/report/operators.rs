@@ -49,9 +49,10 @@ pub(super) fn section(md: &mut String, r: &Results) {
     let _ = writeln!(
         md,
         "Relative error (to the exact answer's maximum) for every operator, quadrature, exact pair \
-         (SPEC §3) and norm (max over all nodes; interior = nodes with {} a0 ≤ r ≤ {} a0). \
-         `p` = observed order per doubling of N. The theory column is what \
-         `crates/stickslip-core/tests/mdr_pairs.rs` asserts (bands there).\n",
+         ([docs/model.md](../docs/model.md#exact-answers)) and norm (max over all nodes; \
+         interior = nodes with {} a0 ≤ r ≤ {} a0). `p` = observed order per doubling of N. The \
+         theory column is what `crates/stickslip-core/tests/mdr_pairs.rs` asserts (bands \
+         there).\n",
         tick(INTERIOR.0),
         tick(INTERIOR.1)
     );

@@ -1,4 +1,4 @@
-//! Exact MDR transform pairs (SPEC §3) for verifying the discrete operators.
+//! Exact MDR transform pairs (docs/model.md#exact-answers) for verifying the discrete operators.
 //!
 //! All pairs are written for G* = 1 Pa and unit stress scale, on a contact of radius a0:
 //! τ(r) [Pa] ⇔ q(x) = 2∫_x^{a0} rτ/√(r² − x²) dr [N/m] ⇔ u3D(r)·G* [Pa·m] ⇔ F [N].

@@ -158,11 +158,11 @@ impl Simulation {
         Ok(())
     }
 
-    /// The local error of the accurate step just taken (see [`error_estimate`]), in units of
-    /// scales that follow the state: φ relative to max(φ, threshold) per node, ε relative to
-    /// εc(t), X to max(|X|, h0), V to max(|V|, 1e-6·V0). V's scale is its own size, not V0: a
-    /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an
-    /// error in X that grows with time.
+    /// The local error of the accurate step just taken (see [`error_estimate`]), in units of scales
+    /// that follow the state: φ relative to max(φ, threshold) per node, ε relative to εc(t), X to
+    /// max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0). V's scale is its own size, not V0: a
+    /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an error in
+    /// X that grows with time.
     fn estimate_step_error(&mut self, dt_s: f64, (before, f_before): (DriveState, f64)) {
         let s = &self.state;
         let mut phi_err = 0.0_f64;

@@ -16,9 +16,9 @@ pub struct StepError {
     pub phi: f64,
     /// Strain: the stamp's position error over h0·εc(t) (the strain it shifts).
     pub eps: f64,
-    /// Stamp position: |ΔX| / max(|X|, h0).
+    /// Stamp position: |ΔX| / max(|X|, 1e-3·h0).
     pub x: f64,
-    /// Stamp velocity: |ΔV| / max(|V|, V0).
+    /// Stamp velocity: |ΔV| / max(|V|, 1e-6·V0).
     pub v: f64,
 }
 

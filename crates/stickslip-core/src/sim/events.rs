@@ -21,7 +21,8 @@
 //! shorter than the gap (the rigid drive at 0.1–1 m/s has periods of 2.2–0.3 µs). The
 //! hysteresis has no time scale: it separates cycles at any period as long as the film
 //! regrows above φ_rec between them; k = 2 keeps cycles apart down to a recovery of a few
-//! percent of φ_eq, where SPEC §6 calls the regime `smooth`.
+//! percent of φ_eq, where the regime rules (docs/model.md#regimes-and-friction-maps) call
+//! the regime `smooth`.
 //!
 //! ## Cycle statistics
 //! Each event also carries what happened from its onset to the next onset (or to the end of

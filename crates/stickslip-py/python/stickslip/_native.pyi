@@ -14,7 +14,7 @@ _Form = Literal["dense", "fast"]
 _Quadrature = Literal["product", "literal"]
 
 class Scene:
-    """A validated scene (INTERFACE.md keys, SI units), immutable. Build one with
+    """A validated scene (the scene keys of docs/reference.md, SI units), immutable. Build one with
     ``Scene.load``, ``Scene.from_dict`` or ``Scene.from_toml``; ``with_overrides`` gives a
     new one. A bad scene raises ``stickslip.SceneError`` (``.key`` names the key)."""
 

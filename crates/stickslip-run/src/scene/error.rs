@@ -19,7 +19,7 @@ pub enum SceneError {
     /// The text is not valid TOML.
     #[error(
         "scene is not valid TOML at line {line}, column {column}: {message} (near `{excerpt}`); \
-         allowed: a TOML document with the keys of INTERFACE.md"
+         allowed: a TOML document with the scene keys (`stickslip keys`, docs/reference.md)"
     )]
     Syntax {
         /// Line, from 1.
@@ -341,7 +341,7 @@ pub(crate) fn from_de_error(root: &toml::Table, e: &toml::de::Error) -> SceneErr
     if let Some(rest) = message.strip_prefix("missing field `")
         && let Some((field, _)) = rest.split_once('`')
     {
-        return SceneError::missing(&join(field), "see INTERFACE.md");
+        return SceneError::missing(&join(field), "see `stickslip keys` (docs/reference.md)");
     }
     let value = lookup(root, &path_keys).map_or_else(|| "?".to_string(), show_value);
     if message.starts_with("unknown variant `") {

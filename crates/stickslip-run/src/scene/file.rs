@@ -1,4 +1,5 @@
-//! The scene file as written: a serde mirror of INTERFACE.md's TOML, every key optional here.
+//! The scene file as written: a serde mirror of the scene TOML (docs/reference.md, section
+//! Scene keys), every key optional here.
 //!
 //! Unknown keys are rejected (`deny_unknown_fields` on every section). Which keys are required,
 //! their defaults and their allowed ranges are decided when the scene is resolved
@@ -67,7 +68,7 @@ pub enum OperatorChoice {
     Dense,
 }
 
-/// A whole scene file as written (see INTERFACE.md). All quantities SI.
+/// A whole scene file as written (keys: docs/reference.md). All quantities SI.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
@@ -92,7 +93,7 @@ pub struct Scene {
     /// `[output]` (optional).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub output: Option<OutputSection>,
-    /// `[numerics]` (optional; an addition to INTERFACE.md).
+    /// `[numerics]` (optional).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub numerics: Option<NumericsSection>,
 }
@@ -265,7 +266,7 @@ pub struct OutputSection {
     pub series_interval: Option<f64>,
 }
 
-/// `[numerics]`: numerical controls (an addition to INTERFACE.md).
+/// `[numerics]`: numerical controls.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NumericsSection {

@@ -1,4 +1,4 @@
-//! events.csv: one row per melting event (INTERFACE.md's columns, then additions).
+//! events.csv: one row per melting event (the columns of docs/reference.md, section events.csv).
 
 use super::csv::{NumericCsv, opt, write_cells, write_num, write_opt};
 use super::{Column, SchemaError};

@@ -166,7 +166,7 @@ pub struct RunInfo {
     pub series_rows: u64,
     /// Unit of every output column: file → column → unit.
     pub columns: BTreeMap<String, BTreeMap<String, String>>,
-    /// The run's summary and regime (SPEC §6; null while running).
+    /// The run's summary and regime (docs/model.md#regimes-and-friction-maps; null while running).
     pub summary: Option<RunSummary>,
 }
 

@@ -1,4 +1,5 @@
-//! series.csv: one row per recorded time (INTERFACE.md's columns, then `F_1d`).
+//! series.csv: one row per recorded time (the columns of docs/reference.md, section
+//! series.csv).
 
 use super::csv::{NumericCsv, write_row};
 use super::{Column, SchemaError};

@@ -26,7 +26,7 @@ pub struct SweepFile {
     /// The axes; points are their cartesian product, the last axis fastest.
     #[serde(default)]
     pub axis: Vec<AxisFile>,
-    /// Regime thresholds (SPEC §6).
+    /// Regime thresholds (docs/reference.md, section Regimes).
     pub regime: Option<RegimeThresholds>,
 }
 

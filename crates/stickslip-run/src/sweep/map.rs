@@ -24,7 +24,7 @@ pub const SUMMARY_COLUMNS: [Column; 11] = [
     Column {
         name: "regime",
         unit: "–",
-        meaning: "regime of SPEC §6",
+        meaning: "regime, by the rules under Regimes below",
     },
     Column {
         name: "n_events",

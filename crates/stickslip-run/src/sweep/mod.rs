@@ -1,5 +1,5 @@
 //! Friction maps: a sweep of one base scene over the cartesian product of axes, each point one
-//! in-process run reduced to its summary and regime (SPEC §6).
+//! in-process run reduced to its summary and regime (docs/model.md#regimes-and-friction-maps).
 //!
 //! - [`file`]: SWEEP.toml as written and its errors (each naming the key and its line);
 //! - this module: the resolved [`Sweep`] (axes, points, every point's scene validated before

@@ -119,7 +119,8 @@ pub fn markdown() -> String {
 
     out.push_str(
         "\n### Regimes\n\nDecided in this order (R: the largest area-weighted ⟨φ⟩/√(A/a) over \
-         the last complete cycle, `recovery` above):\n\n| regime | rule |\n|---|---|\n",
+         the last complete cycle, `recovery` above; the physics behind the rules: \
+         [model.md](model.md#regimes-and-friction-maps)):\n\n| regime | rule |\n|---|---|\n",
     );
     for r in Regime::ALL {
         let rule = match r {
