@@ -45,9 +45,8 @@ pub trait Facts {
     /// `output.event_merge_gap`, s.
     fn event_merge_gap_s(&self) -> f64;
     /// How the run stepped, in words: `fixed steps Δt = 1e-8 s: 130000 steps` or `adaptive
-    /// steps (tolerance 1e-4, …): 1677 accepted steps (3354 half steps, …), 105 rejected
-    /// attempts`; run.json's `steps` counts the half steps of the step doubling, two per
-    /// accepted step.
+    /// steps (tolerance 5e-5, …): 3010 accepted steps, 43 rejected attempts, 10 retaken to end
+    /// at a located onset`.
     fn stepping_text(&self) -> String;
 }
 
@@ -136,8 +135,8 @@ impl Facts for RunInfo {
                 format!("fixed steps Δt = {:e} s: {} steps", self.dt_s(), self.steps)
             }
             Stepping::Adaptive => format!(
-                "adaptive steps (tolerance {:e}, first step {:e} s, longest {:e} s): {} accepted \
-                 steps ({} half steps, run.json's `steps`), {} rejected attempts",
+                "adaptive steps (tolerance {:e}, first step {:e} s, longest allowed {:e} s): {} \
+                 accepted steps, {} rejected attempts, {} retaken to end at a located onset",
                 self.tolerance().unwrap_or(f64::NAN),
                 self.dt_s(),
                 self.scene
@@ -146,8 +145,8 @@ impl Facts for RunInfo {
                     .and_then(|t| t.dt_max)
                     .unwrap_or(f64::NAN),
                 self.accepted_steps,
-                self.steps,
-                self.rejected_steps
+                self.rejected_steps,
+                self.onset_retakes
             ),
         }
     }

@@ -380,7 +380,7 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
         s,
         "Outputs in `target/validation/<run>/` (series.csv, events.csv, probes.csv, \
          profiles.csv, run.json); N, scheme, stepping, operator and steps as each run.json \
-         records them (adaptive runs count half steps).\n"
+         records them.\n"
     );
     let _ = writeln!(
         s,
