@@ -118,11 +118,12 @@ fn fig2a(runs: &Runs) -> Figure {
             let (first, d0, d1) = rhythm(r);
             format!(
                 "Friction force against time for the paper's fig2 parameters ({}).\n\
-                 See the long first stick phase (first melting at {}), then {} teeth that come \
-                 ever faster (intervals {} → {}); F falls to ≈ 0 as φ collapses, and the melting \
-                 onset (dot) follows.",
+                 See the long first stick phase up to the first melting at {}, then {} more \
+                 teeth ({} meltings in all) that come ever faster (intervals {} → {}); F falls \
+                 to ≈ 0 as φ collapses, and the melting onset (dot) follows.",
                 how(r),
                 fmt::time(first, 4),
+                r.events.len().saturating_sub(1),
                 r.events.len(),
                 fmt::time(d0, 4),
                 fmt::time(d1, 3)
@@ -426,7 +427,7 @@ fn fig3(runs: &Runs) -> Figure {
             .legend(LegendAt::LowerLeft),
             Panel::new(
                 &format!(
-                    "Inset — the melting itself, log scale: each radius dips below {} and recovers",
+                    "Inset — the melting, log scale: each radius falls to {} (melts) and recovers at once",
                     fmt::trim(thr)
                 ),
                 "time t, µs",

@@ -367,6 +367,14 @@ where
         }
     }
     for (y, label) in &panel.hlines {
+        // A light band under the dashed line: a curve lying on the reference (Fig. 2b's final
+        // profile on φ0) covers the dashes but not the band's edges.
+        chart
+            .draw_series(LineSeries::new(
+                vec![(x0, *y), (x1, *y)],
+                RGBColor(214, 214, 214).stroke_width(8),
+            ))
+            .map_err(err)?;
         chart
             .draw_series(DashedLineSeries::new(
                 vec![(x0, *y), (x1, *y)],
