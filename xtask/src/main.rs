@@ -1,11 +1,12 @@
 //! `cargo xtask …`: the project's automation entry point (test, validate, convergence, bench,
-//! maps, slurm-check, python-test).
+//! maps, slurm-check, python-test, wheel).
 
 mod build_timing;
 mod maps;
 mod python;
 mod slurm;
 mod test_all;
+mod wheel;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -15,9 +16,9 @@ cargo xtask <command>
 
 Commands:
   test          every test, the command CI runs: cargo test --release --workspace (less the
-                criterion benches), then python-test and slurm-check; a timed summary at the
-                end; exits 1 if any stage failed
-      --no-python, --no-slurm   skip that stage
+                criterion benches), then python-test, the wheel's check and slurm-check; a
+                timed summary at the end; exits 1 if any stage failed
+      --no-python, --no-slurm   skip that stage (--no-python skips the wheel too)
   validate      simulate the paper's scenes, check claims C1–C10, write reports/
                 (index.md, summary.json, SVG figures); exits 1 if a claim fails
       --check   rerun and compare verdicts, event counts and the reduced block with the
@@ -45,6 +46,10 @@ Commands:
   python-test   build the Python package (pip install ./crates/stickslip-py) into the venv
                 target/python-venv and run its pytest suite; prints install and test times
       --fresh   recreate the venv;  -- ARGS  passed to pytest
+  wheel         build the Python package's abi3 wheel into dist/ (for machines without Rust:
+                pip install dist/stickslip-*.whl)
+      --check   then install it into a fresh venv without cargo on PATH and run the README's
+                example with it (the `wheel` stage of `test`)
 ";
 
 fn workspace_root() -> PathBuf {
@@ -172,6 +177,7 @@ fn main() -> ExitCode {
         Some("test") => test_all::main(&args[1..], &workspace_root()),
         Some("build-timing") => build_timing::main(&workspace_root()),
         Some("python-test") => python::main(&args[1..], workspace_root()),
+        Some("wheel") => wheel::main(&args[1..], &workspace_root()),
         Some(other) => {
             eprintln!("unknown xtask command `{other}`\n\n{HELP}");
             ExitCode::from(2)

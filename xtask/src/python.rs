@@ -36,7 +36,7 @@ fn status(what: &str, cmd: &mut Command) -> Result<(), String> {
 }
 
 /// The venv's interpreter, after creating the venv and its test dependencies if needed.
-fn venv(root: &Path, fresh: bool) -> Result<(PathBuf, &'static str), String> {
+pub(crate) fn venv(root: &Path, fresh: bool) -> Result<(PathBuf, &'static str), String> {
     let dir = root.join("target").join("python-venv");
     let python = dir.join("bin").join("python");
     if fresh && dir.exists() {

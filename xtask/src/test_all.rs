@@ -9,7 +9,9 @@
 //! 3. **python**: `cargo xtask python-test` (venv, `pip install ./crates/stickslip-py`, pytest);
 //!    the venv and its test dependencies are prepared in a thread from the start, overlapping
 //!    the Rust build (pip's downloads and unpacking barely compete with the compiler);
-//! 4. **slurm**: `cargo xtask slurm-check` (a one-node Slurm runs a sweep as a job array).
+//! 4. **wheel**: `cargo xtask wheel --check` (the abi3 wheel into dist/, installed into a
+//!    fresh venv without cargo on PATH, running the README's example);
+//! 5. **slurm**: `cargo xtask slurm-check` (a one-node Slurm runs a sweep as a job array).
 //!
 //! Exits 0 when every stage passed, 1 otherwise.
 
@@ -98,6 +100,7 @@ pub fn main(args: &[String], root: &Path) -> ExitCode {
                 crate::python::stages(root, false, &[])
             }),
         ));
+        stages.push(("wheel", Box::new(|| crate::wheel::stage(root))));
     }
     if slurm {
         stages.push(("slurm", Box::new(|| crate::slurm::check_all(root))));
