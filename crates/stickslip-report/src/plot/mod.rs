@@ -214,7 +214,7 @@ impl ColorBar {
         }
         let (step, decimals) = round_step((hi - lo) / 5.0);
         let big = lo.abs().max(hi.abs());
-        let scientific = big >= 1e5 || big < 1e-3;
+        let scientific = !(1e-3..1e5).contains(&big);
         // The ends count as on a tick within rounding (0.35 / 0.05 = 6.999…).
         let first = (lo / step - 1e-9).ceil() as i64;
         let last = (hi / step + 1e-9).floor() as i64;

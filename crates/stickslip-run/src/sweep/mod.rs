@@ -66,15 +66,15 @@ fn log_point(from: f64, to: f64, f: f64) -> f64 {
     };
     let whole = |d: f64| (d - d.round()).abs() < 1e-9 && d.round().abs() < 600.0;
     let from_to = decades - (to.log10() - from.log10());
-    if whole(decades) {
-        if let Some(v) = shifted(from, decades.round()) {
-            return v;
-        }
+    if whole(decades)
+        && let Some(v) = shifted(from, decades.round())
+    {
+        return v;
     }
-    if whole(from_to) {
-        if let Some(v) = shifted(to, from_to.round()) {
-            return v;
-        }
+    if whole(from_to)
+        && let Some(v) = shifted(to, from_to.round())
+    {
+        return v;
     }
     (from.ln() + f * (to.ln() - from.ln())).exp()
 }
