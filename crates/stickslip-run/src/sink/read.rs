@@ -53,8 +53,8 @@ pub struct ReadRun {
 pub enum ReadError {
     /// No run there.
     #[error(
-        "{} is not a run directory ({why}); allowed: the output directory of `stickslip run \
-         --out DIR`",
+        "{} is not a run directory ({why}); allowed: the output directory of a run \
+         (`stickslip run --out DIR`, or `out=DIR` in Python)",
         dir.display()
     )]
     Missing {
@@ -79,7 +79,11 @@ pub fn read_run(dir: &Path) -> Result<ReadRun, ReadError> {
         why: why.to_string(),
     };
     if !dir.is_dir() {
-        return Err(missing("no such directory"));
+        return Err(missing(if dir.exists() {
+            "not a directory"
+        } else {
+            "no such directory"
+        }));
     }
     if !dir.join(schema::run_info::FILE).is_file() {
         return Err(missing("no run.json"));
@@ -161,7 +165,7 @@ fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError>
         .unwrap_or_default();
     let series = or_header(
         stream_text(dir, schema::series::FILE, at.map(|a| a.series))?,
-        |w| Series::write_header(w),
+        Series::write_header,
     );
     let probes = or_header(
         stream_text(dir, schema::probes::FILE, at.map(|a| a.probes))?,
@@ -169,7 +173,7 @@ fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError>
     );
     let profiles = or_header(
         stream_text(dir, schema::profiles::FILE, at.map(|a| a.profiles))?,
-        |w| Profiles::write_header(w),
+        Profiles::write_header,
     );
     // Series and probes rows are written together, profiles a whole profile at a time: rows
     // cut off by a kill are dropped so the tables agree.
