@@ -319,9 +319,10 @@ impl Sink for DirSink {
         }
         if outcome.stop != StopReason::Interrupted {
             // The run has ended and its output is complete: nothing is left to resume, and no
-            // temporary file of a killed earlier process of this run is kept.
+            // temporary file of a killed earlier process of this run is kept (nor the copy a
+            // process killed while publishing an interrupted run's streams left).
             checkpoint::remove(&self.dir)?;
-            for f in [schema::run_info::FILE, schema::events::FILE] {
+            for f in RUN_FILES {
                 remove_temporaries(&self.dir, f)?;
             }
         }
