@@ -113,6 +113,14 @@ CASES: List[Tuple[str, str]] = [
     ("scene.with_overrides({'output.probe_radii': [-1e-6]})", "SceneError"),
     ("scene.with_overrides({'output.probe_radii': np.array([[1e-6]])})", "SceneError"),
     ("scene.to_dict(resolved='yes')", "TypeError"),
+    # Values that contain themselves, and nesting no file has.
+    ("stickslip.Scene.from_dict(loop_dict)", "ValueError"),
+    ("scene.with_overrides({'output.probe_radii': loop_list})", "ValueError"),
+    ("stickslip.sweep({**small_sweep, 'set': loop_dict})", "ValueError"),
+    ("stickslip.Scene.from_toml('a = ' + '[' * 100000 + ']' * 100000)", "SceneError"),
+    ("stickslip.Scene.from_toml('a = ' + '{b = ' * 100000 + '1' + '}' * 100000)",
+     "SceneError"),
+    ("scene.with_overrides({'a' + '.a' * 100000: 1})", "SceneError"),
     # stickslip.mdr
     ("mdr.forward(np.ones(200_000), 2e-5)", "MemoryError"),
     ("mdr.forward(huge, 2e-5)", "MemoryError"),
@@ -204,6 +212,10 @@ small_sweep = {
     "name": "small", "scene": scene,
     "axis": [{"key": "drive.velocity", "values": [1.0]}],
 }
+loop_dict = {}
+loop_dict["a"] = loop_dict
+loop_list = []
+loop_list.append(loop_list)
 def with_axis(axis):
     return {**small_sweep, "axis": [axis]}
 cases = json.loads(sys.argv[2])

@@ -98,6 +98,22 @@ def test_progress_true_without_tqdm_redraws_a_line_on_stderr(
     assert "100.0%" in last and "10 events" in last and "elapsed" in last
 
 
+def test_a_tqdm_that_cannot_draw_gives_the_line_not_an_error(
+    scene: stickslip.Scene, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture
+) -> None:
+    class Broken:
+        # As tqdm's notebook bar without ipywidgets.
+        def __init__(self, *args: object, **kwargs: object) -> None:
+            raise ImportError("IProgress not found")
+
+    auto = types.ModuleType("tqdm.auto")
+    auto.tqdm = Broken  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    monkeypatch.setitem(sys.modules, "tqdm.auto", auto)
+    assert stickslip.run(scene, progress=True).status == "ok"
+    assert "100.0%" in capsys.readouterr().err
+
+
 def test_sweep_progress(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture) -> None:
     sweep = {
         "name": "v",

@@ -78,13 +78,18 @@ class Bar:
 
     def __call__(self, info: Dict[str, Any]) -> None:
         total, n, words = self._state(info)
-        if self._factory is not None:
-            if self._tqdm is None:
+        if self._factory is not None and self._tqdm is None:
+            try:
                 if self.kind == "run":
                     fmt = "{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}, {postfix}]"
                     self._tqdm = self._factory(total=total, desc=self.desc, bar_format=fmt)
                 else:
                     self._tqdm = self._factory(total=total, desc=self.desc, unit="point")
+            except Exception:
+                # E.g. tqdm's notebook bar without ipywidgets: the plain line instead, never
+                # an error that would stop the run.
+                self._factory = None
+        if self._tqdm is not None:
             bar = self._tqdm
             if bar.total != total:
                 bar.total = total
