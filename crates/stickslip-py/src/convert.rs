@@ -7,7 +7,7 @@
 //!
 //! TOML / JSON → Python: the obvious types; TOML datetimes as `str`, JSON null as `None`.
 
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
 use stickslip_run::SceneError;
@@ -57,6 +57,11 @@ fn join(prefix: &str, key: &str) -> String {
     }
 }
 
+/// Deepest nesting of tables and arrays accepted in a value: far beyond any scene or sweep,
+/// and a bound on the recursion (a dict or list that contains itself would otherwise
+/// overflow the stack).
+const MAX_NESTING: usize = 32;
+
 /// A Python value as a TOML value; `None` for Python's `None`. `at` names the key in errors.
 /// `split_dotted`: keys of nested mappings are split at dots (scene dicts); otherwise kept
 /// whole (the `[set]` table of a sweep, whose keys are dotted scene keys).
@@ -65,6 +70,21 @@ pub fn to_toml(
     at: &str,
     split_dotted: bool,
 ) -> PyResult<Option<toml::Value>> {
+    nested(value, at, split_dotted, 0)
+}
+
+fn nested(
+    value: &Bound<'_, PyAny>,
+    at: &str,
+    split_dotted: bool,
+    depth: usize,
+) -> PyResult<Option<toml::Value>> {
+    if depth > MAX_NESTING {
+        return Err(PyValueError::new_err(format!(
+            "{at}: nested more than {MAX_NESTING} levels deep (a dict or list that contains \
+             itself?); allowed: the tables and arrays of a scene or sweep file"
+        )));
+    }
     if value.is_none() {
         return Ok(None);
     }
@@ -88,7 +108,7 @@ pub fn to_toml(
         for (k, v) in items {
             let key = key_str(&k, at)?;
             let path = join(at, &key);
-            if let Some(v) = to_toml(&v, &path, split_dotted)? {
+            if let Some(v) = nested(&v, &path, split_dotted, depth + 1)? {
                 if split_dotted {
                     insert_dotted(&mut table, &key, v).map_err(|e| crate::errors::scene(&e))?;
                 } else {
@@ -103,7 +123,7 @@ pub fn to_toml(
         for (i, item) in value.try_iter()?.enumerate() {
             let item = item?;
             let path = format!("{at}[{i}]");
-            match to_toml(&item, &path, split_dotted)? {
+            match nested(&item, &path, split_dotted, depth + 1)? {
                 Some(v) => out.push(v),
                 None => {
                     return Err(PyTypeError::new_err(format!(
@@ -118,7 +138,7 @@ pub fn to_toml(
         // NumPy arrays and scalars.
         let plain = value.call_method0("tolist")?;
         if !plain.is(value) {
-            return to_toml(&plain, at, split_dotted);
+            return nested(&plain, at, split_dotted, depth + 1);
         }
     }
     if let Ok(i) = value.extract::<i64>() {

@@ -1,8 +1,11 @@
-//! Rust errors as the Python exception classes of `stickslip._errors` (`SceneError`,
-//! `SweepError`; `NumericalFailure` is raised by the Python layer, which attaches the partial
-//! result).
+//! Rust errors as Python exceptions: the classes of `stickslip._errors` (`SceneError`,
+//! `SweepError`; `NumericalFailure` and `Interrupted` are raised by the Python layer, which
+//! attaches the partial result) and the built-in `OSError` family for directories and files.
 
-use pyo3::exceptions::{PyOSError, PyRuntimeError};
+use pyo3::exceptions::{
+    PyFileExistsError, PyFileNotFoundError, PyNotADirectoryError, PyOSError, PyPermissionError,
+    PyRuntimeError, PyValueError,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use stickslip_run::SceneError;
@@ -85,5 +88,53 @@ pub fn start(e: &stickslip_run::driver::StartError) -> PyErr {
         StartError::Config(c) => scene(&SceneError::from(c.clone())),
         StartError::Io(io) => PyOSError::new_err(io.to_string()),
         StartError::State(s) => PyRuntimeError::new_err(s.clone()),
+    }
+}
+
+/// An `OSError` of the subclass that fits `kind` (`FileNotFoundError`, `PermissionError`,
+/// `FileExistsError`), with `message`.
+pub fn os(kind: std::io::ErrorKind, message: String) -> PyErr {
+    use std::io::ErrorKind;
+    match kind {
+        ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+        ErrorKind::PermissionDenied => PyPermissionError::new_err(message),
+        ErrorKind::AlreadyExists => PyFileExistsError::new_err(message),
+        _ => PyOSError::new_err(message),
+    }
+}
+
+/// A run into a directory (or its resume) that did not happen: `SceneError` for the scene,
+/// `FileExistsError` for an earlier run's directory, `FileNotFoundError` for nothing to
+/// resume, `ValueError` for a damaged checkpoint, `OSError` for the rest.
+pub fn run(e: &stickslip_run::RunError) -> PyErr {
+    use stickslip_run::RunError;
+    use stickslip_run::checkpoint::CheckpointError;
+    let text = || e.to_string().replace("--force", "force=True");
+    match e {
+        RunError::Config(c) => scene(&SceneError::from(c.clone())),
+        RunError::Existing { dir, files } => PyFileExistsError::new_err(format!(
+            "{dir} holds the results of an earlier run ({files}); allowed: an empty or new \
+             directory, force=True to replace them, or stickslip.resume('{dir}') to finish an \
+             interrupted run"
+        )),
+        RunError::OutDir { source, .. } | RunError::Io { source, .. } => os(source.kind(), text()),
+        RunError::Checkpoint(CheckpointError::Missing { .. }) => {
+            PyFileNotFoundError::new_err(text())
+        }
+        RunError::Checkpoint(CheckpointError::Corrupt { .. }) => PyValueError::new_err(text()),
+        RunError::Checkpoint(CheckpointError::Finished { .. }) => PyRuntimeError::new_err(text()),
+    }
+}
+
+/// A run directory that cannot be read: `FileNotFoundError` when there is no run,
+/// `ValueError` for a file that does not parse.
+pub fn read(e: &stickslip_run::sink::read::ReadError) -> PyErr {
+    use stickslip_run::sink::read::ReadError;
+    match e {
+        ReadError::Missing { dir, .. } if dir.exists() && !dir.is_dir() => {
+            PyNotADirectoryError::new_err(e.to_string())
+        }
+        ReadError::Missing { .. } => PyFileNotFoundError::new_err(e.to_string()),
+        ReadError::Schema(_) => PyValueError::new_err(e.to_string()),
     }
 }

@@ -5,22 +5,31 @@
 //! A thin layer: scenes, runs and sweeps are the run library's (`stickslip-run`), the MDR
 //! transforms the core's (`stickslip-core`); neither contains any Python. What lives here:
 //! - [`scene`]: `Scene`, an immutable resolved scene (load, from a dict, overrides, to a dict
-//!   or TOML);
-//! - [`run`]: one run in memory with the GIL released and Ctrl-C honoured, its columns handed
-//!   to NumPy without a copy;
-//! - [`sweep`]: a friction map through the sweep executor, map.csv as arrays;
-//! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays;
-//! - [`convert`] and [`errors`]: Python ⇄ TOML/JSON values, errors as the package's
-//!   exception classes (`stickslip._errors`).
+//!   or TOML, `check`);
+//! - [`run`]: one run in memory or into an output directory (the command line's files and
+//!   checkpoints), `resume` and `load` of a run directory; columns handed to NumPy without a
+//!   copy;
+//! - [`sweep`]: a friction map through the sweep executor, map.csv as arrays, and
+//!   `load_sweep` of a sweep directory, complete or partial;
+//! - [`progress`]: the GIL released while runs and sweeps work, taken back at most ten times
+//!   a second for Ctrl-C and progress callbacks;
+//! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays, their inputs
+//!   checked (shape, type, finite values, sizes whose operators would not fit);
+//! - [`args`], [`convert`] and [`errors`]: arguments checked in the API's words, Python ⇄
+//!   TOML/JSON values, errors as the package's exception classes (`stickslip._errors`) and
+//!   the `OSError` family.
 //!
 //! The numbers are the command line's, bit for bit: both go through
-//! `stickslip_run::driver::run`, only the sink differs (memory here, files there).
+//! `stickslip_run::driver::run`, only the sink differs (memory here, files there, the same
+//! files with `out=`).
 
 use pyo3::prelude::*;
 
+pub mod args;
 pub mod convert;
 pub mod errors;
 pub mod mdr;
+pub mod progress;
 pub mod run;
 pub mod scene;
 pub mod sweep;
@@ -32,7 +41,10 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::PyScene>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_function(wrap_pyfunction!(run::resume, m)?)?;
+    m.add_function(wrap_pyfunction!(run::load, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::load_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::forward, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::back, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::compliance, m)?)?;

@@ -2,18 +2,19 @@
 
 use crate::convert;
 use crate::errors;
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use std::path::PathBuf;
 use std::sync::Arc;
 use stickslip_run::scene::toml_text;
+use stickslip_run::schema::run_info::DerivedReport;
 use stickslip_run::{ResolvedScene, Scene};
 
 const NO_OVERRIDES: &[&str] = &[];
 
-/// A validated scene: the keys of a scene file (docs/reference.md, all quantities SI), with every
-/// default filled in and every value checked.
+/// A validated scene: the keys of a scene file (all quantities SI; docs/reference.md lists
+/// them), with every default filled in and every value checked.
 ///
 /// Build one with ``Scene.load(path)``, ``Scene.from_dict(d)`` or ``Scene.from_toml(text)``;
 /// ``scene.with_overrides({"contact.nodes": 200})`` gives a new scene (a scene never changes).
@@ -126,6 +127,44 @@ impl PyScene {
         } else {
             toml_text::to_toml_string(&self.inner.source)
         }
+    }
+
+    /// What ``stickslip check`` reports, as a dict: ``verdict`` (``"run"``, or ``"refused"``
+    /// when a run would stop before its first step), ``derived`` (as run.json's: b Pa, A Pa,
+    /// eps_c, phi0, omega rad/s, g_eff Pa, nodes, steps_planned, lagged_sweep_contraction,
+    /// melting_force N, critical_displacement m, spring_period s, euler_number,
+    /// first_onset_estimate s; plus stamp_travel m, the free stamp's position at time.end),
+    /// ``cost`` (probe_steps, seconds_per_step s, steps, seconds s: the estimated wall time of
+    /// a run, from a timed probe of about 0.05 s of this scene; basis: how the steps were
+    /// estimated), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
+    /// "key", "message"}``), ``name`` and ``scene`` (the resolved scene as a dict).
+    ///
+    /// Nothing is written; the probe runs with the GIL released.
+    fn check<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let scene = Arc::clone(&self.inner);
+        let report = py
+            .detach(|| stickslip_run::check::check(&scene))
+            .map_err(|e| errors::start(&e))?;
+        let mut derived = serde_json::to_value(DerivedReport::of(&scene, &report.preflight))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        if let Some(map) = derived.as_object_mut() {
+            map.insert(
+                "stamp_travel".to_string(),
+                serde_json::json!(report.preflight.stamp_travel_m),
+            );
+        }
+        let json = |v: serde_json::Result<serde_json::Value>| {
+            v.map_err(|e| PyValueError::new_err(e.to_string()))
+                .and_then(|v| convert::json_to_py(py, &v))
+        };
+        let d = PyDict::new(py);
+        d.set_item("name", &scene.name)?;
+        d.set_item("verdict", report.verdict().name())?;
+        d.set_item("derived", convert::json_to_py(py, &derived)?)?;
+        d.set_item("cost", json(serde_json::to_value(&report.cost))?)?;
+        d.set_item("warnings", json(serde_json::to_value(&report.warnings))?)?;
+        d.set_item("scene", convert::table_to_py(py, &scene.to_table())?)?;
+        Ok(d)
     }
 
     /// The scene's ``name``.

@@ -1,20 +1,21 @@
 //! `stickslip.sweep`: a friction map, every point run in-process on `jobs` threads (the run
 //! library's sweep executor, as `stickslip sweep run`), the table returned as NumPy arrays.
 
+use crate::args;
 use crate::convert;
 use crate::errors;
-use crate::run::SignalWatch;
+use crate::progress::{Bridge, Report};
 use crate::scene::PyScene;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::{
-    PyKeyboardInterrupt, PyOSError, PyRuntimeWarning, PyTypeError, PyValueError,
+    PyFileExistsError, PyFileNotFoundError, PyOSError, PyTypeError, PyValueError,
 };
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyInt, PyString};
+use pyo3::types::{PyDict, PyString};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use stickslip_run::scene::toml_text;
-use stickslip_run::sweep::exec::{self, Merge, SweepOptions, SweepProgress, SweepRunError};
+use stickslip_run::sweep::exec::{self, MapRead, SweepOptions, SweepProgress, SweepRunError};
 use stickslip_run::sweep::map::MapTable;
 use stickslip_run::sweep::{Sweep, SweepError, file, value_number};
 
@@ -137,46 +138,22 @@ fn table_dict<'py>(
     Ok(d)
 }
 
-/// `jobs` as a count of threads: None for the available cores, else an int ≥ 1.
-fn jobs_count(jobs: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
-    let Some(jobs) = jobs.filter(|j| !j.is_none()) else {
-        return Ok(std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
-    };
-    let kind = jobs
-        .get_type()
-        .name()
-        .map_or_else(|_| "?".to_string(), |n| n.to_string());
-    if jobs.cast::<PyBool>().is_ok() || jobs.cast::<PyInt>().is_err() {
-        return Err(PyTypeError::new_err(format!(
-            "jobs = {jobs} ({kind}) is invalid; allowed: an int >= 1, or None for the \
-             available cores"
-        )));
-    }
-    match jobs.extract::<i64>() {
-        Ok(j) if j >= 1 => Ok(usize::try_from(j).unwrap_or(usize::MAX)),
-        _ => Err(PyValueError::new_err(format!(
-            "jobs = {jobs} is invalid; allowed: an int >= 1, or None for the available cores"
-        ))),
-    }
+/// The sweep's table as the dict the Python layer wraps in a `MapTable`: `table` (map.csv's
+/// columns), `points` (of the sweep), `complete`.
+fn map_dict<'py>(py: Python<'py>, read: &MapRead) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("table", table_dict(py, &read.sweep, &read.table)?)?;
+    d.set_item("points", read.sweep.points)?;
+    d.set_item("complete", read.complete)?;
+    Ok(d)
 }
 
-/// A flag argument: a bool, nothing else.
-fn flag(value: &Bound<'_, PyAny>, name: &str) -> PyResult<bool> {
-    value.cast::<PyBool>().map(|b| b.is_true()).map_err(|_| {
-        let kind = value
-            .get_type()
-            .name()
-            .map_or_else(|_| "?".to_string(), |n| n.to_string());
-        PyTypeError::new_err(format!(
-            "{name} = {value} ({kind}) is invalid; allowed: True or False"
-        ))
-    })
-}
-
-/// Runs a sweep (a friction map) and returns map.csv as a dict of NumPy arrays. Internal: see
-/// ``stickslip.sweep``.
+/// Runs a sweep (a friction map) and returns its table as a dict: `table` (map.csv's columns
+/// as NumPy arrays), `points`, `complete`, `error` (the exception that stopped it: Ctrl-C or
+/// one the progress callback raised; then the table holds the points finished so far) and
+/// `warning` (points recomputed, or ""). Internal: see ``stickslip.sweep``.
 #[pyfunction]
-#[pyo3(signature = (sweep, jobs = None, *, out = None, force = None, allow_large = None))]
+#[pyo3(signature = (sweep, jobs = None, *, out = None, force = None, allow_large = None, progress = None))]
 pub fn sweep<'py>(
     py: Python<'py>,
     sweep: &Bound<'py, PyAny>,
@@ -184,18 +161,13 @@ pub fn sweep<'py>(
     out: Option<&Bound<'py, PyAny>>,
     force: Option<&Bound<'py, PyAny>>,
     allow_large: Option<&Bound<'py, PyAny>>,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let jobs = jobs_count(jobs)?;
-    let force = force.map_or(Ok(false), |f| flag(f, "force"))?;
-    let allow_large = allow_large.map_or(Ok(false), |f| flag(f, "allow_large"))?;
-    let out: Option<PathBuf> = match out.filter(|o| !o.is_none()) {
-        None => None,
-        Some(o) => Some(o.extract().map_err(|_| {
-            PyTypeError::new_err(format!(
-                "out = {o} is invalid; allowed: a path (str or os.PathLike) or None"
-            ))
-        })?),
-    };
+    let jobs = args::jobs(jobs)?;
+    let force = args::flag(force, "force", false)?;
+    let allow_large = args::flag(allow_large, "allow_large", false)?;
+    let out = args::path(out, "out")?;
+    let mut bridge = Bridge::new(args::callback(progress)?);
     let scratch = tempfile::Builder::new()
         .prefix("stickslip-sweep-")
         .tempdir()
@@ -204,62 +176,103 @@ pub fn sweep<'py>(
         from_dict(sweep, scratch.path(), allow_large)?
     } else {
         let path: PathBuf = sweep.extract().map_err(|_| {
-            PyTypeError::new_err("a sweep is a path to a sweep file (TOML) or a dict like one")
+            PyTypeError::new_err(format!(
+                "sweep = {} ({}) is invalid; allowed: a path to a sweep file (TOML) or a dict \
+                 like one",
+                args::shown(sweep),
+                args::type_name(sweep)
+            ))
         })?;
         Sweep::load(&path, allow_large).map_err(|e| errors::sweep(&e))?
     };
     let dir = out.unwrap_or_else(|| scratch.path().join("sweep"));
     let options = SweepOptions {
-        jobs,
+        // Threads beyond the points would have nothing to do.
+        jobs: jobs.min(resolved.points.max(1)),
         shard: (0, 1),
         keep_all: false,
         force,
     };
-    let mut watch = SignalWatch::new();
     let stop = AtomicBool::new(false);
+    let mut last = SweepProgress {
+        done: 0,
+        total: 0,
+        skipped: 0,
+        failed: 0,
+        elapsed_s: 0.0,
+    };
     let result = py.detach(|| {
         exec::prepare(&resolved, &dir, force)?;
-        let mut progress = |_: &SweepProgress| watch.check(&stop);
-        let report = exec::run_shard(&resolved, &dir, &options, Some(&stop), &mut progress)?;
-        let merged = if report.interrupted {
-            exec::merge(&dir)
-        } else {
-            exec::after_shard(&dir, &resolved.fingerprint(), options.shard)
+        let mut progress = |p: &SweepProgress| {
+            last = *p;
+            bridge.tick(&stop, || Report::Sweep {
+                done: p.done,
+                total: p.total,
+                skipped: p.skipped,
+                failed: p.failed,
+                stop: None,
+            });
         };
-        merged.map(|m| (m, report.recomputed_text()))
-    });
-    if let Some(e) = watch.error.take() {
-        return Err(e);
-    }
-    match result {
-        Ok((Merge::Complete { table, .. }, again)) => {
-            if !again.is_empty() {
-                PyErr::warn(
-                    py,
-                    &py.get_type::<PyRuntimeWarning>(),
-                    &std::ffi::CString::new(format!("stickslip.sweep: {again}"))
-                        .unwrap_or_default(),
-                    1,
-                )?;
-            }
-            table_dict(py, &resolved, &table)
+        let report = exec::run_shard(&resolved, &dir, &options, Some(&stop), &mut progress)?;
+        if report.interrupted {
+            // Writes the map only if every point has its row after all.
+            exec::merge(&dir)?;
+        } else {
+            exec::after_shard(&dir, &resolved.fingerprint(), options.shard)?;
         }
-        Ok((
-            Merge::Incomplete {
-                missing, points, ..
-            },
-            _,
-        )) => Err(PyKeyboardInterrupt::new_err(format!(
-            "sweep interrupted: {missing} of {points} points not run"
-        ))),
-        Err(SweepRunError::Other { dir }) => Err(PyOSError::new_err(format!(
+        Ok((exec::read_map(&dir)?, report))
+    });
+    let (read, report) = result.map_err(|e| sweep_run_error(&e))?;
+    bridge.finish(
+        py,
+        &Report::Sweep {
+            done: report.ran,
+            total: last.total.max(report.ran),
+            skipped: report.skipped,
+            failed: report.failed + report.refused,
+            stop: Some(if report.interrupted {
+                "interrupted"
+            } else {
+                "end"
+            }),
+        },
+    );
+    let d = map_dict(py, &read)?;
+    d.set_item("error", bridge.error.take().map(|e| e.into_value(py)))?;
+    d.set_item("warning", report.recomputed_text())?;
+    Ok(d)
+}
+
+/// Reads the table of the sweep in ``dir``, complete or partial, as ``sweep`` returns it.
+/// Internal: see ``stickslip.load_sweep``.
+#[pyfunction]
+pub fn load_sweep<'py>(py: Python<'py>, dir: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let dir = args::required_path(dir, "dir")?;
+    let read = py
+        .detach(|| exec::read_map(&dir))
+        .map_err(|e| sweep_run_error(&e))?;
+    map_dict(py, &read)
+}
+
+/// A sweep that could not run or be read, as a Python exception.
+fn sweep_run_error(e: &SweepRunError) -> PyErr {
+    match e {
+        SweepRunError::Other { dir } => PyFileExistsError::new_err(format!(
             "{dir} holds the results of another sweep (its sweep.json differs); allowed: the \
              directory of this sweep, a new one, or force=True to replace them"
-        ))),
-        Err(e @ SweepRunError::Foreign { .. }) => Err(PyOSError::new_err(
-            e.to_string().replace("--force", "force=True"),
         )),
-        Err(e) => Err(PyOSError::new_err(e.to_string())),
+        // A sweep.json that does not parse is there but damaged.
+        SweepRunError::Missing { dir, .. } if Path::new(dir).join(exec::SWEEP_FILE).is_file() => {
+            PyValueError::new_err(e.to_string())
+        }
+        SweepRunError::Missing { .. } => PyFileNotFoundError::new_err(e.to_string()),
+        SweepRunError::Foreign { .. } => {
+            PyOSError::new_err(e.to_string().replace("--force", "force=True"))
+        }
+        SweepRunError::OutDir { source, .. } | SweepRunError::Io { source, .. } => {
+            errors::os(source.kind(), e.to_string())
+        }
+        SweepRunError::TakenOver { .. } => PyOSError::new_err(e.to_string()),
     }
 }
 

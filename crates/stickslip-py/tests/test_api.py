@@ -1,5 +1,5 @@
-"""The Python surface of the package (docs/python.md): Scene (load, from_dict, overrides,
-to_dict, to_toml), run and its RunResult, to_pandas, the GIL released during a run."""
+"""The Python surface: Scene (load, from_dict, overrides, to_dict, to_toml, check), run and
+its RunResult, to_pandas, the GIL released during a run, the package's public names."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import stickslip
-from conftest import SCENES
+from conftest import HARD, SCENES
 
 SMALL = {"contact.nodes": 50, "time.end": 7e-4, "output.profile_times": [7e-4]}
 
@@ -171,3 +171,50 @@ def test_the_gil_is_released_during_a_run(fig2_path: Path) -> None:
     elapsed = time.perf_counter() - start
     # A thread that cannot get the GIL would not tick at all while Rust runs.
     assert len(during) >= max(3, int(0.3 * elapsed / 0.005)), (len(during), elapsed)
+
+
+def test_dir_shows_the_api_only() -> None:
+    public = {n for n in dir(stickslip) if not n.startswith("_")}
+    assert public == set(stickslip.__all__)
+    for name in ("Any", "Dict", "Optional", "Union", "Mapping", "np", "os", "warnings",
+                 "annotations"):
+        assert name not in dir(stickslip), name
+    for name in stickslip.__all__:
+        assert getattr(stickslip, name) is not None, name
+    for name in ("run", "resume", "load", "sweep", "load_sweep", "Interrupted", "MapTable"):
+        assert getattr(stickslip, name).__module__ == "stickslip", name
+    assert issubclass(stickslip.Interrupted, KeyboardInterrupt)
+    assert {n for n in dir(stickslip.mdr) if not n.startswith("_")} == set(stickslip.mdr.__all__)
+
+
+def test_interrupted_pickles_with_its_result(small_result: stickslip.RunResult) -> None:
+    e = stickslip.Interrupted("stopped", result=None, out="out/x")
+    again = pickle.loads(pickle.dumps(e))
+    assert isinstance(again, stickslip.Interrupted) and str(again) == "stopped"
+    assert again.out == "out/x" and again.result is None
+
+
+def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
+    scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 200})
+    c = scene.check()
+    assert set(c) == {"name", "verdict", "derived", "cost", "warnings", "scene"}
+    assert c["name"] == "fig2" and c["verdict"] == "run"
+    assert c["scene"] == scene.to_dict()
+    derived = dict(c["derived"])
+    assert derived.pop("stamp_travel") > 0
+    # The derived numbers are run.json's, bit for bit.
+    assert derived == stickslip.run(scene).run_info["derived"]
+    cost = c["cost"]
+    assert cost["probe_steps"] > 0 and cost["seconds_per_step"] > 0
+    assert cost["seconds"] == pytest.approx(cost["steps"] * cost["seconds_per_step"])
+    assert "adaptive" in cost["basis"]
+    slip = scene.with_overrides({"contact.radius": 20.0}).check()
+    assert any(
+        w["severity"] == "warning" and w["key"] == "contact.radius" and "usual range" in
+        w["message"] for w in slip["warnings"]
+    ), slip["warnings"]
+    refused = stickslip.Scene.load(
+        HARD / "soft_substrate.toml", {"time.scheme": "literal", "contact.nodes": 50}
+    ).check()
+    assert refused["verdict"] == "refused"
+    assert any(w["severity"] == "refusal" for w in refused["warnings"])

@@ -1,5 +1,7 @@
 """Ctrl-C: SIGINT to a Python process in the middle of a long run (or sweep) raises
-KeyboardInterrupt there within a fraction of a second, and the GIL was free meanwhile."""
+``stickslip.Interrupted`` (a KeyboardInterrupt) there within a fraction of a second, with the
+output so far in ``.result``, and the GIL was free meanwhile; a KeyboardInterrupt raised by a
+progress callback does the same."""
 
 from __future__ import annotations
 
@@ -38,8 +40,20 @@ print("ready", flush=True)
 start = time.perf_counter()
 try:
     job()
-except KeyboardInterrupt:
-    print(f"interrupted after {time.perf_counter() - start:.2f} s, ticks {ticks[0]}", flush=True)
+except KeyboardInterrupt as e:
+    took = time.perf_counter() - start
+    assert isinstance(e, stickslip.Interrupted), type(e)
+    r = e.result
+    if what == "run":
+        assert isinstance(r, stickslip.RunResult) and r.status == "interrupted", r
+        assert r.stop == "interrupted" and len(r.series["t"]) > 1
+        assert 0 < r.series["t"][-1] < scene.end_s
+        rows = len(r.series["t"])
+    else:
+        assert isinstance(r, stickslip.MapTable) and not r.complete and r.points == 4, r
+        assert isinstance(r, dict) and list(r)[0] == "point"
+        rows = r.rows
+    print(f"interrupted after {took:.2f} s, {rows} rows, ticks {ticks[0]}", flush=True)
     sys.exit(0)
 print("finished without interruption", flush=True)
 sys.exit(1)
@@ -74,3 +88,28 @@ def test_sigint_raises_keyboard_interrupt_quickly(what: str) -> None:
     assert ticks > 30, out
     # Python checks its signals every 0.1 s; process exit adds a little.
     assert latency < 2.0, latency
+
+
+def test_a_keyboard_interrupt_from_a_progress_callback_is_interrupted_with_the_result(
+    fig2_path,
+) -> None:
+    import stickslip
+
+    scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 1000})
+    calls = []
+
+    def stop_at_second(info: dict) -> None:
+        calls.append(info)
+        if len(calls) == 2 and info["stop"] is None:
+            raise KeyboardInterrupt
+
+    with pytest.raises(stickslip.Interrupted) as e:
+        stickslip.run(scene, progress=stop_at_second)
+    assert isinstance(e.value, KeyboardInterrupt)
+    r = e.value.result
+    assert r.status == "interrupted" and r.stop == "interrupted" and e.value.out is None
+    assert 0 < r.series["t"][-1] < scene.end_s
+    assert r.run_info["t_final"] == pytest.approx(calls[-1]["t_s"], rel=0.2)
+    assert "interrupted at t =" in str(e.value) and ".result" in str(e.value)
+    # The run stopped at once: no call after the one that raised.
+    assert len(calls) == 2

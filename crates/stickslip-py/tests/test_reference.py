@@ -45,9 +45,15 @@ def markdown() -> str:
         f"```text\n{_doc(stickslip)}\n```\n",
         "## Functions\n",
     ]
-    for name in ("run", "sweep"):
+    for name in ("run", "resume", "load", "sweep", "load_sweep"):
         fn = getattr(stickslip, name)
         parts.append(_entry(_signature(fn, f"stickslip.{name}"), fn))
+    parts.append("## Types\n")
+    parts.append(
+        "- `SceneLike`: a `Scene`, a path to a scene file (str or os.PathLike) or a scene "
+        "dict.\n- `PathLike`: a path, str or os.PathLike.\n- `ProgressArg`: None, True, False "
+        "or a callable receiving a dict (see `run` and `sweep`).\n"
+    )
     parts.append("## `stickslip.Scene`\n")
     parts.append(f"```text\n{_doc(stickslip.Scene)}\n```\n")
     for name, member in sorted(vars(stickslip.Scene).items()):
@@ -72,13 +78,27 @@ def markdown() -> str:
             stickslip.RunResult.to_pandas,
         )
     )
+    parts.append("## `stickslip.MapTable`\n")
+    parts.append(f"```text\n{_doc(stickslip.MapTable)}\n```\n")
+    parts.append(_entry("MapTable.rows", stickslip.MapTable.rows))
+    parts.append(
+        _entry(
+            _signature(stickslip.MapTable.to_pandas, "MapTable.to_pandas"),
+            stickslip.MapTable.to_pandas,
+        )
+    )
     parts.append("## Module `stickslip.mdr`\n")
     parts.append(f"```text\n{_doc(stickslip.mdr)}\n```\n")
     for name in stickslip.mdr.__all__:
         fn = getattr(stickslip.mdr, name)
         parts.append(_entry(_signature(fn, f"mdr.{name}"), fn))
     parts.append("## Exceptions\n")
-    for cls in (stickslip.SceneError, stickslip.SweepError, stickslip.NumericalFailure):
+    for cls in (
+        stickslip.SceneError,
+        stickslip.SweepError,
+        stickslip.NumericalFailure,
+        stickslip.Interrupted,
+    ):
         base = cls.__mro__[1].__name__
         parts.append(_entry(f"{cls.__name__}({base})", cls))
     return "\n".join(parts)

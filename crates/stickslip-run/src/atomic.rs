@@ -249,6 +249,34 @@ impl AtomicFile {
         Ok(())
     }
 
+    /// Writes what the stream holds so far to its final name, atomically (through a temporary
+    /// name of its own, as [`write_atomic`]), and keeps streaming into the temporary file: an
+    /// interrupted run's data become readable under the documented name while the resumable
+    /// temporary stays for [`reopen`](Self::reopen); the resumed run's
+    /// [`commit`](Self::commit) later replaces the copy with the whole file.
+    ///
+    /// # Errors
+    /// If flushing, reading the temporary file or writing the copy fails.
+    pub fn publish_copy(&mut self) -> io::Result<()> {
+        let at = self.sync_position()?;
+        let (Some(dir), Some(name)) = (self.target.parent(), self.target.file_name()) else {
+            return Err(io::Error::other(format!(
+                "{} has no directory or file name",
+                self.target.display()
+            )));
+        };
+        let mut copy = Self::create(dir, &name.to_string_lossy())?;
+        let copied = io::copy(&mut File::open(&self.tmp)?.take(at.bytes), &mut copy)?;
+        if copied != at.bytes {
+            return Err(invalid_data(format!(
+                "{} holds {copied} bytes, {} were written",
+                self.tmp.display(),
+                at.bytes
+            )));
+        }
+        copy.commit()
+    }
+
     /// Final path of the file.
     pub fn path(&self) -> &Path {
         &self.target
@@ -418,6 +446,29 @@ mod tests {
             }
             assert_eq!(names(dir), ["shared.json", "unsynced.json"]);
         }
+    }
+
+    #[test]
+    fn a_published_copy_is_readable_and_the_stream_goes_on() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        let mut f = AtomicFile::create_resumable(dir, "s.csv").unwrap();
+        f.write_all(b"t\n1e0\n").unwrap();
+        f.publish_copy().unwrap();
+        assert_eq!(std::fs::read(dir.join("s.csv")).unwrap(), b"t\n1e0\n");
+        f.write_all(b"2e0\n").unwrap();
+        let at = f.sync_position().unwrap();
+        f.keep_for_resume().unwrap();
+        // The copy is a snapshot: later rows go to the temporary only.
+        assert_eq!(std::fs::read(dir.join("s.csv")).unwrap(), b"t\n1e0\n");
+        let mut again = AtomicFile::reopen(dir, "s.csv", at).unwrap();
+        again.write_all(b"3e0\n").unwrap();
+        again.commit().unwrap();
+        assert_eq!(
+            std::fs::read(dir.join("s.csv")).unwrap(),
+            b"t\n1e0\n2e0\n3e0\n"
+        );
+        assert_eq!(names(dir), ["s.csv"]);
     }
 
     #[test]

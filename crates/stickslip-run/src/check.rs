@@ -46,6 +46,39 @@ pub struct CheckReport {
     pub cost: CostEstimate,
 }
 
+/// Whether a run of the scene goes ahead.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// The run goes ahead (warnings may say its result is doubtful).
+    Run,
+    /// The preflight refuses it: `run` stops before the first step (run.json's `refused`).
+    Refused,
+}
+
+impl Verdict {
+    /// The name as printed (`run` or `refused`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Run => "run",
+            Self::Refused => "refused",
+        }
+    }
+}
+
+impl CheckReport {
+    /// The verdict: refused when the preflight has a refusal among its findings.
+    #[must_use]
+    pub fn verdict(&self) -> Verdict {
+        if self.preflight.refusal().is_some() {
+            Verdict::Refused
+        } else {
+            Verdict::Run
+        }
+    }
+}
+
 /// Checks `scene`: preflight, warnings and a timed probe of its first steps.
 ///
 /// # Errors

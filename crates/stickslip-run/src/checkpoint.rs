@@ -19,8 +19,10 @@
 //! file back to the recorded length (dropping rows written after the checkpoint), checks the
 //! checksum, restores the simulation state into a simulation built from the same scene and
 //! continues the same loop from the next index. Every step and every row then repeats what the
-//! uninterrupted run computed, from the same bits. events.csv is written only at the end, from
-//! the state; run.json is rewritten at the end. run.json differs only in `wall_seconds` (the
+//! uninterrupted run computed, from the same bits. events.csv is written from the state when
+//! the run ends (and, with the events so far, when it is interrupted); run.json is rewritten
+//! at the end. Copies of the streams an interrupted run published under the final names are
+//! replaced when the resumed run commits its files. run.json differs only in `wall_seconds` (the
 //! sum over the processes of the time spent in the loop up to their last checkpoint, plus the
 //! final one's).
 //!

@@ -149,6 +149,52 @@ pub struct Snapshot<'a> {
     pub wall_seconds: f64,
 }
 
+impl Snapshot<'_> {
+    /// The outcome of the run had it stopped in this state for `stop` (with `failure` and the
+    /// run's `warnings`): what [`Driver::outcome`] returns, and what a reader of a saved state
+    /// (a checkpoint) learns without building the simulation.
+    #[must_use]
+    pub fn outcome(
+        &self,
+        stop: StopReason,
+        failure: Option<NumericalFailure>,
+        warnings: Vec<Finding>,
+        thresholds: &RegimeThresholds,
+    ) -> RunOutcome {
+        let state = self.sim;
+        let events = state.events.events().to_vec();
+        let t_final_s = state.drive.t_s;
+        let summary = summarize(
+            &SummaryInput {
+                events: &events,
+                no_solid_time_s: state.events.no_solid_time_s(),
+                t_final_s,
+                a_coeff_start_pa: self.preflight.derived.a_coeff_pa,
+            },
+            thresholds,
+        );
+        RunOutcome {
+            stop,
+            failure,
+            events,
+            summary,
+            counts: StepCounts {
+                steps: state.step,
+                accepted_steps: state.accepted_steps,
+                rejected_steps: state.rejected_steps,
+                forced_steps: state.forced_steps,
+                onset_retakes: state.onset_retakes,
+                coupling_iterations: state.coupling_iterations,
+            },
+            t_final_s,
+            wall_seconds: self.wall_seconds,
+            series_rows: self.driver.recorder.series_rows,
+            preflight: self.preflight.clone(),
+            warnings,
+        }
+    }
+}
+
 /// Progress of a run, for progress bars.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress {
@@ -585,36 +631,12 @@ impl Driver {
     /// The outcome if the run stopped now for `stop`.
     #[must_use]
     pub fn outcome(&self, stop: StopReason, thresholds: &RegimeThresholds) -> RunOutcome {
-        let state = self.sim.state();
-        let events = self.sim.events().to_vec();
-        let summary = summarize(
-            &SummaryInput {
-                events: &events,
-                no_solid_time_s: state.events.no_solid_time_s(),
-                t_final_s: self.sim.time_s(),
-                a_coeff_start_pa: self.preflight.derived.a_coeff_pa,
-            },
-            thresholds,
-        );
-        RunOutcome {
+        self.snapshot().outcome(
             stop,
-            failure: self.failure.clone(),
-            events,
-            summary,
-            counts: StepCounts {
-                steps: state.step,
-                accepted_steps: state.accepted_steps,
-                rejected_steps: state.rejected_steps,
-                forced_steps: state.forced_steps,
-                onset_retakes: state.onset_retakes,
-                coupling_iterations: state.coupling_iterations,
-            },
-            t_final_s: self.sim.time_s(),
-            wall_seconds: self.wall_seconds(),
-            series_rows: self.state.recorder.series_rows,
-            preflight: self.preflight.clone(),
-            warnings: self.warnings.clone(),
-        }
+            self.failure.clone(),
+            self.warnings.clone(),
+            thresholds,
+        )
     }
 
     /// Runs to the end: [`Driver::advance`] then [`Driver::finish`].

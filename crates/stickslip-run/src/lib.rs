@@ -5,7 +5,8 @@
 //! - [`driver`]: the one time loop (fixed or adaptive steps; stop at `time.end`, after
 //!   `time.max_events` events, at a failure or an interrupt) feeding a [`driver::Sink`];
 //! - [`sink`]: results in memory ([`sink::memory::MemorySink`]) or in an output directory
-//!   ([`sink::dir`]: atomic files, run.json status from the start, checkpoints, resume);
+//!   ([`sink::dir`]: atomic files, run.json status from the start, checkpoints, resume;
+//!   [`sink::read`]: an output directory read back, ended, interrupted or killed);
 //! - [`schema`]: one type per output file, writer and reader together;
 //! - [`outcome`] and [`summary`]: what a run hands back, and its summary and regime
 //!   (docs/model.md#regimes-and-friction-maps);
@@ -36,6 +37,7 @@ pub use scene::{ResolvedScene, Scene, SceneError};
 pub use schema::RunOutput;
 pub use sink::dir::{DirOptions, RunError, resume, run_to_dir};
 pub use sink::memory::MemorySink;
+pub use sink::read::read_run;
 
 /// Runs `scene` in memory and returns everything it produced.
 ///

@@ -5,6 +5,7 @@
 mod common;
 
 mod checkpoint_instants;
+mod dir_states;
 mod events;
 mod keys;
 mod scene_fuzz;

@@ -1,5 +1,6 @@
 //! Checkpoint and resume through the binary: a run killed with SIGKILL (several times, at
 //! unplanned moments) and resumed ends with output bit-identical to an uninterrupted run,
+//! as does one interrupted by SIGINT or SIGTERM (whose data so far are readable meanwhile),
 //! gaussian noise included; a kill before the first checkpoint, a finished or failed run, and a
 //! damaged checkpoint or partial output are refused with a message naming the directory.
 
@@ -394,6 +395,15 @@ fn sigint_and_sigterm_checkpoint_exit_130_and_resume_bit_identical() {
         );
         assert_eq!(status(&dir).as_deref(), Some("interrupted"), "SIG{sig}");
         assert!(checkpoint(&dir).exists(), "SIG{sig}: no checkpoint");
+        // The data so far are under the documented names, for any reader.
+        for f in ["series.csv", "profiles.csv", "probes.csv"] {
+            let (part, whole) = (
+                std::fs::read(dir.join(f)).unwrap(),
+                std::fs::read(reference.join(f)).unwrap(),
+            );
+            assert!(whole.starts_with(&part), "SIG{sig}: {f} is not a prefix");
+        }
+        assert!(dir.join("events.csv").is_file(), "SIG{sig}: no events.csv");
         let resumed = run(&["resume", dir.to_str().unwrap(), "--quiet"]);
         assert!(resumed.status.success(), "{}", texts(&resumed).1);
         assert_bit_identical(&reference, &dir);

@@ -1,11 +1,12 @@
-"""The exception classes of stickslip (raised by the native module and by ``stickslip.run``)."""
+"""The exception classes of stickslip (raised by the native module and by the functions of
+``stickslip``)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any, Optional, Union
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ._result import RunResult
+    from ._result import MapTable, RunResult
 
 
 class SceneError(ValueError):
@@ -94,3 +95,29 @@ class NumericalFailure(RuntimeError):
         self.reason = reason
         self.refused = refused
         self.result = result
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C (SIGINT), or a ``KeyboardInterrupt`` raised by a progress callback, stopped
+    ``stickslip.run``, ``stickslip.resume`` or ``stickslip.sweep``; the output up to that
+    moment is kept. A ``KeyboardInterrupt``: code that catches that one (or nothing) behaves
+    as before.
+
+    Attributes:
+        result: the output so far: a ``RunResult`` (status ``"interrupted"``) for a run, a
+            ``MapTable`` of the points finished so far (``complete`` False) for a sweep.
+        out: the output directory (``out=`` of ``run`` or ``sweep``, ``dir`` of ``resume``),
+            or None for a run in memory. A run written there keeps a checkpoint:
+            ``stickslip.resume(out)`` finishes it; a sweep run again with the same ``out``
+            skips its finished points.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        result: Optional[Union["RunResult", "MapTable"]] = None,
+        out: Optional[str] = None,
+    ) -> None:
+        super().__init__(message)
+        self.result = result
+        self.out = out

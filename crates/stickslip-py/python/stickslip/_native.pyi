@@ -1,20 +1,23 @@
 # Type stubs of the native module stickslip._native (Rust, PyO3). Use the `stickslip`
-# package: it re-exports Scene and the mdr functions and wraps run and sweep.
+# package: it re-exports Scene and the mdr functions and wraps run, resume, load, sweep and
+# load_sweep.
 
 import os
-from typing import Any, Dict, Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
 
 __version__: str
 
-_ArrayLike = Union[npt.NDArray[np.floating[Any]], Sequence[float]]
+_ArrayLike = Union[npt.NDArray[np.floating[Any]], npt.NDArray[np.integer[Any]], Sequence[float]]
+_Path = Union[str, os.PathLike[str]]
+_Callback = Optional[Callable[[Dict[str, Any]], Any]]
 _Form = Literal["dense", "fast"]
 _Quadrature = Literal["product", "literal"]
 
 class Scene:
-    """A validated scene (the scene keys of docs/reference.md, SI units), immutable. Build one with
+    """A validated scene (the keys of a scene file, SI units), immutable. Build one with
     ``Scene.load``, ``Scene.from_dict`` or ``Scene.from_toml``; ``with_overrides`` gives a
     new one. A bad scene raises ``stickslip.SceneError`` (``.key`` names the key)."""
 
@@ -39,6 +42,8 @@ class Scene:
         """The scene as a nested dict: every default filled in, or as written."""
     def to_toml(self, *, resolved: bool = True) -> str:
         """The scene as TOML text: every default filled in, or as written."""
+    def check(self) -> Dict[str, Any]:
+        """What `stickslip check` reports: verdict, derived, cost, warnings, name, scene."""
     @property
     def name(self) -> str:
         """The scene's ``name``."""
@@ -50,19 +55,39 @@ class Scene:
         """``time.end``, s."""
     def __eq__(self, other: object) -> bool: ...
 
-def run(scene: Scene) -> Dict[str, Any]:
-    """Internal: runs ``scene`` in memory (GIL released) and returns the parts of a
-    ``RunResult``. Use ``stickslip.run``."""
+def run(
+    scene: Scene,
+    *,
+    progress: _Callback = None,
+    out: Optional[_Path] = None,
+    force: bool = False,
+    checkpoint_every: Optional[float] = None,
+) -> Dict[str, Any]:
+    """Internal: runs ``scene`` in memory or into ``out`` (GIL released) and returns the
+    parts of a ``RunResult`` with ``error``. Use ``stickslip.run``."""
+
+def resume(
+    dir: _Path, *, progress: _Callback = None, checkpoint_every: Optional[float] = None
+) -> Dict[str, Any]:
+    """Internal: finishes the interrupted run in ``dir``. Use ``stickslip.resume``."""
+
+def load(dir: _Path) -> Dict[str, Any]:
+    """Internal: reads the run in ``dir``. Use ``stickslip.load``."""
 
 def sweep(
-    sweep: Union[str, os.PathLike[str], Mapping[str, Any]],
+    sweep: Union[_Path, Mapping[str, Any]],
     jobs: Optional[int] = None,
     *,
-    out: Union[str, os.PathLike[str], None] = None,
+    out: Optional[_Path] = None,
     force: bool = False,
     allow_large: bool = False,
-) -> Dict[str, np.ndarray]:
-    """Internal: runs a sweep and returns map.csv as arrays. Use ``stickslip.sweep``."""
+    progress: _Callback = None,
+) -> Dict[str, Any]:
+    """Internal: runs a sweep and returns map.csv as arrays with ``points``, ``complete``,
+    ``error`` and ``warning``. Use ``stickslip.sweep``."""
+
+def load_sweep(dir: _Path) -> Dict[str, Any]:
+    """Internal: reads the table of the sweep in ``dir``. Use ``stickslip.load_sweep``."""
 
 def forward(
     tau: _ArrayLike,

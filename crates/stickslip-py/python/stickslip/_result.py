@@ -1,4 +1,6 @@
-"""``RunResult``: what ``stickslip.run`` returns (the five output files of a run, in memory)."""
+"""``RunResult`` (what ``stickslip.run``, ``resume`` and ``load`` return: the five output files
+of a run, in memory) and ``MapTable`` (what ``stickslip.sweep`` and ``load_sweep`` return:
+map.csv's columns)."""
 
 from __future__ import annotations
 
@@ -7,6 +9,18 @@ from typing import Any, Dict, Optional, Union
 import numpy as np
 
 Columns = Dict[str, np.ndarray]
+
+
+def _pandas(who: str, instead: str) -> Any:
+    """The pandas module, or an ImportError saying how to install it."""
+    try:
+        import pandas  # type: ignore[import-untyped, unused-ignore]
+    except ImportError as e:
+        raise ImportError(
+            f"{who} needs pandas, which is not installed; install it with "
+            f"`pip install pandas` (the arrays are in {instead} without it)"
+        ) from e
+    return pandas
 
 TABLES = ("series", "events", "profiles", "probes")
 
@@ -46,14 +60,18 @@ class RunResult:
 
     @property
     def status(self) -> str:
-        """``"ok"``, ``"failed"`` or ``"interrupted"`` (run.json's ``status``)."""
+        """``"ok"``, ``"failed"``, ``"interrupted"`` (run.json's ``status``), or
+        ``"running"`` for a directory whose run was killed (or still runs): ``load`` then
+        gives its data as of the last checkpoint."""
         return str(self.run_info["status"])
 
     @property
-    def stop(self) -> str:
+    def stop(self) -> Optional[str]:
         """Why the run stopped: ``end``, ``max_events``, ``open_event``, ``failure``,
-        ``refused`` (run.json's ``stop``)."""
-        return str(self.run_info["stop"])
+        ``refused``, ``interrupted`` (run.json's ``stop``); None for a run that has not
+        stopped (status ``"running"``)."""
+        stop = self.run_info.get("stop")
+        return None if stop is None else str(stop)
 
     @property
     def units(self) -> Dict[str, Dict[str, str]]:
@@ -70,14 +88,10 @@ class RunResult:
         Raises ImportError if pandas is not installed (it is optional:
         ``pip install pandas``).
         """
-        try:
-            import pandas as pd  # type: ignore[import-untyped, unused-ignore]
-        except ImportError as e:  # pragma: no cover - depends on the environment
-            raise ImportError(
-                "RunResult.to_pandas needs pandas, which is not installed; "
-                "install it with `pip install pandas` (the arrays are in "
-                "result.series, .events, .profiles, .probes without it)"
-            ) from e
+        pd = _pandas(
+            "RunResult.to_pandas",
+            "result.series, .events, .profiles, .probes",
+        )
         if table is not None:
             if table not in TABLES:
                 raise ValueError(f"table = {table!r}; allowed: one of {TABLES}")
@@ -91,4 +105,47 @@ class RunResult:
             f"<stickslip.RunResult {self.run_info.get('name')!r}: status {self.status}, "
             f"{n} series rows, {len(self.events.get('k', ()))} events, "
             f"regime {s.get('regime')}>"
+        )
+
+
+class MapTable(Dict[str, np.ndarray]):
+    """The table of a sweep: a ``dict[str, numpy.ndarray]`` of map.csv's columns, in its
+    order, one row per point in point order (a partial table holds the points finished so
+    far). Columns: ``point`` (int64), one per axis key (float64, or str objects for words),
+    ``status`` (``ok`` | ``failed`` | ``refused``), ``regime`` (str objects), ``n_events``
+    (int64), ``t_first_onset`` s, ``period_last`` s, ``x_period_last`` m, ``f_peak_first``
+    N, ``f_peak_last`` N, ``f_mean`` N, ``recovery``, ``melted_time_fraction``, ``wall_s`` s
+    (float64, NaN for none), ``message`` (str objects).
+
+    Attributes:
+        points: the number of points of the sweep.
+        complete: every point has its row.
+    """
+
+    def __init__(
+        self, columns: Dict[str, np.ndarray], *, points: int, complete: bool
+    ) -> None:
+        super().__init__(columns)
+        self.points = points
+        self.complete = complete
+
+    @property
+    def rows(self) -> int:
+        """The number of rows (points finished)."""
+        return len(self.get("point", ()))
+
+    def to_pandas(self) -> Any:
+        """The table as a pandas DataFrame (columns as in map.csv).
+
+        Raises ImportError if pandas is not installed (it is optional:
+        ``pip install pandas``).
+        """
+        pd = _pandas("MapTable.to_pandas", "the table itself, a dict of arrays,")
+        return pd.DataFrame(dict(self), copy=False)
+
+    def __repr__(self) -> str:
+        state = "complete" if self.complete else "partial"
+        return (
+            f"<stickslip.MapTable: {self.rows} of {self.points} points ({state}), "
+            f"columns {list(self)}>"
         )

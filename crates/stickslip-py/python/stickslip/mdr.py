@@ -11,11 +11,18 @@ converted once); results are new float64 arrays (handed over without a copy).
 - ``compliance(tau, radius, g_eff)``: u3D = back(forward(τ))/G*  (Eq. 13–15), in m
 - ``force(tau, radius)``: F = 2π ∫₀^a0 τ r dr  (Eq. 16), in N
 
-Keyword ``form``: ``"dense"`` (default; product integration as a mat-vec, O(N²)) or
-``"fast"`` (its hierarchical low-rank form, O(N), within 1e-10 relative). Keyword
-``quadrature``: ``"product"`` (default; second order on smooth data) or ``"literal"`` (the
-paper's plain sums). Operators are built once per (radius, N, form, quadrature) and reused
-for the next calls.
+Keyword ``form``: ``"dense"`` (default; product integration as a mat-vec, O(N²) time and
+8·N·(N + 1) bytes) or ``"fast"`` (its hierarchical low-rank form, O(N), within 1e-10
+relative). Keyword ``quadrature``: ``"product"`` (default; second order on smooth data) or
+``"literal"`` (the paper's plain sums). Operators are built once per (radius, N, form,
+quadrature) and reused for the next calls.
+
+Inputs are checked before anything is built: values must be a 1-D array (or sequence) of
+real numbers, all finite (``ValueError`` naming the first bad index; ``TypeError`` for
+strings, complex numbers, booleans or objects), not empty; ``radius`` and ``g_eff`` finite
+and > 0. A size whose operators would take more than half of the memory available raises
+``MemoryError`` saying how much they would need and what fits (``form="fast"``, or fewer
+nodes), instead of the allocation aborting the interpreter.
 """
 
 from ._native import back, compliance, force, forward, radii

@@ -82,7 +82,8 @@ pub struct RunOutput {
 }
 
 impl RunOutput {
-    /// Reads the five files of a finished (or failed) run in `dir`.
+    /// Reads the five files of a finished, failed or interrupted run in `dir` (a killed run
+    /// has only temporary files: [`crate::sink::read::read_run`] reads any state).
     ///
     /// # Errors
     /// The first file that is missing or does not match its schema.
@@ -103,7 +104,20 @@ pub fn markdown() -> String {
     let mut out = String::from(
         "## Output files\n\nNumbers are written in shortest round-trip `{:e}` form (read \
          back, they keep their bits); an empty cell means no value. Columns may be added at \
-         the end of a row, never renamed or dropped.\n",
+         the end of a row, never renamed or dropped.\n\n\
+         While a run goes on, run.json says `running` and series.csv, probes.csv and \
+         profiles.csv grow under temporary names (`.series.csv.tmp`, …); they are renamed into \
+         place, with events.csv written, when the run ends (`ok` or `failed`). An interrupted \
+         run (SIGINT/SIGTERM; Ctrl-C in Python's `stickslip.run(…, out=DIR)`) writes \
+         checkpoint.cbor and publishes what it \
+         wrote so far under the documented names: every row up to the interruption, and \
+         events.csv with the events so far (the last one may still be open, `t_end` empty), so \
+         the usual tools read them; the temporary files stay, and `stickslip resume DIR` \
+         finishes the run and replaces these files with those of the whole run, bit-identical \
+         to an uninterrupted one. After a hard kill (SIGKILL, power loss) run.json still says \
+         `running` and only the temporary files and the last checkpoint are there: `stickslip \
+         resume DIR` finishes the run, and Python's `stickslip.load(DIR)` reads it as of its \
+         last checkpoint.\n",
     );
     let probe = [probes::TIME, probes::PHI, probes::T_MELT];
     for (file, cols) in [

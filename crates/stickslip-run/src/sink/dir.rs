@@ -9,8 +9,12 @@
 //! run ends; then run.json is rewritten with the final status (`ok` or `failed`).
 //!
 //! **Checkpoints** every `checkpoint_every_s` of wall time (see [`crate::checkpoint`]), and at
-//! once when the run is interrupted: then run.json says `interrupted`, the partial files stay
-//! under their temporary names, and [`resume`] finishes the run bit-identically.
+//! once when the run is interrupted: then run.json says `interrupted`, what the run wrote so
+//! far is published under the final names (a copy of each stream, written atomically, and
+//! events.csv with the events so far), the streams stay under their temporary names, and
+//! [`resume`] finishes the run bit-identically, replacing the copies. After a hard kill only
+//! the temporary files and the last checkpoint are there; [`super::read`] reads a directory in
+//! any of these states.
 
 use crate::atomic::{AtomicFile, remove_temporaries, write_atomic};
 use crate::checkpoint::{self, Checkpoint, CheckpointError, StreamPositions};
@@ -289,30 +293,36 @@ impl Sink for DirSink {
     fn end(&mut self, outcome: &RunOutcome, snapshot: &Snapshot<'_>) -> io::Result<()> {
         if outcome.stop == StopReason::Interrupted {
             self.save_checkpoint(snapshot)?;
-            if let Some(s) = self.streams.take() {
+            if let Some(mut s) = self.streams.take() {
+                // The data so far under the documented names, for any reader; the temporary
+                // files stay for the resumed run, whose commit replaces these copies.
+                for f in [&mut s.series, &mut s.probes, &mut s.profiles] {
+                    f.publish_copy()?;
+                }
                 s.series.keep_for_resume()?;
                 s.probes.keep_for_resume()?;
                 s.profiles.keep_for_resume()?;
             }
-        } else {
-            if let Some(s) = self.streams.take() {
-                s.series.commit()?;
-                s.probes.commit()?;
-                s.profiles.commit()?;
-            }
-            let mut text = Vec::new();
-            Events(outcome.events.clone()).write(&mut text)?;
-            write_atomic(&self.dir, schema::events::FILE, &text)?;
+        } else if let Some(s) = self.streams.take() {
+            s.series.commit()?;
+            s.probes.commit()?;
+            s.profiles.commit()?;
         }
+        // The events so far (the last one may still be open when interrupted); an ended run's
+        // events are complete.
+        let mut text = Vec::new();
+        Events(outcome.events.clone()).write(&mut text)?;
+        write_atomic(&self.dir, schema::events::FILE, &text)?;
         if let Some(info) = &mut self.info {
             info.finish(outcome);
             info.write(&self.dir)?;
         }
         if outcome.stop != StopReason::Interrupted {
             // The run has ended and its output is complete: nothing is left to resume, and no
-            // temporary file of a killed earlier process of this run is kept.
+            // temporary file of a killed earlier process of this run is kept (nor the copy a
+            // process killed while publishing an interrupted run's streams left).
             checkpoint::remove(&self.dir)?;
-            for f in [schema::run_info::FILE, schema::events::FILE] {
+            for f in RUN_FILES {
                 remove_temporaries(&self.dir, f)?;
             }
         }

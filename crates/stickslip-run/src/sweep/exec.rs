@@ -25,7 +25,7 @@ use super::lock::io_err;
 pub use super::lock::{
     LockWatch, Prepared, SWEEP_FILE, SweepLock, SweepRunError, load_lock, prepare,
 };
-pub use super::merge::{Merge, MergeCost, after_shard, merge, merge_wait};
+pub use super::merge::{MapRead, Merge, MergeCost, after_shard, merge, merge_wait, read_map};
 
 /// How to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

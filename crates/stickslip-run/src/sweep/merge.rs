@@ -14,7 +14,8 @@
 //! `sweep merge` ([`merge`]) uses a complete set of tables when there is one and otherwise
 //! reads every record (P reads), checking each against the sweep: a record of another sweep is
 //! refused, one of another build counts as missing. [`merge_wait`] waits for the sweep to be
-//! complete first (a merge started with the array, or a dependent Slurm job).
+//! complete first (a merge started with the array, or a dependent Slurm job). [`read_map`]
+//! reads the table for a reader, complete or partial, and writes nothing.
 
 use super::Sweep;
 use super::lock::{SweepLock, SweepRunError, io_err, load_lock};
@@ -420,6 +421,62 @@ pub fn merge_wait(dir: &Path, timeout: Duration) -> Result<Merge, SweepRunError>
         let left = timeout.saturating_sub(started.elapsed());
         std::thread::sleep(pause.min(left.max(Duration::from_millis(10))));
     }
+}
+
+/// The table of a sweep directory as a reader finds it ([`read_map`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapRead {
+    /// The sweep (from sweep.json).
+    pub sweep: Sweep,
+    /// The rows there are, in point order.
+    pub table: MapTable,
+    /// Every point has its row.
+    pub complete: bool,
+}
+
+/// Reads the table of the sweep in `dir` without writing anything: map.csv when it is there;
+/// else, for a sweep still running, interrupted, or whose shards ran elsewhere, the rows of
+/// the points whose record is this sweep's (the fingerprint in sweep.json), in point order.
+/// Records of another build or damaged ones count as missing, as in [`merge`].
+///
+/// # Errors
+/// No sweep in `dir` ([`SweepRunError::Missing`]); a map.csv that does not parse; a record of
+/// another sweep ([`SweepRunError::Foreign`]); I/O errors.
+pub fn read_map(dir: &Path) -> Result<MapRead, SweepRunError> {
+    let lock = load_lock(dir)?;
+    let sweep = lock.sweep;
+    if dir.join(CSV_FILE).is_file() {
+        let table = MapTable::read(dir).map_err(|e| io_err(dir)(io::Error::other(e)))?;
+        return Ok(MapRead {
+            complete: table.rows.len() == sweep.points,
+            table,
+            sweep,
+        });
+    }
+    let mut rows = Vec::new();
+    for p in listed(dir).map_err(io_err(dir))? {
+        if p >= sweep.points {
+            continue;
+        }
+        match PointRecord::find(dir, p, &sweep.values(p), &lock.fingerprint).map_err(io_err(dir))? {
+            Found::Current(r) => rows.push(MapRow::of(&r)),
+            Found::OtherBuild { .. } | Found::Missing | Found::Damaged => {}
+            Found::OtherSweep { why } => {
+                return Err(SweepRunError::Foreign {
+                    path: PointRecord::path(dir, p),
+                    why,
+                });
+            }
+        }
+    }
+    Ok(MapRead {
+        complete: rows.len() == sweep.points,
+        table: MapTable {
+            axes: sweep.axes.iter().map(|a| a.key.clone()).collect(),
+            rows,
+        },
+        sweep,
+    })
 }
 
 /// Paths of the shard tables in `dir` (for tests and cleanup).

@@ -1,0 +1,279 @@
+"""The functions of ``stickslip``: run, resume, load, sweep, load_sweep (re-exported by the
+package; they wrap the native module, raise the package's exceptions and draw progress)."""
+
+from __future__ import annotations
+
+import os
+import warnings
+from typing import Any, Dict, Mapping, Optional, Union
+
+from . import _native, _progress
+from ._errors import Interrupted, NumericalFailure
+from ._native import Scene
+from ._progress import ProgressArg
+from ._result import MapTable, RunResult
+
+#: What a scene argument may be: a ``Scene``, a path to a scene file, or a scene dict.
+SceneLike = Union[Scene, str, "os.PathLike[str]", Mapping[str, Any]]
+#: A path: str or os.PathLike.
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _scene(scene: SceneLike) -> Scene:
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, Mapping):
+        return Scene.from_dict(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        return Scene.load(scene)
+    raise TypeError(
+        f"scene = {scene!r} ({type(scene).__name__}) is invalid; allowed: a stickslip.Scene, "
+        "a path to a scene file or a scene dict"
+    )
+
+
+def _path_text(path: Optional[PathLike]) -> Optional[str]:
+    return None if path is None else os.fspath(path)
+
+
+def _finish(parts: Dict[str, Any], out: Optional[PathLike], warn: bool) -> RunResult:
+    """The RunResult of ``parts``; raises ``Interrupted``, ``NumericalFailure`` or the
+    exception a progress callback raised."""
+    result = RunResult(parts)
+    if warn:
+        for w in result.run_info.get("warnings", ()):
+            if w.get("severity") == "warning":
+                warnings.warn(f"stickslip: {w.get('message')}", RuntimeWarning, stacklevel=3)
+    error = parts.get("error")
+    where = _path_text(out)
+    if isinstance(error, KeyboardInterrupt):
+        info = result.run_info
+        message = (
+            f"run {info.get('name')!r} interrupted at t = {info.get('t_final', 0.0):e} s "
+            f"(step {info.get('steps', 0)}, {info.get('events', 0)} events); "
+        )
+        if where is None:
+            message += "the output so far is in .result"
+        else:
+            message += (
+                f"the output so far is in .result and in {where}, with a checkpoint: "
+                f"stickslip.resume({where!r}) finishes the run"
+            )
+        raise Interrupted(message, result=result, out=where) from None
+    if error is not None:
+        raise error
+    if result.stop in ("failure", "refused"):
+        f = result.run_info.get("failure") or {}
+        message = f.get("message") or f"the run stopped with {result.stop}"
+        if where is not None:
+            message += f" (output up to the failure in {where})"
+        raise NumericalFailure(
+            message,
+            time_s=f.get("time_s", 0.0),
+            step=f.get("step", 0),
+            node=f.get("node", 0),
+            r_m=f.get("r_m", 0.0),
+            quantity=f.get("quantity", ""),
+            value=f.get("value"),
+            reason=f.get("reason", ""),
+            refused=result.stop == "refused",
+            result=result,
+        )
+    return result
+
+
+def run(
+    scene: SceneLike,
+    *,
+    overrides: Optional[Mapping[str, Any]] = None,
+    progress: ProgressArg = None,
+    out: Optional[PathLike] = None,
+    force: bool = False,
+    checkpoint_every: float = 2.0,
+) -> RunResult:
+    """Runs a scene and returns its output as a ``RunResult``.
+
+    ``scene``: a ``Scene``, a path to a scene file (TOML) or a scene dict; ``overrides``:
+    ``{"section.key": value}`` applied first (like ``--set``).
+
+    ``progress``: None (default, silent), True for a bar (tqdm's when it is installed,
+    through ``tqdm.auto`` so a notebook shows a widget; else one line on stderr redrawn in
+    place), or a callable receiving a dict at most ten times a second and once at the end:
+    ``fraction`` (of time.end), ``t_s``, ``end_s``, ``steps``, ``events``, ``elapsed_s``,
+    ``eta_s`` (None until known), ``stop`` (None while running, then why the run stopped).
+    An exception the callable raises stops the run and is raised here (a
+    ``KeyboardInterrupt`` as ``Interrupted``).
+
+    ``out``: a directory to write the command line's files into, as ``stickslip run SCENE
+    --out DIR`` does (the same bytes; run.json's ``wall_seconds`` aside), with checkpoints
+    every ``checkpoint_every`` seconds of wall time (0 = none; an interruption writes one
+    anyway), so that ``stickslip.resume(out)`` (or ``stickslip resume DIR``) finishes an
+    interrupted or killed run. A directory holding an earlier run raises
+    ``FileExistsError`` unless ``force=True``, which replaces it. Without ``out`` the run
+    stays in memory.
+
+    The GIL is released while the run steps (other Python threads go on). Ctrl-C stops it
+    within about 0.1 s and raises ``Interrupted`` (a ``KeyboardInterrupt``) whose ``.result``
+    holds the output so far. Raises ``SceneError`` for a bad scene and ``NumericalFailure``
+    when the numerics fail or the run is refused before its first step; its ``.result``
+    holds the output recorded up to the failure. The preflight's warnings (likely unit
+    slips, a step beyond a stability limit; run_info["warnings"]) are issued as
+    ``RuntimeWarning``, as the command line prints them.
+
+    The numbers are those of ``stickslip run SCENE --out DIR`` for the same scene, bit for
+    bit (run_info's ``wall_seconds`` aside).
+    """
+    s = _scene(scene)
+    if overrides:
+        s = s.with_overrides(overrides)
+    callback, bar = _progress.start(progress, "run", s.name)
+    try:
+        parts = _native.run(
+            s, progress=callback, out=out, force=force, checkpoint_every=checkpoint_every
+        )
+    finally:
+        if bar is not None:
+            bar.close()
+    return _finish(parts, out, warn=True)
+
+
+def resume(
+    dir: PathLike,
+    *,
+    progress: ProgressArg = None,
+    checkpoint_every: Optional[float] = None,
+) -> RunResult:
+    """Finishes the interrupted (or killed) run in ``dir`` from its checkpoint, as
+    ``stickslip resume DIR`` does, and returns the whole run's output: the files are those
+    of an uninterrupted run, bit for bit (run.json's ``wall_seconds`` aside). ``dir`` is the
+    ``out`` of ``stickslip.run`` or of ``stickslip run --out``.
+
+    ``progress`` as for ``run``; ``checkpoint_every`` (seconds of wall time, 0 = none)
+    replaces the run's interval. A run that has already ended is returned as it is (as
+    ``load`` gives it). Raises ``FileNotFoundError`` when there is nothing to resume (no
+    directory, no checkpoint: a run killed before its first one is run again with
+    ``stickslip.run``), ``ValueError`` for a damaged checkpoint or partial output,
+    ``Interrupted`` and ``NumericalFailure`` as ``run`` does.
+    """
+    callback, bar = _progress.start(progress, "run", os.path.basename(os.fspath(dir)))
+    try:
+        parts = _native.resume(dir, progress=callback, checkpoint_every=checkpoint_every)
+    finally:
+        if bar is not None:
+            bar.close()
+    return _finish(parts, dir, warn=False)
+
+
+def load(dir: PathLike) -> RunResult:
+    """Reads the run in ``dir`` (written by ``stickslip.run(…, out=dir)`` or ``stickslip run
+    --out``), whatever its state, as a ``RunResult``; nothing is run or written.
+
+    - finished (``status`` ``"ok"``) or failed (``"failed"``, with run_info["failure"]): the
+      files as they are;
+    - interrupted (``"interrupted"``): the data up to the interruption, which the run
+      published under the usual names (``resume`` finishes it);
+    - killed without a graceful stop (``"running"``: SIGKILL, a power loss, or still
+      running): the data as of its last checkpoint, read from the temporary files (counters,
+      events and summary from the checkpoint); without a checkpoint, the complete rows the
+      temporary files hold, and no events.
+
+    Raises ``FileNotFoundError`` when ``dir`` holds no run, ``ValueError`` for a file that
+    does not read as its format says.
+    """
+    return RunResult(_native.load(dir))
+
+
+def sweep(
+    sweep: Union[PathLike, Mapping[str, Any]],
+    jobs: Optional[int] = None,
+    *,
+    out: Optional[PathLike] = None,
+    force: bool = False,
+    allow_large: bool = False,
+    progress: ProgressArg = None,
+) -> MapTable:
+    """Runs a friction map and returns its table (map.csv) as a ``MapTable``, a
+    ``dict[str, numpy.ndarray]`` (with ``points``, ``complete`` and ``to_pandas()``).
+
+    ``sweep``: a sweep file (TOML, docs/reference.md "Sweeps"; its ``scene`` is relative to
+    the file) or a dict with the same keys, e.g.::
+
+        {"name": "v-A0", "scene": "validation/scenes/rigid.toml",   # relative to the cwd
+         "set": {"contact.nodes": 50, "time.max_events": 4},
+         "axis": [{"key": "drive.velocity", "values": [1e-3, 1e-2]},
+                  {"key": "temperature.A0",
+                   "range": {"from": 0.0, "to": 1.5e6, "count": 4}}]}
+
+    In a dict, ``scene`` is a path relative to the current directory, or a ``Scene``.
+    ``jobs``: points run in parallel, an int >= 1 (default None: the available cores; no
+    more threads than points are started). ``out``: a sweep directory to keep (points/,
+    map.csv, map.json; a rerun skips finished points, as ``stickslip sweep run --out``;
+    ``load_sweep`` reads it); by default a temporary one. ``force``: start afresh, removing
+    the earlier results in ``out`` (of another sweep, or of this one). ``allow_large``: allow
+    more than 100000 points (at most 10000000).
+
+    ``progress``: None (silent), True for a bar (as in ``run``), or a callable receiving a
+    dict at most ten times a second and once at the end: ``done`` (points run so far),
+    ``total`` (points to run; those found finished in ``out`` left out), ``skipped``,
+    ``failed`` (failed or refused so far), ``fraction``, ``elapsed_s``, ``eta_s``, ``stop``
+    (None while running, then ``"end"`` or ``"interrupted"``).
+
+    Columns, in map.csv's order: see ``MapTable``. A failing point is a row with its status
+    and message; the sweep goes on.
+
+    Every point's record in ``out`` carries the sweep's fingerprint (the sweep and the build
+    of the numerics) and its values: points another build computed are recomputed (a
+    ``RuntimeWarning`` says how many and why), and a record of another sweep raises
+    ``OSError`` naming it, as does a directory holding another sweep without ``force``
+    (``FileExistsError``).
+
+    The GIL is released while points run. Ctrl-C stops the sweep within about 0.1 s and
+    raises ``Interrupted`` (a ``KeyboardInterrupt``) whose ``.result`` is the partial table
+    of the points finished so far (with ``out``, a rerun goes on from there). Raises
+    ``SweepError`` (a ``SceneError``) for a bad sweep, ``TypeError`` or ``ValueError`` for a
+    bad ``jobs``, ``force``, ``allow_large``, ``out`` or ``progress``.
+    """
+    callback, bar = _progress.start(progress, "sweep", "sweep")
+    try:
+        parts = _native.sweep(
+            sweep,
+            jobs,
+            out=out,
+            force=force,
+            allow_large=allow_large,
+            progress=callback,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
+    table = MapTable(parts["table"], points=parts["points"], complete=parts["complete"])
+    if parts["warning"]:
+        warnings.warn(f"stickslip.sweep: {parts['warning']}", RuntimeWarning, stacklevel=2)
+    error = parts["error"]
+    if isinstance(error, KeyboardInterrupt):
+        where = _path_text(out)
+        message = (
+            f"sweep interrupted: {table.rows} of {table.points} points finished, "
+            f"{table.points - table.rows} not run; the partial table is in .result"
+        )
+        if where is not None:
+            message += f"; stickslip.sweep with out={where!r} again goes on from there"
+        raise Interrupted(message, result=table, out=where) from None
+    if error is not None:
+        raise error
+    return table
+
+
+def load_sweep(dir: PathLike) -> MapTable:
+    """Reads the table of the sweep in ``dir`` (the ``out`` of ``stickslip.sweep`` or of
+    ``stickslip sweep run``) as a ``MapTable``, without running or writing anything: map.csv
+    when the map is complete; else (a sweep interrupted, still running, or whose shards run
+    elsewhere) the rows of the points finished so far, from their records, in point order
+    (``complete`` False). Records of another build count as not finished, as in ``stickslip
+    sweep merge``.
+
+    Raises ``FileNotFoundError`` when ``dir`` holds no sweep (no sweep.json), ``OSError`` for
+    a record of another sweep.
+    """
+    parts = _native.load_sweep(dir)
+    return MapTable(parts["table"], points=parts["points"], complete=parts["complete"])
