@@ -120,10 +120,22 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
     }
     let lay = layout(axes)?;
     let sweep = &json.sweep;
+    // The points without a row (a sweep still running or interrupted): drawn as empty cells.
+    let present: std::collections::HashSet<usize> =
+        json.table.rows.iter().map(|r| r.point).collect();
+    let missing: Vec<Vec<String>> = if sweep.points <= MAX_MISSING_DRAWN {
+        (0..sweep.points)
+            .filter(|p| !present.contains(p))
+            .map(|p| sweep.values(p).iter().map(value_text).collect())
+            .collect()
+    } else {
+        Vec::new()
+    };
     let facet_values: Vec<Vec<String>> = {
         let mut seen: Vec<Vec<String>> = Vec::new();
-        for r in &json.table.rows {
-            let key: Vec<String> = lay.facets.iter().map(|&i| r.values[i].clone()).collect();
+        let all = json.table.rows.iter().map(|r| &r.values).chain(&missing);
+        for values in all {
+            let key: Vec<String> = lay.facets.iter().map(|&i| values[i].clone()).collect();
             if !seen.contains(&key) {
                 seen.push(key);
             }
@@ -140,6 +152,15 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
+    let partial = if missing.is_empty() && json.table.rows.len() >= sweep.points {
+        String::new()
+    } else {
+        format!(
+            " — partial, {} of {} points",
+            json.table.rows.len(),
+            sweep.points
+        )
+    };
     let mut out = Vec::new();
     for facet in &facet_values {
         let rows: Vec<&MapRow> = json
@@ -153,8 +174,11 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
                     .all(|(&i, v)| r.values[i] == *v)
             })
             .collect();
+        let in_facet =
+            |values: &&Vec<String>| lay.facets.iter().zip(facet).all(|(&i, v)| values[i] == *v);
+        let not_run: Vec<&Vec<String>> = missing.iter().filter(in_facet).collect();
         let suffix = if facet.is_empty() {
-            String::new()
+            partial.clone()
         } else {
             format!(
                 " ({})",
@@ -164,13 +188,14 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
                     .map(|(&i, v)| format!("{} = {v}", axes[i].key))
                     .collect::<Vec<_>>()
                     .join(", ")
-            )
+            ) + &partial
         };
         out.extend(pair(
             sweep.name.as_str(),
             axes,
             &lay,
             &rows,
+            &not_run,
             quantity,
             &suffix,
             range,
@@ -187,26 +212,34 @@ fn quantity_of(axes: &[Axis], row: &MapRow, quantity: &str) -> f64 {
     }
 }
 
-fn coords(lay: &Layout, row: &MapRow) -> (f64, f64) {
-    let num = |i: usize| row.values[i].parse::<f64>().unwrap_or(f64::NAN);
+fn coords(lay: &Layout, values: &[String]) -> (f64, f64) {
+    let num = |i: usize| values[i].parse::<f64>().unwrap_or(f64::NAN);
     (num(lay.x), lay.y.map_or(0.0, num))
 }
 
-fn cell_of(axes: &[Axis], lay: &Layout, row: &MapRow) -> ((f64, f64), (f64, f64)) {
+fn cell_of(axes: &[Axis], lay: &Layout, point: &[String]) -> ((f64, f64), (f64, f64)) {
     let find = |i: usize| {
         let a = &axes[i];
         let values: Vec<String> = a.values.iter().map(value_text).collect();
-        let k = values.iter().position(|v| *v == row.values[i]).unwrap_or(0);
+        let k = values.iter().position(|v| *v == point[i]).unwrap_or(0);
         edges(&a.numbers(), a.log)[k]
     };
     (find(lay.x), lay.y.map_or((0.0, 1.0), find))
 }
 
+/// Sweeps larger than this draw no cells for their missing points.
+const MAX_MISSING_DRAWN: usize = 1_000_000;
+
+/// The colour of a point that has not run.
+const NOT_RUN: RGBColor = RGBColor(246, 246, 246);
+
+#[allow(clippy::too_many_arguments)]
 fn pair(
     name: &str,
     axes: &[Axis],
     lay: &Layout,
     rows: &[&MapRow],
+    not_run: &[&Vec<String>],
     quantity: &str,
     suffix: &str,
     (lo, hi): (f64, f64),
@@ -230,7 +263,7 @@ fn pair(
         let pts: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.status == status)
-            .map(|r| coords(lay, r))
+            .map(|r| coords(lay, &r.values))
             .map(|(x, y)| (x, if two_d { y } else { 0.5 }))
             .collect();
         let n = pts.len();
@@ -250,6 +283,32 @@ fn pair(
         .points()
         .marker(Marker::Cross)
     };
+    // Points not run yet: pale cells with an open square each.
+    let add_not_run = |panel: &mut Panel| {
+        if not_run.is_empty() {
+            return;
+        }
+        let mut centres = Vec::new();
+        for values in not_run {
+            let (x, y) = cell_of(axes, lay, values);
+            panel.cells.push(Cell {
+                x,
+                y,
+                color: NOT_RUN,
+            });
+            let (cx, cy) = coords(lay, values);
+            centres.push((cx, if two_d { cy } else { 0.5 }));
+        }
+        panel.series.push(
+            Series::new(
+                format!("not run yet ({})", not_run.len()),
+                centres,
+                RGBColor(150, 150, 150),
+            )
+            .points()
+            .marker(Marker::Square),
+        );
+    };
     // Regimes.
     let mut regime = Panel::new(
         &format!("{name}: regime{suffix}"),
@@ -259,7 +318,7 @@ fn pair(
     .scales(xs, ys)
     .legend_outside();
     for r in rows {
-        let (x, y) = cell_of(axes, lay, r);
+        let (x, y) = cell_of(axes, lay, &r.values);
         regime.cells.push(Cell {
             x,
             y,
@@ -288,6 +347,7 @@ fn pair(
     }
     regime.series.push(failed(PointStatus::Failed));
     regime.series.push(failed(PointStatus::Refused));
+    add_not_run(&mut regime);
     // The quantity.
     let values: Vec<f64> = rows
         .iter()
@@ -314,7 +374,7 @@ fn pair(
     .legend_outside();
     if two_d {
         for (r, &v) in rows.iter().zip(&values) {
-            let (x, y) = cell_of(axes, lay, r);
+            let (x, y) = cell_of(axes, lay, &r.values);
             q.cells.push(Cell {
                 x,
                 y,
@@ -349,7 +409,7 @@ fn pair(
                 .filter(|(r, v)| {
                     r.status == PointStatus::Ok && r.summary.regime == reg && v.is_finite()
                 })
-                .map(|(r, &v)| (coords(lay, r).0, v))
+                .map(|(r, &v)| (coords(lay, &r.values).0, v))
                 .collect();
             if !pts.is_empty() {
                 q.series
@@ -359,6 +419,9 @@ fn pair(
     }
     q.series.push(failed(PointStatus::Failed));
     q.series.push(failed(PointStatus::Refused));
+    if two_d {
+        add_not_run(&mut q);
+    }
     if !two_d {
         regime = regime.y_range(0.0, 1.0);
     }

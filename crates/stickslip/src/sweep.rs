@@ -103,7 +103,8 @@ pub enum SweepCommand {
     },
     /// Render the map of DIR as SVG: regimes as colours and one quantity with a colour bar.
     Plot {
-        /// Sweep directory (with map.json).
+        /// Sweep directory: finished (map.json), or unfinished (its point records so far; the
+        /// missing points are drawn as not run yet).
         dir: PathBuf,
         /// The quantity of the second panel: any numeric column of map.csv (n_events,
         /// t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean,
@@ -449,14 +450,33 @@ fn submit_slurm(
 }
 
 fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
+    // A finished sweep has map.json; an unfinished one (running, interrupted, shards
+    // elsewhere) is drawn from the point records there are, its missing points marked.
     let json = match MapJson::read(dir) {
         Ok(j) => j,
-        Err(e) => {
-            return crate::fail(
-                format!("{e}; allowed: a sweep directory with map.json (run or merge it first)"),
-                2,
-            );
-        }
+        Err(e) => match stickslip_run::sweep::merge::read_map(dir) {
+            Ok(read) => {
+                if !read.complete {
+                    say!(
+                        "sweep {}: {} of {} points so far; the missing ones are drawn as \
+                         not run yet",
+                        read.sweep.name,
+                        read.table.rows.len(),
+                        read.sweep.points
+                    );
+                }
+                MapJson::new(&read.sweep, read.table)
+            }
+            Err(partial) => {
+                // A damaged map.json is the news; else why the directory holds no sweep.
+                let why = if dir.join(stickslip_run::sweep::map::JSON_FILE).exists() {
+                    e.to_string()
+                } else {
+                    partial.to_string()
+                };
+                return crate::fail(why, 2);
+            }
+        },
     };
     let panels = match stickslip_report::map::panels(&json, quantity) {
         Ok(p) => p,

@@ -120,6 +120,42 @@ fn results_do_not_depend_on_jobs_or_shards() {
     assert!(plotted.status.success(), "{}", texts(&plotted).1);
     let svg = std::fs::read_to_string(one.join("map_period_last.svg")).unwrap();
     assert!(svg.contains("stick_slip") && svg.contains("drive.velocity [m/s]"));
+    // Every numeric column is a quantity (f_mean was refused once); a colour bar, no swatches.
+    let plotted = sweep(&["plot", one.to_str().unwrap(), "--quantity", "f_mean"]);
+    assert!(plotted.status.success(), "{}", texts(&plotted).1);
+    let bogus = sweep(&["plot", one.to_str().unwrap(), "--quantity", "bogus"]);
+    assert_eq!(bogus.status.code(), Some(2));
+    assert!(texts(&bogus).1.contains("f_mean"), "{}", texts(&bogus).1);
+    // An unfinished sweep plots from its point records, the missing points marked.
+    let partial = tmp.path().join("partial");
+    copy_dir(&one, &partial);
+    for f in ["map.csv", "map.json"] {
+        std::fs::remove_file(partial.join(f)).unwrap();
+    }
+    let _ = std::fs::remove_dir_all(partial.join("shards"));
+    std::fs::remove_file(partial.join("points").join("0000001.json")).unwrap();
+    let plotted = sweep(&["plot", partial.to_str().unwrap()]);
+    assert!(plotted.status.success(), "{}", texts(&plotted).1);
+    assert!(
+        texts(&plotted).0.contains("8 of 9 points so far"),
+        "{}",
+        texts(&plotted).0
+    );
+    let svg = std::fs::read_to_string(partial.join("map_recovery.svg")).unwrap();
+    assert!(svg.contains("not run yet (1)") && svg.contains("partial, 8 of 9 points"));
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), target).unwrap();
+        }
+    }
 }
 
 #[test]
