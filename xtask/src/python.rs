@@ -24,8 +24,19 @@ cargo xtask python-test [--fresh] [-- PYTEST_ARGS...]
 Environment: STICKSLIP_PYTHON (the interpreter for the venv, default python3).";
 
 /// Test dependencies installed into the venv once (pandas and matplotlib exercise
-/// `RunResult.to_pandas` and the example's plots).
-const TEST_DEPS: [&str; 5] = ["maturin>=1.5,<2", "numpy", "pytest", "pandas", "matplotlib"];
+/// `RunResult.to_pandas` and the example's plots, tqdm the progress bar, nbclient and
+/// ipykernel execute the notebooks of examples/). A venv made with another list is brought
+/// up to this one.
+const TEST_DEPS: [&str; 8] = [
+    "maturin>=1.5,<2",
+    "numpy",
+    "pytest",
+    "pandas",
+    "matplotlib",
+    "tqdm",
+    "nbclient",
+    "ipykernel",
+];
 
 fn status(what: &str, cmd: &mut Command) -> Result<(), String> {
     match cmd.status() {
@@ -43,7 +54,8 @@ pub(crate) fn venv(root: &Path, fresh: bool) -> Result<(PathBuf, &'static str), 
         std::fs::remove_dir_all(&dir).map_err(|e| format!("removing {}: {e}", dir.display()))?;
     }
     let ready = dir.join(".stickslip-test-deps");
-    if python.is_file() && ready.is_file() {
+    let listed = std::fs::read_to_string(&ready).unwrap_or_default();
+    if python.is_file() && listed == TEST_DEPS.join("\n") {
         return Ok((python, "reused"));
     }
     let base = std::env::var("STICKSLIP_PYTHON").unwrap_or_else(|_| "python3".to_string());
