@@ -154,11 +154,13 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
     match outcome.stop {
         StopReason::Interrupted => {
             eprintln!(
-                "interrupted at t = {:e} s (step {}, {} events so far); checkpoint written to {}\n\
+                "interrupted at t = {:e} s (step {}, {} events so far); the data so far is in \
+                 {} (series.csv, events.csv, … as a finished run's), the checkpoint in {}\n\
                  resume with: stickslip resume {}",
                 outcome.t_final_s,
                 outcome.counts.steps,
                 outcome.events.len(),
+                dir.display(),
                 stickslip_run::checkpoint::path(dir).display(),
                 dir.display()
             );
