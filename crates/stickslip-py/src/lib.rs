@@ -13,6 +13,7 @@
 //!   `load_sweep` of a sweep directory, complete or partial;
 //! - [`progress`]: the GIL released while runs and sweeps work, taken back at most ten times
 //!   a second for Ctrl-C and progress callbacks;
+//! - [`boundary`]: the critical value of one key (the run library's bisection);
 //! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays, their inputs
 //!   checked (shape, type, finite values, sizes whose operators would not fit);
 //! - [`args`], [`convert`] and [`errors`]: arguments checked in the API's words, Python ⇄
@@ -26,6 +27,7 @@
 use pyo3::prelude::*;
 
 pub mod args;
+pub mod boundary;
 pub mod convert;
 pub mod errors;
 pub mod mdr;
@@ -44,6 +46,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(run::load, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(boundary::boundary, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::load_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::forward, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::back, m)?)?;

@@ -19,6 +19,7 @@
 //! codes); the physics comes from `stickslip-core`.
 
 pub mod atomic;
+pub mod boundary;
 pub mod build_id;
 pub mod check;
 pub mod checkpoint;

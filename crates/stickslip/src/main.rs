@@ -27,6 +27,7 @@ macro_rules! say_raw {
     }};
 }
 
+mod boundary;
 mod check;
 mod progress;
 mod reference;
@@ -85,6 +86,32 @@ enum Command {
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
+    },
+    /// Find where the regime changes along one key: both ends are run, then the bracket is
+    /// halved (geometric midpoints when both ends are > 0) until it is within --rtol; prints
+    /// the value, the regimes on both sides and the runs taken. Exit 2 when both ends have
+    /// the same regime.
+    Boundary {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// The scene key to vary (a number, in its unit: see `stickslip keys`).
+        #[arg(long, value_name = "SECTION.KEY")]
+        key: String,
+        /// One end of the range.
+        #[arg(long = "from", value_name = "LO", allow_hyphen_values = true)]
+        from: f64,
+        /// The other end.
+        #[arg(long = "to", value_name = "HI", allow_hyphen_values = true)]
+        to: f64,
+        /// Relative width of the final bracket: (hi − lo) ≤ rtol·max(|lo|, |hi|).
+        #[arg(long, default_value_t = 1e-3)]
+        rtol: f64,
+        /// Override a scene value (repeatable).
+        #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+        set: Vec<String>,
+        /// No line per run on stderr.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Finish an interrupted run from its checkpoint; the output is bit-identical to that of
     /// an uninterrupted run (run.json's wall_seconds aside).
@@ -273,6 +300,23 @@ fn main() -> ExitCode {
             Ok(r) => check::print(&r),
             Err(e) => fail(e, 2),
         },
+        Command::Boundary {
+            scene,
+            key,
+            from,
+            to,
+            rtol,
+            set,
+            quiet,
+        } => boundary::main(&boundary::Args {
+            scene: &scene,
+            set: &set,
+            key: &key,
+            from,
+            to,
+            rtol,
+            quiet,
+        }),
         Command::Resume {
             dir,
             quiet,

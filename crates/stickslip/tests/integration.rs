@@ -5,6 +5,7 @@
 mod common;
 
 mod bad_scenes;
+mod boundary;
 mod reference;
 mod resume;
 mod runs;

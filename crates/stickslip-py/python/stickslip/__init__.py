@@ -13,6 +13,7 @@ of dimensionality reduction), from Python. All quantities are SI.
     res = stickslip.load("out/fig2")                          # any run directory
     table = stickslip.sweep("maps/rigid.toml", jobs=2)        # map.csv as arrays
     table = stickslip.load_sweep("out/rigid")                 # complete or partial
+    b = stickslip.boundary(scene, "drive.velocity", 0.01, 3.0, rtol=1e-3)   # b["value"]
     q = stickslip.mdr.forward(tau, radius)                    # Eq. 13
 
 The numbers are those of the command line ``stickslip run``, bit for bit, for the same scene.
@@ -24,7 +25,7 @@ ValueError; ``.key``), ``SweepError`` (a SceneError), ``NumericalFailure`` (``.t
 """
 
 from . import _native, mdr
-from ._api import PathLike, SceneLike, load, load_sweep, resume, run, sweep
+from ._api import PathLike, SceneLike, boundary, load, load_sweep, resume, run, sweep
 from ._errors import Interrupted, NumericalFailure, SceneError, SweepError
 from ._native import Scene
 from ._progress import ProgressArg
@@ -44,6 +45,7 @@ __all__ = [
     "SceneError",
     "SceneLike",
     "SweepError",
+    "boundary",
     "load",
     "load_sweep",
     "mdr",
@@ -53,7 +55,7 @@ __all__ = [
 ]
 
 # The functions and classes say they belong to the package (help(), repr, pickling).
-for _obj in (load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure, SceneError,
+for _obj in (boundary, load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure, SceneError,
              SweepError, MapTable, RunResult):
     _obj.__module__ = __name__
 del _obj

@@ -1,4 +1,4 @@
-"""The functions of ``stickslip``: run, resume, load, sweep, load_sweep (re-exported by the
+"""The functions of ``stickslip``: run, resume, load, sweep, load_sweep, boundary (re-exported by the
 package; they wrap the native module, raise the package's exceptions and draw progress)."""
 
 from __future__ import annotations
@@ -277,3 +277,33 @@ def load_sweep(dir: PathLike) -> MapTable:
     """
     parts = _native.load_sweep(dir)
     return MapTable(parts["table"], points=parts["points"], complete=parts["complete"])
+
+
+def boundary(
+    scene: SceneLike, key: str, lo: float, hi: float, *, rtol: float = 1e-3
+) -> Dict[str, Any]:
+    """The value of ``key`` (a scene key taking a number, in its unit) between ``lo`` and
+    ``hi`` where the regime changes, as ``stickslip boundary`` finds it: both ends are run,
+    then the bracket is halved (geometric midpoints when both ends are > 0) until
+    ``hi - lo <= rtol * max(|lo|, |hi|)``.
+
+    Returns a dict: ``value`` (the final bracket's midpoint), ``below`` and ``above`` (the
+    regimes either side), ``lo`` and ``hi`` (the final bracket), ``runs`` (the ends
+    included), ``probes`` (every run as ``{"value", "regime"}``), ``key`` and ``rtol``.
+
+    Raises ``ValueError`` when both ends have the same regime, for a key that is not a
+    number and for a bad bracket or tolerance; ``SceneError`` for a value the scene refuses;
+    ``RuntimeError`` when a run fails numerically; ``Interrupted`` on Ctrl-C (seen between
+    runs; ``.result`` is None).
+    """
+    if isinstance(key, bool) or not isinstance(key, str):
+        raise TypeError(f"key: expected a scene key as a str, got {type(key).__name__}")
+    for name, value in (("lo", lo), ("hi", hi), ("rtol", rtol)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError(f"{name}: expected a number, got {type(value).__name__}")
+    try:
+        return dict(_native.boundary(_scene(scene), key, float(lo), float(hi), float(rtol)))
+    except KeyboardInterrupt as e:
+        if isinstance(e, Interrupted):
+            raise
+        raise Interrupted(f"stickslip.boundary interrupted ({e})") from None

@@ -74,6 +74,11 @@ def resume(
 def load(dir: _Path) -> Dict[str, Any]:
     """Internal: reads the run in ``dir``. Use ``stickslip.load``."""
 
+def boundary(
+    scene: Scene, key: str, lo: float, hi: float, rtol: float = ...
+) -> Dict[str, Any]:
+    """Internal: the bisection of ``stickslip.boundary``."""
+
 def sweep(
     sweep: Union[_Path, Mapping[str, Any]],
     jobs: Optional[int] = None,

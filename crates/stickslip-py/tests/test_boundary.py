@@ -1,0 +1,58 @@
+"""stickslip.boundary: the command line's bisection from Python, the same numbers, bad calls
+as exceptions."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+
+import pytest
+
+import stickslip
+from conftest import ROOT
+
+SETS = {
+    "contact.nodes": 50,
+    "time.max_events": 6,
+    "time.max_open_event": 2e-5,
+    "temperature.A0": 1e6,
+}
+
+
+def rigid() -> stickslip.Scene:
+    return stickslip.Scene.load(ROOT / "validation" / "scenes" / "rigid.toml").with_overrides(SETS)
+
+
+def test_boundary_brackets_the_critical_speed_as_the_cli_does() -> None:
+    b = stickslip.boundary(rigid(), "drive.velocity", 0.01, 3.0, rtol=1e-3)
+    assert b["below"] == "stick_slip" and b["above"] == "partial"
+    assert b["lo"] < b["value"] < b["hi"] and b["hi"] - b["lo"] <= 1e-3 * b["hi"] * 1.0001
+    assert b["runs"] == len(b["probes"]) <= 20
+    # The command line finds the same bracket.
+    args = [os.environ["STICKSLIP_BIN"], "boundary", str(ROOT / "validation/scenes/rigid.toml"),
+            "--key", "drive.velocity", "--from", "0.01", "--to", "3", "--quiet"]
+    for k, v in SETS.items():
+        args += ["--set", f"{k}={v}"]
+    out = subprocess.run(args, capture_output=True, text=True, check=True).stdout
+    assert f"{b['runs']} runs" in out
+    lo_text = out.split("bracket ")[1].split(" …")[0]
+    assert float(lo_text) == pytest.approx(b["lo"], rel=1e-5)
+
+
+@pytest.mark.parametrize(
+    "key, lo, hi, kw, exc, needle",
+    [
+        ("drive.velocity", 0.01, 0.02, {}, ValueError, "both give the regime"),
+        ("drive.speed", 0.01, 3.0, {}, ValueError, "no such scene key"),
+        ("contact.nodes", 10, 30, {}, ValueError, "does not take a real number"),
+        ("drive.velocity", 0.01, 3.0, {"rtol": 0.0}, ValueError, "rtol"),
+        ("drive.velocity", 0.01, 0.01, {}, ValueError, "--from"),
+        ("drive.velocity", float("nan"), 3.0, {}, ValueError, "finite"),
+        ("drive.velocity", "0.01", 3.0, {}, TypeError, "lo"),
+        (5, 0.01, 3.0, {}, TypeError, "key"),
+        ("contact.radius", -1.0, 2e-5, {}, stickslip.SceneError, "contact.radius"),
+    ],
+)
+def test_bad_boundary_calls_raise(key, lo, hi, kw, exc, needle) -> None:
+    with pytest.raises(exc, match=needle):
+        stickslip.boundary(rigid(), key, lo, hi, **kw)

@@ -1,0 +1,269 @@
+//! The critical value of one scene key: where the regime changes between two of its values,
+//! found by bisection (`stickslip boundary`, Python's `stickslip.boundary`).
+//!
+//! Both ends are run first; they must differ in regime. Each further run halves the bracket:
+//! at its geometric midpoint when both ends are positive (a relative tolerance halves the
+//! same number of times whatever the scale), else at its arithmetic one. The bracket closes
+//! when (hi − lo) ≤ rtol·max(|lo|, |hi|); the value reported is its midpoint, so it is within
+//! rtol/2 of every value of the bracket. A midpoint whose regime is neither end's (a third
+//! regime in between) counts as the upper side, and the answer says which regime lies above.
+//! Every run is the driver's, as in a sweep: the scene with `KEY=value` and nothing written.
+
+use crate::driver::{Control, NullSink, StartError};
+use crate::keys::{KEYS, ValueType};
+use crate::scene::{ResolvedScene, SceneError};
+use crate::summary::{Regime, RegimeThresholds};
+use serde::Serialize;
+use std::sync::atomic::AtomicBool;
+
+/// Most runs a search may take (the ends included): 60 halvings shrink any bracket of finite
+/// doubles below a relative 1e-15.
+pub const MAX_RUNS: usize = 64;
+
+/// One run of the search.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Probe {
+    /// The key's value, in its unit.
+    pub value: f64,
+    /// The regime there.
+    pub regime: Regime,
+}
+
+/// The result of a search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Boundary {
+    /// The key searched.
+    pub key: String,
+    /// The critical value: the midpoint of the final bracket.
+    pub value: f64,
+    /// The last value with the lower end's regime.
+    pub below: Probe,
+    /// The first value with another regime.
+    pub above: Probe,
+    /// Runs taken, the two ends included.
+    pub runs: usize,
+    /// Every run, in order.
+    pub probes: Vec<Probe>,
+    /// Midpoints geometric (both ends > 0) or arithmetic.
+    pub geometric: bool,
+    /// The relative tolerance asked for.
+    pub rtol: f64,
+}
+
+/// Why a search could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum BoundaryError {
+    /// The key is not a real-valued scene key.
+    #[error("--key {key}: {why}; allowed: a scene key that takes a number (stickslip keys)")]
+    Key {
+        /// The key given.
+        key: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// A bad bracket or tolerance.
+    #[error("{name} = {value}: out of range; allowed: {allowed}")]
+    Invalid {
+        /// The option.
+        name: &'static str,
+        /// Its value.
+        value: String,
+        /// The allowed range.
+        allowed: String,
+    },
+    /// A value the scene refuses.
+    #[error("{0}")]
+    Scene(#[from] SceneError),
+    /// The engine refused the configuration.
+    #[error("{0}")]
+    Start(#[from] StartError),
+    /// Both ends have the same regime: nothing to bracket.
+    #[error(
+        "{key} = {lo} and {hi} both give the regime {regime}: no change to bracket; allowed: \
+         ends with different regimes (widen the range, or map it with a sweep first)"
+    )]
+    SameRegime {
+        /// The key.
+        key: String,
+        /// Lower end.
+        lo: f64,
+        /// Upper end.
+        hi: f64,
+        /// Their regime.
+        regime: &'static str,
+    },
+    /// A run failed numerically: its regime is unknown.
+    #[error("{key} = {value}: the run failed ({message}); the search stops there")]
+    Failed {
+        /// The key.
+        key: String,
+        /// Where.
+        value: f64,
+        /// The failure.
+        message: String,
+    },
+    /// Interrupted (Ctrl-C); the bracket so far.
+    #[error("interrupted after {runs} runs; the boundary lies between {lo} and {hi}")]
+    Interrupted {
+        /// Runs taken.
+        runs: usize,
+        /// Lower side of the bracket.
+        lo: f64,
+        /// Upper side.
+        hi: f64,
+    },
+}
+
+/// Checks the key: a scene key taking a real number.
+fn check_key(key: &str) -> Result<(), BoundaryError> {
+    let bad = |why: &str| BoundaryError::Key {
+        key: key.to_string(),
+        why: why.to_string(),
+    };
+    match KEYS.iter().find(|k| k.path == key) {
+        None => Err(bad("no such scene key")),
+        Some(k) if k.value == ValueType::Real => Ok(()),
+        Some(_) => Err(bad("it does not take a real number")),
+    }
+}
+
+/// The regime of `base` with `key = value`, or None when interrupted.
+fn regime_at(
+    base: &ResolvedScene,
+    key: &str,
+    value: f64,
+    thresholds: RegimeThresholds,
+    interrupt: Option<&AtomicBool>,
+) -> Result<Option<Regime>, BoundaryError> {
+    let scene = base.with_overrides(&[format!("{key}={value:e}")])?;
+    let mut control = Control {
+        interrupt,
+        thresholds,
+        ..Control::default()
+    };
+    let outcome = crate::driver::run(&scene, &mut NullSink, &mut control)?;
+    if outcome.stop == crate::outcome::StopReason::Interrupted {
+        return Ok(None);
+    }
+    if let Some(f) = &outcome.failure {
+        return Err(BoundaryError::Failed {
+            key: key.to_string(),
+            value,
+            message: f.to_string(),
+        });
+    }
+    Ok(Some(outcome.summary.regime))
+}
+
+/// Brackets the regime change of `base` along `key` between `lo` and `hi` and bisects it to
+/// the relative tolerance `rtol`; `on_probe` sees every run as it ends.
+///
+/// # Errors
+/// See [`BoundaryError`].
+pub fn find(
+    base: &ResolvedScene,
+    key: &str,
+    (lo, hi): (f64, f64),
+    rtol: f64,
+    thresholds: RegimeThresholds,
+    interrupt: Option<&AtomicBool>,
+    on_probe: &mut dyn FnMut(&Probe),
+) -> Result<Boundary, BoundaryError> {
+    check_key(key)?;
+    for (name, v) in [("--from", lo), ("--to", hi)] {
+        if !v.is_finite() {
+            return Err(BoundaryError::Invalid {
+                name,
+                value: format!("{v}"),
+                allowed: "a finite number".into(),
+            });
+        }
+    }
+    if lo == hi {
+        return Err(BoundaryError::Invalid {
+            name: "--to",
+            value: format!("{hi:e}"),
+            allowed: format!("a value other than --from = {lo:e}"),
+        });
+    }
+    if !(rtol > 0.0 && rtol <= 0.5) {
+        return Err(BoundaryError::Invalid {
+            name: "--rtol",
+            value: format!("{rtol}"),
+            allowed: "0 < rtol <= 0.5".into(),
+        });
+    }
+    let (mut a, mut b) = (lo.min(hi), lo.max(hi));
+    let geometric = a > 0.0;
+    let mut probes = Vec::new();
+    let mut probe =
+        |value: f64, probes: &mut Vec<Probe>| -> Result<Option<Regime>, BoundaryError> {
+            let r = regime_at(base, key, value, thresholds, interrupt)?;
+            if let Some(regime) = r {
+                let p = Probe { value, regime };
+                on_probe(&p);
+                probes.push(p);
+            }
+            Ok(r)
+        };
+    let interrupted = |probes: &Vec<Probe>, a: f64, b: f64| BoundaryError::Interrupted {
+        runs: probes.len(),
+        lo: a,
+        hi: b,
+    };
+    let Some(ra) = probe(a, &mut probes)? else {
+        return Err(interrupted(&probes, a, b));
+    };
+    let Some(mut rb) = probe(b, &mut probes)? else {
+        return Err(interrupted(&probes, a, b));
+    };
+    if ra == rb {
+        return Err(BoundaryError::SameRegime {
+            key: key.to_string(),
+            lo: a,
+            hi: b,
+            regime: ra.name(),
+        });
+    }
+    while b - a > rtol * a.abs().max(b.abs()) && probes.len() < MAX_RUNS {
+        let mid = if geometric {
+            (a * b).sqrt()
+        } else {
+            0.5 * (a + b)
+        };
+        // Rounding can leave no double strictly inside the bracket.
+        if !(mid > a && mid < b) {
+            break;
+        }
+        let Some(r) = probe(mid, &mut probes)? else {
+            return Err(interrupted(&probes, a, b));
+        };
+        if r == ra {
+            a = mid;
+        } else {
+            b = mid;
+            rb = r;
+        }
+    }
+    let value = if geometric {
+        (a * b).sqrt()
+    } else {
+        0.5 * (a + b)
+    };
+    Ok(Boundary {
+        key: key.to_string(),
+        value,
+        below: Probe {
+            value: a,
+            regime: ra,
+        },
+        above: Probe {
+            value: b,
+            regime: rb,
+        },
+        runs: probes.len(),
+        probes,
+        geometric,
+        rtol,
+    })
+}
