@@ -135,6 +135,11 @@ fn table_dict<'py>(
         )?;
     }
     d.set_item("message", words(py, rows.iter().map(|r| r.message.clone())))?;
+    let steady: Vec<bool> = rows.iter().map(|r| r.summary.steady).collect();
+    d.set_item(
+        stickslip_run::sweep::map::STEADY_COLUMN,
+        PyArray1::from_vec(py, steady),
+    )?;
     Ok(d)
 }
 

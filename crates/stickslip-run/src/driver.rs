@@ -164,7 +164,7 @@ impl Snapshot<'_> {
         let state = self.sim;
         let events = state.events.events().to_vec();
         let t_final_s = state.drive.t_s;
-        let summary = summarize(
+        let mut summary = summarize(
             &SummaryInput {
                 events: &events,
                 no_solid_time_s: state.events.no_solid_time_s(),
@@ -173,6 +173,7 @@ impl Snapshot<'_> {
             },
             thresholds,
         );
+        summary.steady = self.scene.steady.is_steady(&events);
         RunOutcome {
             stop,
             failure,
@@ -546,6 +547,7 @@ impl Driver {
             }
             let i = self.state.loop_index + 1;
             let t = self.sim.time_s();
+            let ended_before = self.sim.state().events.ended();
             let stepped = if adaptive {
                 if t >= end {
                     return Ok(Some(StopReason::End));
@@ -578,6 +580,13 @@ impl Driver {
             let ended = self.sim.state().events.ended();
             if self.scene.max_events.is_some_and(|m| ended as u64 >= m) {
                 return Ok(Some(StopReason::MaxEvents));
+            }
+            // Periodic: checked when an event has just ended, so the last cycle is whole.
+            if self.scene.steady.stop
+                && ended > ended_before
+                && self.scene.steady.is_steady(self.sim.events())
+            {
+                return Ok(Some(StopReason::Periodic));
             }
             if let (Some(limit), Some(last)) =
                 (self.scene.max_open_event_s, self.sim.events().last())
@@ -618,7 +627,7 @@ impl Driver {
     ) -> io::Result<RunOutcome> {
         if matches!(
             stop,
-            StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent
+            StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent | StopReason::Periodic
         ) && self.state.recorder.last_series_t_s != Some(self.sim.time_s())
         {
             self.series_row(sink)?;

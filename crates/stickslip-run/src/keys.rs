@@ -680,6 +680,30 @@ pub const KEYS: &[Key] = &[
         Range::Positive,
         "stop once an event has stayed open this long (the film has not recovered; a sweep point's regime is clear)",
     ),
+    k(
+        "time.until",
+        Choice(&["end", "periodic"]),
+        "–",
+        Value("end"),
+        Range::Word,
+        "end: run to time.end; periodic: stop at the end of the event after which the last time.steady_cycles cycles repeat (period, stamp advance and peak force within time.steady_rtol), or at time.end; run.json's summary says `steady` either way",
+    ),
+    k(
+        "time.steady_cycles",
+        Integer,
+        "–",
+        Value("3"),
+        Range::Integers(1, 1000),
+        "cycles (onset to onset) that must repeat for a run to count as steady",
+    ),
+    k(
+        "time.steady_rtol",
+        Real,
+        "–",
+        Value("1e-3"),
+        Range::Open(0.0, 1.0),
+        "relative tolerance of that repetition (each of the cycles against the last one)",
+    ),
     rule(
         k(
             "output.profile_times",

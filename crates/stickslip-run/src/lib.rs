@@ -29,6 +29,7 @@ pub mod outcome;
 pub mod scene;
 pub mod schema;
 pub mod sink;
+pub mod steady;
 pub mod summary;
 pub mod sweep;
 

@@ -64,6 +64,8 @@ pub enum StopReason {
     MaxEvents,
     /// An event stayed open for `time.max_open_event`.
     OpenEvent,
+    /// The last cycles repeat (`time.until = "periodic"`).
+    Periodic,
     /// A numerical failure.
     Failure,
     /// Refused before the first step (the preflight's verdict, e.g. a diverging lagged sweep).
@@ -80,6 +82,7 @@ impl StopReason {
             Self::End => "end",
             Self::MaxEvents => "max_events",
             Self::OpenEvent => "open_event",
+            Self::Periodic => "periodic",
             Self::Failure => "failure",
             Self::Refused => "refused",
             Self::Interrupted => "interrupted",
@@ -90,7 +93,7 @@ impl StopReason {
     #[must_use]
     pub fn status(self) -> RunStatus {
         match self {
-            Self::End | Self::MaxEvents | Self::OpenEvent => RunStatus::Ok,
+            Self::End | Self::MaxEvents | Self::OpenEvent | Self::Periodic => RunStatus::Ok,
             Self::Failure | Self::Refused => RunStatus::Failed,
             Self::Interrupted => RunStatus::Interrupted,
         }

@@ -148,6 +148,11 @@ pub struct RunSummary {
     pub melted_time_fraction: Option<f64>,
     /// The regime.
     pub regime: Regime,
+    /// Whether the run's last cycles repeat (the run's `time.steady_cycles` and
+    /// `time.steady_rtol`): the regime is then that of the steady state, else of the window's
+    /// end.
+    #[serde(default)]
+    pub steady: bool,
 }
 
 /// What [`summarize`] needs from a run.
@@ -211,6 +216,7 @@ pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary 
         recovery,
         melted_time_fraction,
         regime,
+        steady: false,
     }
 }
 

@@ -12,3 +12,4 @@ mod scene_fuzz;
 mod scene_resolution;
 mod schema;
 mod sim;
+mod steady;

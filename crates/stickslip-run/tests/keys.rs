@@ -115,6 +115,9 @@ dt_max = 1.0
 dt_min = 1.0
 max_events = 1
 max_open_event = 1.0
+until = "periodic"
+steady_cycles = 1
+steady_rtol = 1.0
 [output]
 profile_times = [1.0]
 probe_radii = [1.0]

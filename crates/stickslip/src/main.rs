@@ -206,7 +206,7 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
                 3,
             )
         }
-        StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent => {
+        StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent | StopReason::Periodic => {
             say!(
                 "{name}: {} steps to t = {:e} s, {} melting events, {:.2} s wall; output in {}",
                 outcome.counts.steps,

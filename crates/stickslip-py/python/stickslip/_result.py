@@ -115,7 +115,8 @@ class MapTable(Dict[str, np.ndarray]):
     ``status`` (``ok`` | ``failed`` | ``refused``), ``regime`` (str objects), ``n_events``
     (int64), ``t_first_onset`` s, ``period_last`` s, ``x_period_last`` m, ``f_peak_first``
     N, ``f_peak_last`` N, ``f_mean`` N, ``recovery``, ``melted_time_fraction``, ``wall_s`` s
-    (float64, NaN for none), ``message`` (str objects).
+    (float64, NaN for none), ``message`` (str objects), ``steady`` (bool: the point's last
+    cycles repeat).
 
     Attributes:
         points: the number of points of the sweep.

@@ -243,6 +243,25 @@ pub struct TimeSection {
     /// Stop once an event has stayed open this long, s (default: none).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_open_event: Option<f64>,
+    /// `"end"` (default) or `"periodic"`: stop once the last cycles repeat.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub until: Option<Until>,
+    /// Cycles that must repeat (default 3).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steady_cycles: Option<i64>,
+    /// Relative tolerance of the repetition (default 1e-3).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steady_rtol: Option<f64>,
+}
+
+/// `time.until`: how long a run goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Until {
+    /// To `time.end` (or another stop rule).
+    End,
+    /// Until the last cycles repeat (see `crate::steady`), at most to `time.end`.
+    Periodic,
 }
 
 /// `[output]`: what is recorded.

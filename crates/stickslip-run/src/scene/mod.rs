@@ -97,6 +97,10 @@ pub struct ResolvedScene {
     pub max_events: Option<u64>,
     /// Stop once an event has stayed open this long, s (`time.max_open_event`).
     pub max_open_event_s: Option<f64>,
+    /// When the run counts as steady, and whether it stops there (`time.until`,
+    /// `time.steady_cycles`, `time.steady_rtol`).
+    #[serde(default)]
+    pub steady: crate::steady::SteadyRule,
     /// The scene with every default filled in (written to run.json, printed by `check`).
     pub resolved: Scene,
     /// The scene as written, overrides applied: what [`ResolvedScene::with_overrides`]

@@ -267,8 +267,9 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
 }
 
 /// Stepping, adaptive control and the filled-in `[time]` section.
-/// The stop rules of `[time]` besides the end: `max_events`, `max_open_event` (s).
-type Stops = (Option<u64>, Option<f64>);
+/// The stop rules of `[time]` besides the end: `max_events`, `max_open_event` (s), and the
+/// steady-cycle rule (`until`, `steady_cycles`, `steady_rtol`).
+type Stops = (Option<u64>, Option<f64>, crate::steady::SteadyRule);
 
 fn resolve_time(
     t: &TimeSection,
@@ -319,6 +320,21 @@ fn resolve_time(
         .max_open_event
         .map(|v| keys::check("time.max_open_event", v))
         .transpose()?;
+    let until = t.until.unwrap_or(super::file::Until::End);
+    let steady_cycles = match t.steady_cycles {
+        None => crate::steady::DEFAULT_CYCLES,
+        Some(n) => keys::check("time.steady_cycles", n as f64).map(|_| n.unsigned_abs())?,
+    };
+    let steady_rtol = or_default(
+        t.steady_rtol,
+        "time.steady_rtol",
+        crate::steady::DEFAULT_RTOL,
+    )?;
+    let steady = crate::steady::SteadyRule {
+        stop: until == super::file::Until::Periodic,
+        cycles: steady_cycles,
+        rtol: steady_rtol,
+    };
     let section = TimeSection {
         end: Some(end),
         dt: Some(dt),
@@ -329,6 +345,9 @@ fn resolve_time(
         dt_min: adaptive.map(|a| a.dt_min_s),
         max_events: t.max_events,
         max_open_event,
+        until: Some(until),
+        steady_cycles: Some(steady_cycles as i64),
+        steady_rtol: Some(steady_rtol),
     };
     let config = TimeConfig {
         end_s: end,
@@ -336,7 +355,7 @@ fn resolve_time(
         scheme,
         adaptive,
     };
-    Ok((config, (max_events, max_open_event), section))
+    Ok((config, (max_events, max_open_event, steady), section))
 }
 
 /// `adaptive_tolerance`: `time.tolerance` when stepping is adaptive (the coupling solve's
@@ -481,7 +500,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
 
     let (drive, integrator, drive_section) =
         resolve_drive(&scene.drive.clone().unwrap_or_default())?;
-    let (time, (max_events, max_open_event_s), time_section) =
+    let (time, (max_events, max_open_event_s, steady), time_section) =
         resolve_time(&scene.time.clone().unwrap_or_default(), &noise)?;
     let (numerics, numerics_section) = resolve_numerics(
         &scene.numerics.clone().unwrap_or_default(),
@@ -558,6 +577,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         output,
         max_events,
         max_open_event_s,
+        steady,
         resolved,
         source: toml::Table::new(),
         derived,

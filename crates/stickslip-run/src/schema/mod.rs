@@ -136,7 +136,8 @@ pub fn markdown() -> String {
     out.push_str(
         "\n### `run.json`\n\n`name`, `status` (`running` | `interrupted` | `ok` | `failed`), \
          `failure` (null, or `{time_s, step, node, r_m, quantity, value, reason, message}`), \
-         `stop` (`end` | `max_events` | `open_event` | `failure` | `refused` | `interrupted`), `version`, `scene` (as \
+         `stop` (`end` | `max_events` | `open_event` | `periodic` | `failure` | `refused` | \
+         `interrupted`), `version`, `scene` (as \
          resolved), `derived` (b, A, eps_c, phi0, omega, g_eff, nodes, steps_planned, \
          lagged_sweep_contraction, melting_force, critical_displacement, spring_period, \
          euler_number, first_onset_estimate), `warnings`, `steps`, `accepted_steps`, \
@@ -144,7 +145,7 @@ pub fn markdown() -> String {
          `coupling_iterations`, \
          `seed`, `events`, `series_rows`, `columns` (file → column → unit) and `summary` (n_events, \
          t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean, recovery, \
-         melted_time_fraction, regime).\n",
+         melted_time_fraction, regime, steady).\n",
     );
     out
 }

@@ -19,6 +19,10 @@ pub const CSV_FILE: &str = "map.csv";
 /// File name of the sweep as resolved with the table.
 pub const JSON_FILE: &str = "map.json";
 
+/// The last column of map.csv (after `message`): whether the point's last cycles repeat
+/// (`true`/`false`, run.json's `summary.steady`).
+pub const STEADY_COLUMN: &str = "steady";
+
 /// The summary columns after the axes and status, in order.
 pub const SUMMARY_COLUMNS: [Column; 11] = [
     Column {
@@ -182,6 +186,7 @@ impl MapTable {
         h.push("status".into());
         h.extend(SUMMARY_COLUMNS.iter().map(|c| c.name.to_string()));
         h.push("message".into());
+        h.push(STEADY_COLUMN.into());
         h
     }
 
@@ -211,6 +216,7 @@ impl MapTable {
                 cells.push(num(v));
             }
             cells.push(quote(&r.message));
+            cells.push(s.steady.to_string());
             out.push_str(&cells.join(","));
             out.push('\n');
         }
@@ -225,7 +231,9 @@ impl MapTable {
         let bad = |line: usize, m: String| SchemaError::new(CSV_FILE, Some(line), m);
         let mut lines = text.lines();
         let header = cells(lines.next().ok_or_else(|| bad(1, "empty file".into()))?);
-        let fixed = 1 + 1 + SUMMARY_COLUMNS.len() + 1;
+        // `steady` came last, after `message`: a map.csv written before it reads as not steady.
+        let has_steady = header.last().is_some_and(|h| h == STEADY_COLUMN);
+        let fixed = 1 + 1 + SUMMARY_COLUMNS.len() + 1 + usize::from(has_steady);
         if header.len() < fixed || header[0] != "point" {
             return Err(bad(1, format!("header {header:?}")));
         }
@@ -275,6 +283,7 @@ impl MapTable {
                     recovery: f(base + 9)?,
                     melted_time_fraction: f(base + 10)?,
                     regime,
+                    steady: has_steady && c[base + 13] == "true",
                 },
                 wall_s: f(base + 11)?.unwrap_or(f64::NAN),
                 message: c[base + 12].clone(),

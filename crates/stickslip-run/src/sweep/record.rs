@@ -141,6 +141,7 @@ impl PointRecord {
                 recovery: None,
                 melted_time_fraction: None,
                 regime: Regime::NoMelting,
+                steady: false,
             },
             wall_s,
             run_s: 0.0,

@@ -116,6 +116,11 @@ pub fn markdown() -> String {
         out.push_str(&format!("| `{}` | {} | {} |\n", c.name, c.unit, c.meaning));
     }
     out.push_str("| `message` | – | the failure or refusal, in one line (empty when ok) |\n");
+    out.push_str(
+        "| `steady` | – | `true` when the point's last time.steady_cycles cycles repeat within \
+         time.steady_rtol (its regime is the steady state's), else `false` (taken at the end of \
+         its window; a map.csv without this column reads as `false`) |\n",
+    );
 
     out.push_str(
         "\n### Regimes\n\nDecided in this order (R: the largest area-weighted ⟨φ⟩/√(A/a) over \
