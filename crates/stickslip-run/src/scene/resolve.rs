@@ -454,6 +454,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         eps_max: required(l.eps_max, "lubricant.eps_max")?,
         a_pa: required(l.a, "lubricant.a")?,
         gamma_per_pa_s: required(l.gamma, "lubricant.gamma")?,
+        cubic_pa: 0.0,
     };
     let melt_threshold = or_default(
         l.melt_threshold,
