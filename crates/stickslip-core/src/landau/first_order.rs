@@ -168,6 +168,17 @@ struct Path {
     d0_hi: f64,
     /// Whether φ moves towards `hi`.
     up: bool,
+    /// Reciprocals used at every evaluation (1/k, 1/(φ₀ − φ±), 1/φ±, 1/(φ₊ − φ₋), 1/(hi − lo)),
+    /// d0_lo/d0_hi, and the φ₀ end of g[0, φ₋] when φ₋ is small (module docs).
+    inv_k: f64,
+    inv_dp0: f64,
+    inv_dm0: f64,
+    inv_rp: f64,
+    inv_rm: f64,
+    inv_sep: f64,
+    inv_w: f64,
+    ratio0: f64,
+    g_minus0: f64,
 }
 
 impl Path {
@@ -215,6 +226,12 @@ impl Path {
         };
         let separated = matches!(branches, Branches::Real { .. })
             && (rp - rm) * (rp - rm) >= 0.5 * (rp + rm) * (rp + rm);
+        let (d0_lo, d0_hi) = (phi0 - lo, hi - phi0);
+        let g_minus0 = if separated && rm.abs() <= 0.5 * phi0 {
+            log1p_over(-rm / phi0) / phi0
+        } else {
+            0.0
+        };
         Some(Self {
             phi0,
             k: gamma * b,
@@ -230,9 +247,18 @@ impl Path {
             dm0,
             lo,
             hi,
-            d0_lo: phi0 - lo,
-            d0_hi: hi - phi0,
+            d0_lo,
+            d0_hi,
             up,
+            inv_k: 1.0 / (gamma * b),
+            inv_dp0: 1.0 / dp0,
+            inv_dm0: 1.0 / dm0,
+            inv_rp: 1.0 / rp,
+            inv_rm: 1.0 / rm,
+            inv_sep: 1.0 / (rp - rm),
+            inv_w: 1.0 / (hi - lo),
+            ratio0: d0_lo / d0_hi,
+            g_minus0,
         })
     }
 
@@ -242,14 +268,19 @@ impl Path {
             // σ = ln(d_lo/d_hi), ζ = ±σ: d_lo = w·E/(1 + E), d_hi = w/(1 + E), E = e^σ,
             // evaluated on the side where E or 1/E is at most 1.
             let w = self.hi - self.lo;
-            let ratio = self.d0_lo / self.d0_hi;
             let grow = dz.exp();
-            let e = if self.up { ratio * grow } else { ratio / grow };
+            let e = if self.up {
+                self.ratio0 * grow
+            } else {
+                self.ratio0 / grow
+            };
             let (d_lo, d_hi) = if e <= 1.0 {
-                (w * e / (1.0 + e), w / (1.0 + e))
+                let scale = w / (1.0 + e);
+                (e * scale, scale)
             } else {
                 let f = 1.0 / e;
-                (w / (1.0 + f), w * f / (1.0 + f))
+                let scale = w / (1.0 + f);
+                (scale, f * scale)
             };
             let (slope, curve) = self.finite_slopes(d_lo, d_hi);
             (d_lo, d_hi, slope, curve)
@@ -302,9 +333,8 @@ impl Path {
     /// ends: dφ/dσ = d_lo·d_hi/w, d²φ/dσ² = dφ/dσ·(d_hi − d_lo)/w, ζ = ±σ, u = d_hi moving up,
     /// d_lo moving down.
     fn finite_slopes(&self, d_lo: f64, d_hi: f64) -> (f64, f64) {
-        let w = self.hi - self.lo;
-        let other = if self.up { d_lo } else { d_hi } / w;
-        let curve = other * (d_hi - d_lo) / w;
+        let other = if self.up { d_lo } else { d_hi } * self.inv_w;
+        let curve = other * (d_hi - d_lo) * self.inv_w;
         (if self.up { other } else { -other }, curve)
     }
 
@@ -325,9 +355,10 @@ impl Path {
             Case::BelowBarrier | Case::BelowFold | Case::Melting => self.k * q,
         };
         let r = pt.dphi_dz_u;
+        let inv_m = 1.0 / m;
         (
-            -r / m,
-            (q + pt.phi * dq) * self.k * r * r / (m * m) - pt.d2phi_dz2_u / m,
+            -r * inv_m,
+            ((q + pt.phi * dq) * self.k * r * r * inv_m - pt.d2phi_dz2_u) * inv_m,
         )
     }
 
@@ -358,7 +389,7 @@ impl Path {
 
     /// T(φ), s: the time the path takes from φ₀ to the point.
     fn time(&self, pt: &Point) -> f64 {
-        -self.integral(pt) / self.k
+        -self.integral(pt) * self.inv_k
     }
 
     /// I = ∫ from φ₀ to φ of ds/(s·q(s)) (module docs).
@@ -371,15 +402,17 @@ impl Path {
             return self.series(pt);
         }
         if self.separated {
-            let (rp, rm) = (self.rp, self.rm);
-            let g_plus = ((pt.dp / self.dp0).abs() * (phi0 / phi)).ln() / rp;
+            let rm = self.rm;
+            let r = phi0 / phi;
+            let g_plus = ((pt.dp * self.inv_dp0).abs() * r).ln() * self.inv_rp;
             let g_minus = if rm.abs() <= 0.5 * phi.min(phi0) {
                 // (ln|1 − φ₋/φ| − ln|1 − φ₋/φ₀|)/φ₋ without dividing by a small φ₋.
-                log1p_over(-rm / phi0) / phi0 - log1p_over(-rm / phi) / phi
+                let inv_phi = r / phi0;
+                self.g_minus0 - log1p_over(-rm * inv_phi) * inv_phi
             } else {
-                ((pt.dm / self.dm0).abs() * (phi0 / phi)).ln() / rm
+                ((pt.dm * self.inv_dm0).abs() * r).ln() * self.inv_rm
             };
-            return (g_plus - g_minus) / (rp - rm);
+            return (g_plus - g_minus) * self.inv_sep;
         }
         // Near or beyond the fold: p > e₁²/8 > 0.
         let r = phi0 / phi;
