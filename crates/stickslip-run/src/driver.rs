@@ -592,7 +592,11 @@ impl Driver {
                 events: &events,
                 no_solid_time_s: state.events.no_solid_time_s(),
                 t_final_s: self.sim.time_s(),
-                a_coeff_start_pa: self.preflight.derived.a_coeff_pa,
+                starts_liquid: !self
+                    .sim
+                    .config()
+                    .lubricant
+                    .starts_solid(self.preflight.derived.a_coeff_pa),
             },
             thresholds,
         );
