@@ -668,7 +668,7 @@ pub const KEYS: &[Key] = &[
             "–",
             Value("5e-5 (adaptive)"),
             Range::Open(0.0, 1.0),
-            "allowed local error per step, relative to scales that follow the state: φ to max(φ, melt threshold), the strain to εc(t), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0)",
+            "allowed local error per step, relative to scales that follow the state: φ to max(φ, melt threshold), the strain to εc(t) (ε₊(t) for a first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0)",
         ),
         "only with stepping = \"adaptive\"",
     ),

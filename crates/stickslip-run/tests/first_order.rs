@@ -297,3 +297,40 @@ fn above_the_melting_temperature_a_metastable_solid_melts_once_and_stays_liquid(
     assert_eq!(outcome.summary.regime.name(), "sliding");
     assert!(out.series.f_n.iter().all(|&f| f == 0.0));
 }
+
+#[test]
+fn a_vanishing_cubic_term_gives_the_second_order_films_run() {
+    // b₃ = 1e-9·b·φ0 against b₃ = 0 through the first event: the first-order film's step,
+    // thresholds and error estimate tend to the second-order film's.
+    let base = [
+        "contact.nodes=40",
+        "time.end=7e-4",
+        "output.profile_times=[7e-4]",
+    ];
+    let b3 = 1e-9 * B_PA * (A_COEFF_PA / A_PA).sqrt();
+    let cubic = format!("lubricant.cubic={b3}");
+    let (second, out2) = run_in_memory(&scene("fig2", &base), &mut Control::default()).unwrap();
+    let (first, out1) = run_in_memory(
+        &scene("fig2", &[&base[..], &[cubic.as_str()]].concat()),
+        &mut Control::default(),
+    )
+    .unwrap();
+    assert_eq!(first.events.len(), second.events.len());
+    for (a, b) in first.events.iter().zip(&second.events) {
+        let (da, df) = (
+            (a.t_onset_s - b.t_onset_s).abs() / b.t_onset_s,
+            (a.f_peak_n - b.f_peak_n).abs() / b.f_peak_n,
+        );
+        eprintln!(
+            "onset {:e} s: relative differences {da:.1e} (onset), {df:.1e} (f_peak)",
+            b.t_onset_s
+        );
+        assert!(da < 1e-6 && df < 1e-6);
+    }
+    let (f1, f2) = (
+        out1.series.f_n.last().unwrap(),
+        out2.series.f_n.last().unwrap(),
+    );
+    assert!((f1 - f2).abs() <= 1e-6 * f2.abs(), "{f1} vs {f2}");
+    assert!((out1.info.derived.phi0 / out2.info.derived.phi0 - 1.0).abs() < 1e-8);
+}
