@@ -630,9 +630,22 @@ fn word(decreasing: bool) -> &'static str {
 
 /// C8 on the melt scene: complete melting at all times, |F| ≤ [`C8_FORCE_TOL`]·τmax·πa0²,
 /// no event after t = 0, and X(t) = V0 t − (V0/ω) sin ωt within [`C8_X_TOL`].
+///
+/// The claim's premise is a film liquid from the start. A ≤ 0 gives one for the paper's
+/// second-order film; a first-order film (docs/model.md#the-first-order-film) may instead
+/// start as a metastable solid (run.json's `derived.metastable_solid`), which carries a force
+/// until it melts: such a run does not test C8 and fails it with that reason.
 pub fn c8_part(run: &RunOutput) -> Part {
     let s = &run.series;
     let info = &run.info;
+    if info.derived.metastable_solid == Some(true) {
+        return Part::fail(format!(
+            "{}: the film starts solid (phi0 = {}; a first-order film's metastable solid above \
+             the melting temperature): not the liquid start C8 is about",
+            info.name,
+            fmt::sig(info.derived.phi0, 4)
+        ));
+    }
     let Some(omega) = info.omega_rad_per_s() else {
         return Part::fail(format!("{}: not a spring drive", run.info.name));
     };

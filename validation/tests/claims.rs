@@ -146,6 +146,16 @@ fn c8_flags_any_friction_or_departure_from_the_free_spring() {
     let mut dragged = r.clone();
     dragged.series.x_m[500] *= 1.0 - 1e-4;
     assert!(!c8_part(&dragged).pass);
+    // A first-order film above the melting temperature that starts as a metastable solid is
+    // not C8's liquid start, whatever its series.
+    let mut metastable = r.clone();
+    metastable.info.derived.metastable_solid = Some(true);
+    let part = c8_part(&metastable);
+    assert!(
+        !part.pass && part.text.contains("metastable"),
+        "{}",
+        part.text
+    );
 }
 
 #[test]

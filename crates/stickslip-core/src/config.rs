@@ -118,7 +118,9 @@ pub struct NumericsConfig {
     /// Relative residual to which the accurate scheme solves the elastic coupling (default 1e-10).
     pub coupling_tol: f64,
     /// A step fails as a runaway when |τ| exceeds this multiple of τmax (default 10): the
-    /// stationary curve never exceeds τmax and transients stay within a few τmax.
+    /// stationary curve never exceeds τmax and transients stay within a few τmax. For the
+    /// first-order film the multiple is of its stationary curve's peak at A(0) when that is
+    /// larger ([`crate::landau::LandauParams::peak_stress_pa`]).
     pub runaway_stress_factor: f64,
     /// Form of the MDR transforms; `None` = automatic: fast for the accurate scheme, dense
     /// (the paper's direct sums) for the literal one.
@@ -201,6 +203,14 @@ impl SimConfig {
         positive("lubricant.eps_max", l.eps_max)?;
         positive("lubricant.a", l.a_pa)?;
         positive("lubricant.gamma", l.gamma_per_pa_s)?;
+        // The upper bound keeps b₃² finite (the moduli's bound).
+        if !(l.cubic_pa >= 0.0 && l.cubic_pa <= MODULUS_RANGE_PA.1) {
+            return Err(ConfigError::new(
+                "lubricant.cubic",
+                l.cubic_pa,
+                &format!("finite, >= 0 and <= {:e} Pa", MODULUS_RANGE_PA.1),
+            ));
+        }
         if !(self.melt_threshold.is_finite() && self.melt_threshold > 0.0) {
             return Err(ConfigError::new(
                 "lubricant.melt_threshold",
@@ -402,6 +412,7 @@ impl SimConfig {
             eps_max: 1.0,
             a_pa: 1e6,
             gamma_per_pa_s: 10.0,
+            cubic_pa: 0.0,
         };
         Self {
             lubricant,
@@ -443,9 +454,11 @@ pub struct Derived {
     pub b_pa: f64,
     /// A at t = 0, Pa (Eq. 17/18).
     pub a_coeff_pa: f64,
-    /// Critical strain εc = √(A·b)/a at t = 0 (0 when A ≤ 0).
+    /// Critical strain εc = √(A·b)/a at t = 0 (0 when A ≤ 0): where the second-order film
+    /// melts, and where a liquid first-order film re-solidifies (ε₋).
     pub eps_c: f64,
-    /// Equilibrium order parameter at zero strain φ0 = √(A/a) (0 when A ≤ 0).
+    /// The unstrained solid film at t = 0, the initial state: φ0 = √(A/a) (0 when A ≤ 0), or
+    /// the first-order film's φ₊(0) = [b₃ + √(b₃² + 4b·A·b/a)]/(2b) (0 when that does not exist).
     pub phi0: f64,
     /// ω = √(K/m) of the spring drive, rad/s (0 for the rigid drive).
     pub omega_rad_per_s: f64,
@@ -460,7 +473,7 @@ impl Derived {
             b_pa: l.b_pa(),
             a_coeff_pa: a_coeff,
             eps_c: l.critical_strain(a_coeff),
-            phi0: l.equilibrium_phi(0.0, a_coeff),
+            phi0: l.solid_phi(0.0, a_coeff),
             omega_rad_per_s: match config.drive {
                 Drive::Spring(s) => s.omega_rad_per_s(),
                 Drive::Rigid(_) => 0.0,

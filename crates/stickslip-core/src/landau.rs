@@ -1,9 +1,11 @@
 //! Landau kinetics of the lubricant's order parameter φ (paper Eq. 1–8, 17, 18): parameters,
-//! equilibrium, stress, temperature laws and three steppers for Eq. 8 with the strain frozen.
+//! equilibrium, stress, temperature laws and three steppers for Eq. 8 with the strain frozen;
+//! [`first_order`] adds the cubic term of the first-order film.
 //!
 //! Model (SI units throughout; φ is dimensionless, ε is a dimensionless shear strain):
 //!
-//! - free energy density f = α(T−Tc)φ² + (a/2)φ²ε² + (b/4)φ⁴ (Eq. 1);
+//! - free energy density f = α(T−Tc)φ² + (a/2)φ²ε² + (b/4)φ⁴ (Eq. 1), plus −(b₃/3)φ³ for the
+//!   first-order film (b₃ = [`LandauParams::cubic_pa`] > 0; docs/model.md#the-first-order-film);
 //! - shear stress τ = a·φ²·ε (Eq. 2, 12);
 //! - b = 2a²εmax³/τmax (Eq. 6) and, at constant temperature, A = 1.5·τmax/εmax (Eq. 17);
 //! - equilibrium φ0² = A/a − (a/b)ε², zero for ε ≥ εc = √(A·b)/a (Eq. 3, 4);
@@ -15,7 +17,10 @@
 //! y(t) = c·y0·e^(−2γct) / (c + b·y0·(1 − e^(−2γct))) (and y0/(1 + 2γ·b·y0·t) for c = 0).
 //! [`PhiStepper::Exact`] evaluates it without overflow for any step; [`PhiStepper::ExplicitEuler`]
 //! is the paper's scheme; [`PhiStepper::ImplicitEuler`] is a cheap, unconditionally stable
-//! first-order alternative.
+//! first-order alternative. With b₃ > 0 each stepper dispatches to its [`first_order`]
+//! counterpart; with b₃ = 0 they run the code above unchanged.
+
+pub mod first_order;
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -63,6 +68,14 @@ pub struct LandauParams {
     pub a_pa: f64,
     /// Kinetic coefficient γ of Eq. 8, 1/(Pa·s).
     pub gamma_per_pa_s: f64,
+    /// Cubic coefficient b₃ of the first-order film's free energy −(b₃/3)φ³, Pa (≥ 0; 0 is the
+    /// paper's second-order film, and then every function here runs the second-order code).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cubic_pa: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl LandauParams {
@@ -81,12 +94,23 @@ impl LandauParams {
             eps_max,
             a_pa,
             gamma_per_pa_s,
+            cubic_pa: 0.0,
         };
         params.validate()?;
         Ok(params)
     }
 
-    /// Checks that every field is finite and > 0.
+    /// The same parameters with the cubic coefficient b₃ (Pa) of the first-order film.
+    ///
+    /// # Errors
+    /// [`LandauParamError`] when b₃ is not finite and ≥ 0.
+    pub fn with_cubic(self, cubic_pa: f64) -> Result<Self, LandauParamError> {
+        let params = Self { cubic_pa, ..self };
+        params.validate()?;
+        Ok(params)
+    }
+
+    /// Checks that τmax, εmax, a, γ are finite and > 0 and b₃ is finite and ≥ 0.
     ///
     /// # Errors
     /// [`LandauParamError`] naming the first offending field.
@@ -94,7 +118,22 @@ impl LandauParams {
         require_positive("tau_max_pa", self.tau_max_pa)?;
         require_positive("eps_max", self.eps_max)?;
         require_positive("a_pa", self.a_pa)?;
-        require_positive("gamma_per_pa_s", self.gamma_per_pa_s)
+        require_positive("gamma_per_pa_s", self.gamma_per_pa_s)?;
+        if self.cubic_pa.is_finite() && self.cubic_pa >= 0.0 {
+            Ok(())
+        } else {
+            Err(LandauParamError {
+                field: "cubic_pa",
+                value: self.cubic_pa,
+                allowed: "finite and >= 0",
+            })
+        }
+    }
+
+    /// Whether the film is the first-order one (b₃ > 0).
+    #[must_use]
+    pub fn is_first_order(&self) -> bool {
+        self.cubic_pa != 0.0
     }
 
     /// Quartic coefficient b = 2·a²·εmax³/τmax of Eq. 1, in Pa (Eq. 6).
@@ -128,6 +167,135 @@ impl LandauParams {
     pub fn bernoulli_c_pa(&self, eps: f64, a_coeff_pa: f64) -> f64 {
         self.a_pa * eps * eps - a_coeff_pa * self.b_pa() / self.a_pa
     }
+
+    /// The solid film's order parameter at strain ε: [`equilibrium_phi`] (Eq. 3) for b₃ = 0;
+    /// for the first-order film the solid branch φ₊(ε) = [b₃ + √(b₃² − 4b·c)]/(2b), c = a·ε² −
+    /// A·b/a, while it exists (|ε| ≤ ε₊, [`LandauParams::melting_strain`]), else 0. At ε = 0
+    /// this is the film's initial state and the level against which its recovery is measured.
+    #[must_use]
+    pub fn solid_phi(&self, eps: f64, a_coeff_pa: f64) -> f64 {
+        if self.cubic_pa == 0.0 {
+            return self.equilibrium_phi(eps, a_coeff_pa);
+        }
+        match first_order::branches(
+            self.bernoulli_c_pa(eps, a_coeff_pa),
+            self.b_pa(),
+            self.cubic_pa,
+        ) {
+            first_order::Branches::Real { plus, .. } => plus,
+            first_order::Branches::Fold { at } => at,
+            first_order::Branches::Liquid => 0.0,
+        }
+    }
+
+    /// The barrier φ₋(ε) = 2c/(b₃ + √(b₃² − 4b·c)) of the first-order film between the liquid
+    /// and the solid branch (negative where the liquid is unstable, c < 0); 0 for b₃ = 0 or
+    /// where no solid branch exists.
+    #[must_use]
+    pub fn barrier_phi(&self, eps: f64, a_coeff_pa: f64) -> f64 {
+        if self.cubic_pa == 0.0 {
+            return 0.0;
+        }
+        match first_order::branches(
+            self.bernoulli_c_pa(eps, a_coeff_pa),
+            self.b_pa(),
+            self.cubic_pa,
+        ) {
+            first_order::Branches::Real { minus, .. } => minus,
+            first_order::Branches::Fold { at } => at,
+            first_order::Branches::Liquid => 0.0,
+        }
+    }
+
+    /// The strain at which the solid film melts: εc ([`critical_strain`]) for b₃ = 0; for the
+    /// first-order film the end of the solid branch (the fold), ε₊ = √((A·b/a + b₃²/(4b))/a),
+    /// where φ drops from b₃/(2b) to 0; 0 when no solid film exists at any strain.
+    #[must_use]
+    pub fn melting_strain(&self, a_coeff_pa: f64) -> f64 {
+        if self.cubic_pa == 0.0 {
+            return self.critical_strain(a_coeff_pa);
+        }
+        let b = self.b_pa();
+        let sq =
+            (a_coeff_pa * b / self.a_pa + self.cubic_pa * self.cubic_pa / (4.0 * b)) / self.a_pa;
+        if sq > 0.0 { sq.sqrt() } else { 0.0 }
+    }
+
+    /// The strain below which a liquid film re-solidifies (φ = 0 loses stability): εc for either
+    /// film (ε₋ = εc, [`critical_strain`]); the first-order film jumps there to φ₊(εc) = b₃/b.
+    #[must_use]
+    pub fn solidification_strain(&self, a_coeff_pa: f64) -> f64 {
+        self.critical_strain(a_coeff_pa)
+    }
+
+    /// Width of the first-order film's hysteresis in the squared strain, ε₊² − ε₋² =
+    /// b₃²/(4·a·b), independent of temperature (while A > 0); 0 for b₃ = 0.
+    #[must_use]
+    pub fn hysteresis_width(&self) -> f64 {
+        self.cubic_pa * self.cubic_pa / (4.0 * self.a_pa * self.b_pa())
+    }
+
+    /// Shear stress on the solid branch where it ends, τ(ε₊) = a·(b₃/(2b))²·ε₊, Pa (for b₃ = 0
+    /// the branch ends at εc with φ = 0: τ = 0).
+    #[must_use]
+    pub fn melting_stress_pa(&self, a_coeff_pa: f64) -> f64 {
+        let phi = self.cubic_pa / (2.0 * self.b_pa());
+        stress(phi, self.melting_strain(a_coeff_pa), self.a_pa)
+    }
+
+    /// The largest stress on the stationary stress–strain curve, Pa: τmax for the second-order
+    /// film (its parameter, Eq. 6); for the first-order film the peak of τ = a·φ₊(ε)²·ε over
+    /// the solid branch at this A, which the cubic term raises above τmax. Where
+    /// d(φ₊²ε)/dε = 0, φ₊ + 2ε·φ₊' = 0 with φ₊' = −2aε/(2bφ₊ − b₃), so 6b·φ² − 5b₃·φ − 4A' = 0
+    /// (A' = A·b/a): φ* = [5b₃ + √(25b₃² + 96b·A')]/(12b), ε*² = (A' + b₃φ* − bφ*²)/a; else the
+    /// curve peaks where the branch ends, at ε₊. 0 when no solid film exists.
+    #[must_use]
+    pub fn peak_stress_pa(&self, a_coeff_pa: f64) -> f64 {
+        if self.cubic_pa == 0.0 {
+            return self.tau_max_pa;
+        }
+        let (a, b, b3) = (self.a_pa, self.b_pa(), self.cubic_pa);
+        let ap = a_coeff_pa * b / a;
+        let at_end = if self.solid_phi(0.0, a_coeff_pa) > 0.0 {
+            self.melting_stress_pa(a_coeff_pa)
+        } else {
+            0.0
+        };
+        let disc = 25.0 * b3 * b3 + 96.0 * b * ap;
+        if disc < 0.0 {
+            return at_end;
+        }
+        let phi = (5.0 * b3 + disc.sqrt()) / (12.0 * b);
+        let eps_sq = (ap + b3 * phi - b * phi * phi) / a;
+        if eps_sq > 0.0 && 2.0 * b * phi >= b3 {
+            at_end.max(stress(phi, eps_sq.sqrt(), a))
+        } else {
+            at_end
+        }
+    }
+
+    /// Whether an unstrained film can start solid: always when A > 0; for A ≤ 0 only the
+    /// first-order film, as a metastable solid, while b₃² ≥ −4b·A·b/a (the liquid is then
+    /// stable at every strain, and a film that melts never re-solidifies without noise).
+    #[must_use]
+    pub fn starts_solid(&self, a_coeff_pa: f64) -> bool {
+        a_coeff_pa > 0.0 || (self.cubic_pa > 0.0 && self.solid_phi(0.0, a_coeff_pa) > 0.0)
+    }
+
+    /// b₃ (Pa) that puts the first-order film's melting strain at `eps_melt` for this A:
+    /// b₃ = 2·√(b·(a·ε₊² − A·b/a)) (= 2·√(a·b·(ε₊² − εc²)) for A > 0); `None` unless
+    /// ε₊ > εc (so b₃ > 0) and the result is finite.
+    #[must_use]
+    pub fn cubic_for_melting_strain(&self, eps_melt: f64, a_coeff_pa: f64) -> Option<f64> {
+        let b = self.b_pa();
+        let inner = b * (self.a_pa * eps_melt * eps_melt - a_coeff_pa * b / self.a_pa);
+        let b3 = 2.0 * inner.sqrt();
+        (eps_melt.is_finite()
+            && eps_melt > self.critical_strain(a_coeff_pa)
+            && b3.is_finite()
+            && b3 > 0.0)
+            .then_some(b3)
+    }
 }
 
 /// Critical strain εc = √(A·b)/a above which the solid film has no equilibrium (Eq. 4).
@@ -151,9 +319,24 @@ pub fn equilibrium_phi(eps: f64, a_coeff_pa: f64, a_pa: f64, b_pa: f64) -> f64 {
     if phi_sq > 0.0 { phi_sq.sqrt() } else { 0.0 }
 }
 
-/// Deterministic right-hand side of Eq. 8: dφ/dt = −γ·φ·(a·ε² + b·φ² − A·b/a), in 1/s.
+/// Deterministic right-hand side of Eq. 8: dφ/dt = −γ·φ·(a·ε² + b·φ² − A·b/a), in 1/s; for
+/// the first-order film −γ·φ·(a·ε² + b·φ² − b₃·φ − A·b/a) ([`first_order::rhs`]).
 #[must_use]
 pub fn rhs(phi: f64, eps: f64, a_coeff_pa: f64, params: &LandauParams) -> f64 {
+    if params.cubic_pa != 0.0 {
+        return first_order::rhs(
+            phi,
+            params.bernoulli_c_pa(eps, a_coeff_pa),
+            params.b_pa(),
+            params.cubic_pa,
+            params.gamma_per_pa_s,
+        );
+    }
+    second_order_rhs(phi, eps, a_coeff_pa, params)
+}
+
+/// [`rhs`] of the second-order film (b₃ ignored).
+pub(crate) fn second_order_rhs(phi: f64, eps: f64, a_coeff_pa: f64, params: &LandauParams) -> f64 {
     let a = params.a_pa;
     let b = params.b_pa();
     -params.gamma_per_pa_s * phi * (a * eps * eps + b * phi * phi - a_coeff_pa * b / a)
@@ -251,6 +434,9 @@ impl PhiStepper {
     ///
     /// `Exact` and `ImplicitEuler` use |φ| (Eq. 8 is odd in φ, so the sign carries no
     /// information) and return a value ≥ 0. `dt_s` must be ≥ 0.
+    ///
+    /// With b₃ > 0 (the first-order film) the three run [`first_order::rhs`],
+    /// [`first_order::exact_phi`] and [`first_order::implicit_euler_phi`] instead.
     #[must_use]
     pub fn step(
         &self,
@@ -260,6 +446,15 @@ impl PhiStepper {
         params: &LandauParams,
         dt_s: f64,
     ) -> f64 {
+        if params.cubic_pa != 0.0 {
+            let c = params.bernoulli_c_pa(eps, a_coeff_pa);
+            let (b, b3, g) = (params.b_pa(), params.cubic_pa, params.gamma_per_pa_s);
+            return match self {
+                Self::ExplicitEuler => phi + dt_s * first_order::rhs(phi, c, b, b3, g),
+                Self::Exact => first_order::exact_phi(phi, c, b, b3, g, dt_s),
+                Self::ImplicitEuler => first_order::implicit_euler_phi(phi, c, b, b3, g, dt_s),
+            };
+        }
         match self {
             Self::ExplicitEuler => phi + dt_s * rhs(phi, eps, a_coeff_pa, params),
             Self::Exact => exact_phi(phi, eps, a_coeff_pa, params, dt_s),
@@ -321,8 +516,31 @@ fn implicit_euler_phi(
 /// // Beyond εc = √3 the film melts.
 /// assert!(exact_phi(1.2, 2.0, a_coeff, &p, 1e-6) < 1e-4);
 /// ```
+///
+/// With b₃ > 0 this is [`first_order::exact_phi`] (the Bernoulli form above does not hold).
 #[must_use]
 pub fn exact_phi(phi0: f64, eps: f64, a_coeff_pa: f64, params: &LandauParams, t_s: f64) -> f64 {
+    if params.cubic_pa != 0.0 {
+        return first_order::exact_phi(
+            phi0,
+            params.bernoulli_c_pa(eps, a_coeff_pa),
+            params.b_pa(),
+            params.cubic_pa,
+            params.gamma_per_pa_s,
+            t_s,
+        );
+    }
+    bernoulli_phi(phi0, eps, a_coeff_pa, params, t_s)
+}
+
+/// [`exact_phi`] of the second-order film (b₃ ignored): the closed form above.
+pub(crate) fn bernoulli_phi(
+    phi0: f64,
+    eps: f64,
+    a_coeff_pa: f64,
+    params: &LandauParams,
+    t_s: f64,
+) -> f64 {
     let phi0 = phi0.abs();
     if t_s == 0.0 || phi0 == 0.0 {
         return phi0;

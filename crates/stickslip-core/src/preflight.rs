@@ -41,14 +41,17 @@ pub struct Finding {
 pub struct Preflight {
     /// b, A, εc, φ0 and ω.
     pub derived: Derived,
-    /// Largest friction force the film can carry, τmax·π·a0², N.
+    /// Largest friction force the film can carry, τmax·π·a0², N (the first-order film: the peak
+    /// of its stationary stress curve at A(0) times π·a0²,
+    /// [`crate::landau::LandauParams::peak_stress_pa`]).
     pub melting_force_n: f64,
-    /// Stamp advance at which the unloaded film reaches εc, εc·h0, m (at t = 0).
+    /// Stamp advance at which the unloaded film melts, m (at t = 0): εc·h0, or ε₊·h0 for the
+    /// first-order film.
     pub critical_displacement_m: f64,
     /// Period of the free spring 2π/ω, s (none for the rigid drive).
     pub spring_period_s: Option<f64>,
-    /// Explicit Euler's stability number Δt·2γ·A·b/a at the solid equilibrium (literal
-    /// scheme only; stable below 2).
+    /// Explicit Euler's stability number Δt·|∂rhs/∂φ| at the unstrained solid film, Δt·2γ·A·b/a
+    /// (first-order film: Δt·γ·φ₊·(2b·φ₊ − b₃)) (literal scheme only; stable below 2).
     pub euler_number: Option<f64>,
     /// Contraction factor ρ of the paper's lagged elastic sweep at t = 0 for this scheme's
     /// compliance (the literal scheme needs ρ < 1; 0 for a rigid substrate).
@@ -56,11 +59,63 @@ pub struct Preflight {
     /// Stamp position at `time.end` if friction did not slow it, m.
     pub stamp_travel_m: f64,
     /// Quasi-static estimate of the first melting: the first time the free stamp has advanced
-    /// εc(t)·h0, s; 0 when A(0) ≤ 0; none when that does not happen before `time.end`. Real
-    /// onsets come later at high speed (φ lags behind its equilibrium).
+    /// the melting strain times h0 (εc(t)·h0, or ε₊(t)·h0 for the first-order film), s; 0 when
+    /// the film is liquid from the start; none when that does not happen before `time.end`.
+    /// Real onsets come later at high speed (φ lags behind its equilibrium).
     pub first_onset_estimate_s: Option<f64>,
     /// Notes, warnings and refusals, in this order of appearance.
     pub findings: Vec<Finding>,
+    /// The first-order film's thresholds (none for the second-order film, b₃ = 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_order: Option<FirstOrderFilm>,
+}
+
+/// The first-order film's thresholds at t = 0 (docs/model.md#the-first-order-film).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FirstOrderFilm {
+    /// b₃, Pa.
+    pub cubic_pa: f64,
+    /// ε₊: the solid branch ends and the film melts (φ drops from b₃/(2b) to 0); 0 when no solid
+    /// film exists.
+    pub eps_melt: f64,
+    /// ε₋ = εc: a liquid film re-solidifies (φ jumps to b₃/b); 0 when A ≤ 0 (never).
+    pub eps_solidify: f64,
+    /// ε₊² − ε₋² = b₃²/(4ab) while A > 0 (independent of temperature); ε₊² for A ≤ 0.
+    pub hysteresis_width: f64,
+    /// τ on the solid branch at ε₊, a·(b₃/(2b))²·ε₊, Pa.
+    pub tau_melt_pa: f64,
+    /// φ on the solid branch at ε₊, b₃/(2b).
+    pub phi_melt: f64,
+    /// φ on the solid branch at ε₋ = εc, b₃/b.
+    pub phi_solidify: f64,
+    /// Above the melting temperature (A ≤ 0): whether the film starts as a metastable solid
+    /// (b₃² ≥ −4b·A·b/a; it melts once and does not re-solidify without noise); none for A > 0.
+    pub metastable_solid: Option<bool>,
+}
+
+impl FirstOrderFilm {
+    /// The thresholds of `config`'s first-order film at t = 0; none for b₃ = 0.
+    #[must_use]
+    pub fn of(config: &SimConfig) -> Option<Self> {
+        let l = &config.lubricant;
+        if !l.is_first_order() {
+            return None;
+        }
+        let a_coeff = config.temperature.a_coeff_pa(0.0);
+        let (eps_melt, eps_solidify) =
+            (l.melting_strain(a_coeff), l.solidification_strain(a_coeff));
+        let b = l.b_pa();
+        Some(Self {
+            cubic_pa: l.cubic_pa,
+            eps_melt,
+            eps_solidify,
+            hysteresis_width: eps_melt * eps_melt - eps_solidify * eps_solidify,
+            tau_melt_pa: l.melting_stress_pa(a_coeff),
+            phi_melt: l.cubic_pa / (2.0 * b),
+            phi_solidify: l.cubic_pa / b,
+            metastable_solid: (a_coeff <= 0.0).then(|| l.starts_solid(a_coeff)),
+        })
+    }
 }
 
 /// Stamp position without friction at `t_s`, m (spring: the exact free motion; rigid: V0·t).
@@ -87,18 +142,32 @@ impl Preflight {
             Drive::Rigid(_) => None,
         };
         let euler_number = (config.time.scheme == Scheme::Literal).then(|| {
-            config.time.dt_s * 2.0 * l.gamma_per_pa_s * derived.a_coeff_pa.max(0.0) * derived.b_pa
-                / l.a_pa
+            if l.is_first_order() {
+                let phi = derived.phi0;
+                config.time.dt_s * l.gamma_per_pa_s * phi * (2.0 * derived.b_pa * phi - l.cubic_pa)
+            } else {
+                config.time.dt_s
+                    * 2.0
+                    * l.gamma_per_pa_s
+                    * derived.a_coeff_pa.max(0.0)
+                    * derived.b_pa
+                    / l.a_pa
+            }
         });
         if let Some(number) = euler_number.filter(|&n| n > EULER_STABILITY_LIMIT) {
             findings.push(Finding {
                 severity: Severity::Warning,
                 key: "time.dt".into(),
                 message: format!(
-                    "time.dt x 2*gamma*A*b/a = {number:.3} > {EULER_STABILITY_LIMIT}: the literal \
+                    "time.dt x {} = {number:.3} > {EULER_STABILITY_LIMIT}: the literal \
                      scheme's explicit Euler is beyond its stability limit; the run may fail \
                      (exit 3) or finish with wrong numbers. Use time.dt < {:e} s or \
                      time.scheme = \"accurate\".",
+                    if l.is_first_order() {
+                        "gamma*phi0*(2*b*phi0 - b3)"
+                    } else {
+                        "2*gamma*A*b/a"
+                    },
                     EULER_STABILITY_LIMIT * config.time.dt_s / number
                 ),
             });
@@ -111,18 +180,43 @@ impl Preflight {
             });
         }
         let stamp_travel_m = free_stamp_position_m(&config.drive, end);
-        let first_onset_estimate_s = if derived.a_coeff_pa <= 0.0 {
+        let first_onset_estimate_s = if !l.starts_solid(derived.a_coeff_pa) {
             findings.push(Finding {
                 severity: Severity::Note,
                 key: "temperature.A0".into(),
-                message: format!(
-                    "A = {:e} Pa <= 0: the film is molten from the start (complete melting, \
-                     F = 0, smooth sliding)",
-                    derived.a_coeff_pa
-                ),
+                message: if l.is_first_order() {
+                    format!(
+                        "A = {:e} Pa <= 0 and lubricant.cubic^2 = {:e} Pa^2 < -4*b*A*b/a = {:e} \
+                         Pa^2: not even a metastable solid exists, the film is molten from the \
+                         start (complete melting, F = 0, smooth sliding)",
+                        derived.a_coeff_pa,
+                        l.cubic_pa * l.cubic_pa,
+                        -4.0 * derived.b_pa * derived.a_coeff_pa * derived.b_pa / l.a_pa
+                    )
+                } else {
+                    format!(
+                        "A = {:e} Pa <= 0: the film is molten from the start (complete melting, \
+                         F = 0, smooth sliding)",
+                        derived.a_coeff_pa
+                    )
+                },
             });
             Some(0.0)
         } else {
+            if derived.a_coeff_pa <= 0.0 {
+                findings.push(Finding {
+                    severity: Severity::Note,
+                    key: "temperature.A0".into(),
+                    message: format!(
+                        "A = {:e} Pa <= 0, but the first-order film starts as a metastable solid \
+                         (phi0 = {:e}): it melts once at eps_melt = {:e} and, with the liquid \
+                         stable at every strain, does not re-solidify without noise",
+                        derived.a_coeff_pa,
+                        derived.phi0,
+                        l.melting_strain(derived.a_coeff_pa)
+                    ),
+                });
+            }
             let onset = first_crossing(config);
             if onset.is_none() {
                 let a_end = config.temperature.a_coeff_pa(end);
@@ -131,10 +225,15 @@ impl Preflight {
                     key: "time.end".into(),
                     message: format!(
                         "nothing can melt within time.end = {end:e} s: the free stamp advances \
-                         {:e} m, the film melts after about eps_c*h0 = {:e} m. Lengthen \
+                         {:e} m, the film melts after about {}*h0 = {:e} m. Lengthen \
                          time.end or raise drive.velocity.",
                         stamp_travel_m.abs(),
-                        l.critical_strain(a_end) * c.film_thickness_m
+                        if l.is_first_order() {
+                            "eps_melt"
+                        } else {
+                            "eps_c"
+                        },
+                        l.melting_strain(a_end) * c.film_thickness_m
                     ),
                 });
             }
@@ -152,8 +251,8 @@ impl Preflight {
             });
         }
         Self {
-            melting_force_n: l.tau_max_pa * PI * c.radius_m * c.radius_m,
-            critical_displacement_m: derived.eps_c * c.film_thickness_m,
+            melting_force_n: l.peak_stress_pa(derived.a_coeff_pa) * PI * c.radius_m * c.radius_m,
+            critical_displacement_m: l.melting_strain(derived.a_coeff_pa) * c.film_thickness_m,
             derived,
             spring_period_s,
             euler_number,
@@ -161,6 +260,7 @@ impl Preflight {
             stamp_travel_m,
             first_onset_estimate_s,
             findings,
+            first_order: FirstOrderFilm::of(config),
         }
     }
 
@@ -199,14 +299,15 @@ fn lagged_sweep_message(rho: f64) -> String {
     )
 }
 
-/// First time in [0, end] at which the free stamp has advanced εc(t)·h0, located by a scan
-/// of 4096 intervals and bisection; none if it never does.
+/// First time in [0, end] at which the free stamp has advanced the melting strain times h0
+/// (εc(t)·h0, ε₊(t)·h0 for the first-order film), located by a scan of 4096 intervals and
+/// bisection; none if it never does.
 fn first_crossing(config: &SimConfig) -> Option<f64> {
     let end = config.time.end_s;
     let h0 = config.contact.film_thickness_m;
     let gap = |t: f64| {
         let a = config.temperature.a_coeff_pa(t);
-        free_stamp_position_m(&config.drive, t).abs() - config.lubricant.critical_strain(a) * h0
+        free_stamp_position_m(&config.drive, t).abs() - config.lubricant.melting_strain(a) * h0
     };
     const SCAN: usize = 4096;
     let mut lo = 0.0;

@@ -169,7 +169,11 @@ impl Snapshot<'_> {
                 events: &events,
                 no_solid_time_s: state.events.no_solid_time_s(),
                 t_final_s,
-                a_coeff_start_pa: self.preflight.derived.a_coeff_pa,
+                starts_liquid: !self
+                    .scene
+                    .config
+                    .lubricant
+                    .starts_solid(self.preflight.derived.a_coeff_pa),
             },
             thresholds,
         );

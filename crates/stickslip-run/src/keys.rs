@@ -329,6 +329,36 @@ pub const KEYS: &[Key] = &[
         1e-6,
         0.5,
     ),
+    usual(
+        rule(
+            k(
+                "lubricant.cubic",
+                Real,
+                "Pa",
+                Value("0"),
+                Range::NonNegative,
+                "b3: cubic term −(b3/3)·φ³ of a first-order film's free energy; 0 is the paper's second-order film",
+            ),
+            "not with lubricant.eps_melt",
+        ),
+        1e2,
+        1e12,
+    ),
+    usual(
+        rule(
+            k(
+                "lubricant.eps_melt",
+                Real,
+                "–",
+                Off("none (use lubricant.cubic)"),
+                Range::ByRule,
+                "ε₊: melting strain of a first-order film instead of b3; b3 = 2·√(a·b·(ε₊² − εc²)) with εc at the initial temperature, converted once (the resolved scene gives b3 as lubricant.cubic)",
+            ),
+            "finite and > eps_c = √(A0·b)/a at the initial temperature (0 when A0 <= 0); not with lubricant.cubic",
+        ),
+        1e-3,
+        1e2,
+    ),
     k(
         "lubricant.noise.kind",
         Choice(&["gaussian", "floor", "off"]),
@@ -386,7 +416,7 @@ pub const KEYS: &[Key] = &[
                 "Pa",
                 Derived("1.5·tau_max/eps_max (law = \"constant\")"),
                 Range::Finite,
-                "A (constant) or A0 (relaxation): the temperature coefficient; A <= 0 melts the film",
+                "A (constant) or A0 (relaxation): the temperature coefficient; A <= 0 melts the film (a first-order film may start as a metastable solid)",
             ),
             "required with law = \"relaxation\"",
         ),
@@ -638,7 +668,7 @@ pub const KEYS: &[Key] = &[
             "–",
             Value("5e-5 (adaptive)"),
             Range::Open(0.0, 1.0),
-            "allowed local error per step, relative to scales that follow the state: φ to max(φ, melt threshold), the strain to εc(t), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0)",
+            "allowed local error per step, relative to scales that follow the state: φ to max(φ, melt threshold), the strain to εc(t) (ε₊(t) for a first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0)",
         ),
         "only with stepping = \"adaptive\"",
     ),
@@ -764,7 +794,7 @@ pub const KEYS: &[Key] = &[
         "–",
         Value("10"),
         Range::Above(1.0),
-        "a step fails when |τ| exceeds this multiple of tau_max",
+        "a step fails when |τ| exceeds this multiple of tau_max (for a first-order film: of its stationary curve's peak, when larger)",
     ),
     k(
         "numerics.operator",

@@ -5,10 +5,12 @@
 //!   between the last two onsets; `f_peak_first`, `f_peak_last`: the peaks that preceded the
 //!   first and the last event; `f_mean`: time-mean F over the last complete cycle (between the
 //!   last two onsets);
-//! - `recovery` R: the largest area-weighted ⟨φ⟩/√(A(t)/a) over that cycle;
+//! - `recovery` R: the largest area-weighted ⟨φ⟩/φ_eq(t) over that cycle, φ_eq the unstrained
+//!   solid film at A(t) (√(A(t)/a); φ₊(0) for the first-order film);
 //! - `melted_time_fraction`: the share of the time after the first onset during which no node
 //!   was solid;
-//! - `regime`, decided in this order: `sliding` (A(0) ≤ 0, or no node solid for at least
+//! - `regime`, decided in this order: `sliding` (the film is liquid from the start: A(0) ≤ 0,
+//!   unless a first-order film starts as a metastable solid; or no node solid for at least
 //!   [`RegimeThresholds::sliding_fraction`] of the time after the first onset), `no_melting`
 //!   (no event), `transient` (one event), then by R for two or more events: `stick_slip`
 //!   (R ≥ [`RegimeThresholds::stick_slip_recovery`]), `partial` (R ≥
@@ -17,7 +19,7 @@
 //! One refinement of the regime rules, where they meet the event rule: when the film never
 //! regrows above the recovery level after the first melting, no second onset can be told
 //! apart, so the run has one event that is still open at its end. If that event's own
-//! recovery (the largest ⟨φ⟩/√(A/a) since its onset) stays below the smooth threshold, the
+//! recovery (the largest ⟨φ⟩/φ_eq since its onset) stays below the smooth threshold, the
 //! film hardly recovers: the run is `smooth`, and `recovery` reports that value. An open
 //! single event with a larger recovery stays `transient`.
 //!
@@ -31,7 +33,8 @@ use stickslip_core::sim::events::MeltingEvent;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Regime {
-    /// The film is melted everywhere most of the time (or from the start, A ≤ 0).
+    /// The film is melted everywhere most of the time (or from the start: A ≤ 0, and for a
+    /// first-order film no metastable solid either).
     Sliding,
     /// No node melts within the run.
     NoMelting,
@@ -142,7 +145,8 @@ pub struct RunSummary {
     pub f_peak_last: Option<f64>,
     /// Time-mean force over the last complete cycle, N.
     pub f_mean: Option<f64>,
-    /// Largest ⟨φ⟩/√(A/a) over the last complete cycle.
+    /// Largest ⟨φ⟩/φ_eq over the last complete cycle (φ_eq = √(A/a), or the first-order
+    /// film's φ₊(0), at the moment's A).
     pub recovery: Option<f64>,
     /// Share of the time after the first onset with no solid node.
     pub melted_time_fraction: Option<f64>,
@@ -164,8 +168,9 @@ pub struct SummaryInput<'a> {
     pub no_solid_time_s: f64,
     /// Time the run reached, s.
     pub t_final_s: f64,
-    /// A at t = 0, Pa.
-    pub a_coeff_start_pa: f64,
+    /// Whether the film is liquid from the start (A(0) ≤ 0, and for a first-order film no
+    /// metastable solid: [`stickslip_core::landau::LandauParams::starts_solid`]).
+    pub starts_liquid: bool,
 }
 
 impl SummaryInput<'_> {
@@ -191,8 +196,8 @@ pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary 
     } else {
         last_two.map(|(a, _)| a.recovery)
     };
-    let sliding = input.a_coeff_start_pa <= 0.0
-        || melted_time_fraction.is_some_and(|f| f >= th.sliding_fraction);
+    let sliding =
+        input.starts_liquid || melted_time_fraction.is_some_and(|f| f >= th.sliding_fraction);
     let regime = if sliding {
         Regime::Sliding
     } else {
@@ -253,7 +258,7 @@ mod tests {
                 events: ev,
                 no_solid_time_s: no_solid_s,
                 t_final_s: t_final,
-                a_coeff_start_pa: a,
+                starts_liquid: a <= 0.0,
             },
             &RegimeThresholds::default(),
         )
@@ -262,7 +267,7 @@ mod tests {
     #[test]
     fn every_regime_and_its_boundaries() {
         let cases: [(&[f64], bool, f64, f64, Regime); 14] = [
-            // A ≤ 0 from the start: sliding whatever the events.
+            // Liquid from the start (A ≤ 0): sliding whatever the events.
             (&[0.0], true, 0.0, 0.0, Regime::Sliding),
             (&[0.0], true, 0.0, -1.0, Regime::Sliding),
             // No node solid for ≥ 90 % of the time after the first onset (1 … 11 s): sliding.

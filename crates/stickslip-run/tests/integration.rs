@@ -7,6 +7,7 @@ mod common;
 mod checkpoint_instants;
 mod dir_states;
 mod events;
+mod first_order;
 mod keys;
 mod scene_fuzz;
 mod scene_resolution;

@@ -79,6 +79,8 @@ eps_max = 1.0
 a = 1.0
 gamma = 1.0
 melt_threshold = 1.0
+cubic = 1.0
+eps_melt = 1.0
 [lubricant.noise]
 kind = "floor"
 sigma = 1.0

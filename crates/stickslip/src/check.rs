@@ -23,6 +23,46 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     say!("A = {:e} Pa", d.a_coeff_pa);
     say!("eps_c = {}", d.eps_c);
     say!("phi0 = {}", d.phi0);
+    if let Some(f) = &p.first_order {
+        say!(
+            "cubic = {:e} Pa (b3: first-order film; docs/model.md#the-first-order-film)",
+            f.cubic_pa
+        );
+        say!(
+            "eps_melt = {} (eps+: the solid branch ends, the film melts, phi drops from b3/(2b) = \
+             {} to 0)",
+            f.eps_melt,
+            f.phi_melt
+        );
+        say!(
+            "eps_solidify = {} (eps- = eps_c: a liquid film re-solidifies, phi jumps to b3/b = {})",
+            f.eps_solidify,
+            f.phi_solidify
+        );
+        say!(
+            "hysteresis_width = {} (eps+^2 - eps-^2; b3^2/(4ab) = {} while A > 0, at any \
+             temperature)",
+            f.hysteresis_width,
+            c.lubricant.hysteresis_width()
+        );
+        say!(
+            "tau_melt = {:e} Pa (tau on the solid branch at eps+)",
+            f.tau_melt_pa
+        );
+        if let Some(metastable) = f.metastable_solid {
+            if metastable {
+                say!(
+                    "metastable_solid = true (A <= 0, but b3^2 >= -4b*A*b/a: the film starts \
+                     solid at phi0, melts once at eps+ and does not re-solidify without noise)"
+                );
+            } else {
+                say!(
+                    "metastable_solid = false (A <= 0 and b3^2 < -4b*A*b/a: the film is liquid \
+                     from the start, F = 0)"
+                );
+            }
+        }
+    }
     say!("omega = {} rad/s", d.omega_rad_per_s);
     say!("g_eff = {:e} Pa", c.contact.g_eff_pa);
     say!("nodes = {}", c.simulated_nodes());
@@ -41,17 +81,36 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
         p.lagged_sweep_contraction
     );
     if let Some(e) = p.euler_number {
-        say!("euler_number = {e} (literal scheme: gamma*dt*2*A*b/a, stable below 2)");
+        if p.first_order.is_some() {
+            say!(
+                "euler_number = {e} (literal scheme: dt*gamma*phi0*(2*b*phi0 - b3), stable below 2)"
+            );
+        } else {
+            say!("euler_number = {e} (literal scheme: gamma*dt*2*A*b/a, stable below 2)");
+        }
     }
     say!();
     say!("# plausibility");
+    if p.first_order.is_some() {
+        say!(
+            "melting_force = {:e} N (peak of the first-order film's stationary stress curve \
+             *pi*a0^2: the largest friction force the film carries)",
+            p.melting_force_n
+        );
+    } else {
+        say!(
+            "melting_force = {:e} N (tau_max*pi*a0^2: the largest friction force the film carries)",
+            p.melting_force_n
+        );
+    }
     say!(
-        "melting_force = {:e} N (tau_max*pi*a0^2: the largest friction force the film carries)",
-        p.melting_force_n
-    );
-    say!(
-        "critical_displacement = {:e} m (eps_c*h0: stamp advance to the first melting)",
-        p.critical_displacement_m
+        "critical_displacement = {:e} m ({}*h0: stamp advance to the first melting)",
+        p.critical_displacement_m,
+        if p.first_order.is_some() {
+            "eps_melt"
+        } else {
+            "eps_c"
+        }
     );
     if let Some(period) = p.spring_period_s {
         say!(
@@ -66,8 +125,13 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     );
     match p.first_onset_estimate_s {
         Some(t) => say!(
-            "first_onset_estimate = {t:e} s (quasi-static: the free stamp reaches eps_c*h0; \
-             later at high speed)"
+            "first_onset_estimate = {t:e} s (quasi-static: the free stamp reaches {}*h0; \
+             later at high speed)",
+            if p.first_order.is_some() {
+                "eps_melt"
+            } else {
+                "eps_c"
+            }
         ),
         None => say!("first_onset_estimate = none before time.end"),
     }

@@ -470,6 +470,73 @@ const CASES: &[Case] = &[
             "below lubricant.melt_threshold",
         ],
     ),
+    // The first-order film (docs/model.md#the-first-order-film).
+    case(
+        "negative cubic",
+        None,
+        &["lubricant.cubic=-1e5"],
+        &["lubricant.cubic = -1e5", "finite and >= 0 Pa"],
+    ),
+    case(
+        "nan cubic",
+        None,
+        &["lubricant.cubic=nan"],
+        &["lubricant.cubic = nan", "finite and >= 0 Pa"],
+    ),
+    case(
+        "infinite cubic",
+        None,
+        &["lubricant.cubic=inf"],
+        &["lubricant.cubic = inf", "finite and >= 0 Pa"],
+    ),
+    case(
+        "cubic beyond its bound",
+        None,
+        &["lubricant.cubic=1e21"],
+        &["lubricant.cubic = 1e21", "<= 1e20 Pa"],
+    ),
+    case(
+        "eps_melt at eps_c",
+        None,
+        &["lubricant.eps_melt=1.7"],
+        &[
+            "lubricant.eps_melt = 1.7",
+            "> eps_c = 1.7320508075688772",
+            "temperature.A0 = 1.5e6 Pa",
+        ],
+    ),
+    case(
+        "eps_melt below eps_c at a lower temperature coefficient",
+        None,
+        &["temperature.A0=3e6", "lubricant.eps_melt=2"],
+        &[
+            "lubricant.eps_melt = 2",
+            "> eps_c = 2.449",
+            "temperature.A0 = 3e6 Pa",
+        ],
+    ),
+    case(
+        "negative eps_melt",
+        None,
+        &["lubricant.eps_melt=-2"],
+        &["lubricant.eps_melt = -2", "finite and > eps_c"],
+    ),
+    case(
+        "nan eps_melt",
+        None,
+        &["lubricant.eps_melt=nan"],
+        &["lubricant.eps_melt = nan", "finite and > eps_c"],
+    ),
+    case(
+        "both cubic and eps_melt",
+        None,
+        &["lubricant.cubic=4e6", "lubricant.eps_melt=2.25"],
+        &[
+            "lubricant.eps_melt = 2.25",
+            "contradictory with lubricant.cubic = 4e6",
+            "either lubricant.cubic (b3) or lubricant.eps_melt",
+        ],
+    ),
     // Bad --set syntax.
     case(
         "set without =",

@@ -328,6 +328,7 @@ fn all_shipped_scenes_check() {
         "rigid_fast",
         "melt",
         "homogeneous",
+        "fig2_first_order",
     ] {
         let out = run(&["check", &scene(name).display().to_string()]);
         assert_ok(&out);
@@ -352,6 +353,45 @@ fn check_prints_derived_parameters() {
             stdout.contains(line),
             "check output lacks {line:?}:\n{stdout}"
         );
+    }
+}
+
+#[test]
+fn check_prints_the_first_order_films_thresholds() {
+    let out = run(&["check", &scene("fig2_first_order").display().to_string()]);
+    assert_ok(&out);
+    let (stdout, _) = texts(&out);
+    for line in [
+        "cubic = 4.0693979898",
+        "eps_melt = 2.2516660498",
+        "eps_solidify = 1.7320508075",
+        "hysteresis_width = 2.0699999999",
+        "tau_melt = 2.33047436",
+        "phi0 = 2.6095178302",
+        "critical_displacement = 2.2516660498",
+    ] {
+        assert!(
+            stdout.contains(line),
+            "check output lacks {line:?}:\n{stdout}"
+        );
+    }
+    assert!(!stdout.contains("metastable_solid"), "{stdout}");
+    // Above the melting temperature: whether a metastable solid can start.
+    for (a0, verdict) in [
+        ("-1e5", "metastable_solid = true"),
+        ("-3e6", "metastable_solid = false"),
+    ] {
+        let out = run(&[
+            "check",
+            &scene("fig2").display().to_string(),
+            "--set",
+            "lubricant.cubic=4.07e6",
+            "--set",
+            &format!("temperature.A0={a0}"),
+        ]);
+        assert_ok(&out);
+        let (stdout, _) = texts(&out);
+        assert!(stdout.contains(verdict), "A0 = {a0}:\n{stdout}");
     }
 }
 

@@ -1,17 +1,32 @@
 //! The accurate step: the exact Landau step per node under an exponentially weighted strain,
 //! melting located inside the step, the coupling solved, and the step's local error estimated.
+//! The film's kinetics come from [`super::film`]: the second-order film's, or the first-order
+//! film's when b₃ > 0, chosen once per step.
 
 use super::error_estimate;
+use super::film::{Film, FirstOrder, SecondOrder};
 use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, Simulation, StepError, V_FLOOR, X_FLOOR};
 use crate::drive::{Drive, DriveState, Integrator};
-use crate::landau::PhiStepper;
 
 impl Simulation {
     pub(super) fn step_accurate(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
+        let params = self.config.lubricant;
+        if params.cubic_pa == 0.0 {
+            let film = SecondOrder {
+                params,
+                b: params.b_pa(),
+                two_gamma: 2.0 * params.gamma_per_pa_s,
+            };
+            self.step_accurate_with(&film, dt_s)
+        } else {
+            self.step_accurate_with(&FirstOrder::new(params), dt_s)
+        }
+    }
+
+    fn step_accurate_with<F: Film>(&mut self, film: &F, dt_s: f64) -> Result<(), NumericalFailure> {
         let t0 = self.state.drive.t_s;
         let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
         let params = self.config.lubricant;
-        let b = params.b_pa();
         let a = params.a_pa;
         let two_gamma = 2.0 * params.gamma_per_pa_s;
         let thr = self.config.melt_threshold;
@@ -32,7 +47,7 @@ impl Simulation {
         let recovery_phi = self
             .config
             .events
-            .recovery_phi(thr, params.equilibrium_phi(0.0, a_end));
+            .recovery_phi(thr, params.solid_phi(0.0, a_end));
         let mut recovered_s = f64::NEG_INFINITY;
         for i in 0..self.state.phi.len() {
             let phi0 = self.state.phi[i];
@@ -47,14 +62,14 @@ impl Simulation {
             // step — ½ (midpoint, second order) for slow relaxation, → 1 (the end-of-step
             // strain, no lag) for the stiff stick phase where φ is slaved to ε.
             let y0 = phi0 * phi0;
-            let lambda = two_gamma * (params.bernoulli_c_pa(eps0, a_mid) + 2.0 * b * y0);
+            let lambda = film.rate(params.bernoulli_c_pa(eps0, a_mid), phi0, y0);
             let eps_eff = eps0 + linear_forcing_weight(lambda * dt_s) * (eps1 - eps0);
-            let phi1 = PhiStepper::Exact.step(phi0, eps_eff, a_mid, &params, dt_s);
+            let phi1 = film.step(phi0, eps_eff, a_mid, dt_s);
             // The error estimate's pieces (see `error_estimate`): the defect at the start now,
             // at the end once the coupling solve has given the end strain.
             let y1 = phi1 * phi1;
             let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
-            let z = error_estimate::propagator_exponent(y0, y1, c_eff, b, two_gamma, dt_s);
+            let z = film.exponent(y0, y1, phi0, phi1, c_eff, dt_s);
             let (w0, w1) = error_estimate::defect_weights(z);
             self.est_base[i] =
                 dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
@@ -68,7 +83,7 @@ impl Simulation {
             let (phi_end, u0_end, melted_at, path) = match (solid0, phi1 >= thr) {
                 (true, true) => (phi1, u0 + dx, None, whole),
                 (false, true) => {
-                    let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
+                    let theta = film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
                     (phi1, (1.0 - theta) * dx, None, whole)
                 }
                 (false, false) => (phi1, 0.0, None, whole),
@@ -78,13 +93,13 @@ impl Simulation {
                     // makes φ grow at once: melting is instantaneous and u0 accumulates again
                     // from θ on. Continuing the decay to the step's end instead would leave φ
                     // far below thr by an amount set by Δt, and the recovery with it.
-                    let theta = crossing_fraction(phi0, phi1, thr, eps_eff, a_mid, &params, dt_s);
+                    let theta = film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
                     // The estimate covers the solid part of the path, up to the crossing, with
                     // the strain there predicted (no solved value exists at θ).
                     let ys = thr * thr;
                     let h_c = theta * dt_s;
                     let eps_c = eps0 + theta * (eps1 - eps0);
-                    let zc = error_estimate::propagator_exponent(y0, ys, c_eff, b, two_gamma, h_c);
+                    let zc = film.exponent(y0, ys, phi0, thr, c_eff, h_c);
                     let (w0c, w1c) = error_estimate::defect_weights(zc);
                     self.est_base[i] = h_c
                         * (w0c * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0))
@@ -95,17 +110,17 @@ impl Simulation {
                     let u3d = self.state.u3d_m[i];
                     let eps_a = -(u3d + theta * du3d) / h0;
                     let c_a = params.bernoulli_c_pa(eps_a, a_mid);
-                    if c_a < 0.0 {
+                    if film.regrows(thr, c_a) {
                         let eps_b = ((1.0 - theta) * dx - (u3d + du3d)) / h0;
-                        let lambda = two_gamma * (c_a + 2.0 * b * thr * thr);
+                        let lambda = film.rate(c_a, thr, thr * thr);
                         let eps_rest =
                             eps_a + linear_forcing_weight(lambda * rest_s) * (eps_b - eps_a);
-                        let phi2 = PhiStepper::Exact.step(thr, eps_rest, a_mid, &params, rest_s);
+                        let phi2 = film.step(thr, eps_rest, a_mid, rest_s);
                         let u0_end = if phi2 >= thr { (1.0 - theta) * dx } else { 0.0 };
                         let path = (thr, eps_rest, theta * dt_s, rest_s);
                         (phi2, u0_end, Some(theta), path)
                     } else {
-                        let phi2 = PhiStepper::Exact.step(thr, eps_a, a_mid, &params, rest_s);
+                        let phi2 = film.step(thr, eps_a, a_mid, rest_s);
                         (phi2, 0.0, Some(theta), (thr, eps_a, theta * dt_s, rest_s))
                     }
                 }
@@ -117,15 +132,7 @@ impl Simulation {
             // φ = 0 is a fixed point and the node could never re-solidify.
             let (phi_from, eps_path, offset_s, len_s) = path;
             if phi_from < recovery_phi && phi_end >= recovery_phi {
-                let f = crossing_fraction(
-                    phi_from,
-                    phi_end,
-                    recovery_phi,
-                    eps_path,
-                    a_mid,
-                    &params,
-                    len_s,
-                );
+                let f = film.crossing(phi_from, phi_end, recovery_phi, eps_path, a_mid, len_s);
                 recovered_s = recovered_s.max(t0 + offset_s + f * len_s);
             }
             let phi_end = if phi0 > 0.0 {
@@ -159,7 +166,8 @@ impl Simulation {
     }
 
     /// The local error of the accurate step just taken (see [`error_estimate`]), in units of scales
-    /// that follow the state: φ relative to max(φ, threshold) per node, ε relative to εc(t), X to
+    /// that follow the state: φ relative to max(φ, threshold) per node, ε relative to the melting
+    /// strain (εc(t); ε₊(t) for the first-order film), X to
     /// max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0). V's scale is its own size, not V0: a
     /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an error in
     /// X that grows with time.
@@ -198,7 +206,7 @@ impl Simulation {
         };
         let s = &self.state;
         let a_now = self.config.temperature.a_coeff_pa(s.drive.t_s);
-        let eps_c = self.config.lubricant.critical_strain(a_now);
+        let eps_c = self.config.lubricant.melting_strain(a_now);
         let eps_scale = if eps_c > 0.0 {
             eps_c
         } else {
@@ -228,40 +236,5 @@ fn linear_forcing_weight(z: f64) -> f64 {
         0.5 + z / 12.0
     } else {
         1.0 / (1.0 - (-z).exp()) - 1.0 / z
-    }
-}
-
-/// Fraction θ ∈ [0, 1] of the step at which the exact frozen-strain path from φ0 to φ1 meets
-/// `thr` (rising or falling); 1 (the step's end) when the path cannot explain the crossing,
-/// e.g. when noise or the floor moved φ.
-fn crossing_fraction(
-    phi0: f64,
-    phi1: f64,
-    thr: f64,
-    eps: f64,
-    a_coeff: f64,
-    params: &crate::landau::LandauParams,
-    dt_s: f64,
-) -> f64 {
-    if phi0 <= 0.0 || (phi0 - thr) * (phi1 - thr) > 0.0 {
-        return 1.0;
-    }
-    let y0 = phi0 * phi0;
-    let ys = thr * thr;
-    let b = params.b_pa();
-    let c = params.bernoulli_c_pa(eps, a_coeff);
-    let two_gamma = 2.0 * params.gamma_per_pa_s;
-    // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct), solved for y(t) = ys; for c = 0,
-    // y = y0/(1 + 2γ·b·y0·t).
-    let t = if c == 0.0 {
-        (y0 / ys - 1.0) / (two_gamma * b * y0)
-    } else {
-        let e = ys * (c + b * y0) / (y0 * (c + b * ys));
-        -e.ln() / (two_gamma * c)
-    };
-    if t.is_finite() {
-        (t / dt_s).clamp(0.0, 1.0)
-    } else {
-        1.0
     }
 }

@@ -5,7 +5,9 @@
 //! while no event is open. It stays open until the film has **recovered**: every node is back
 //! at or above the recovery level
 //!
-//! φ_rec(t) = min(k·threshold, ½·(threshold + φ_eq(t))),  φ_eq(t) = √(A(t)/a),
+//! φ_rec(t) = min(k·threshold, ½·(threshold + φ_eq(t))),  φ_eq(t) = √(A(t)/a)
+//!
+//! (φ_eq the unstrained solid film: for the first-order film its solid branch φ₊(0) at A(t)),
 //!
 //! k = `events.recovery_factor` (scene key `output.event_recovery`, default 2). That time is
 //! the event's `t_end`. A melting that begins less than `merge_gap_s` after the previous event
@@ -54,7 +56,8 @@ impl Default for EventConfig {
 
 impl EventConfig {
     /// The recovery level φ_rec for melting threshold `threshold` and the solid equilibrium
-    /// `phi_eq` = √(A/a) now. When φ_eq ≤ threshold no solid film exists, and φ_rec is
+    /// `phi_eq` (√(A/a), or the first-order film's φ₊(0)) now. When φ_eq ≤ threshold no solid
+    /// film exists, and φ_rec is
     /// k·threshold (out of reach: the event stays open).
     #[must_use]
     pub fn recovery_phi(&self, threshold: f64, phi_eq: f64) -> f64 {
@@ -143,7 +146,8 @@ pub struct StepSample {
     pub swept_fraction: f64,
     /// Area-weighted mean of φ.
     pub phi_mean: f64,
-    /// Solid equilibrium φ_eq = √(A(t)/a) now (0 when A ≤ 0).
+    /// The unstrained solid film φ_eq now: √(A(t)/a) (0 when A ≤ 0), or the first-order film's
+    /// φ₊(0) (0 when no solid branch exists).
     pub phi_eq: f64,
 }
 

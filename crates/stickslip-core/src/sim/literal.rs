@@ -3,7 +3,7 @@
 
 use super::{Contact, NumericalFailure, Simulation};
 use crate::config::Substrate;
-use crate::landau::rhs;
+use crate::landau::{first_order, second_order_rhs};
 
 impl Simulation {
     pub(super) fn step_literal(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
@@ -16,24 +16,34 @@ impl Simulation {
         }
         // Eq. 8 keeps φ ≥ 0 exactly; a negative φ is explicit Euler overshooting its
         // stability limit. Caught here, before noise or a floor could hide it; the first such
-        // node and its φ before the step are kept for the diagnosis.
-        let mut overshoot: Option<(usize, f64)> = None;
-        for (i, (phi, &eps)) in self.state.phi.iter_mut().zip(&self.state.eps).enumerate() {
-            let before = *phi;
-            *phi += dt_s * rhs(before, eps, a_coeff, &params);
-            if overshoot.is_none() && (phi.is_nan() || *phi < 0.0) {
-                overshoot = Some((i, before));
-            }
-        }
+        // node and its φ before the step are kept for the diagnosis. The film's right-hand
+        // side is chosen once per step: the second-order film's as it always was, or the
+        // first-order one's (b₃ > 0).
+        let overshoot = if params.cubic_pa == 0.0 {
+            self.euler_phi(dt_s, |phi, eps| {
+                second_order_rhs(phi, eps, a_coeff, &params)
+            })
+        } else {
+            let (b, b3, g) = (params.b_pa(), params.cubic_pa, params.gamma_per_pa_s);
+            self.euler_phi(dt_s, |phi, eps| {
+                first_order::rhs(phi, params.bernoulli_c_pa(eps, a_coeff), b, b3, g)
+            })
+        };
         if let Some((node, phi_before)) = overshoot {
             let b = params.b_pa();
-            // |∂rhs/∂φ| = γ·|a·ε² + 3b·φ² − A·b/a| at the node's state before the step (which
-            // noise may have pushed far from equilibrium).
+            // |∂rhs/∂φ| = γ·|a·ε² + 3b·φ² − 2b₃·φ − A·b/a| at the node's state before the step
+            // (which noise may have pushed far from equilibrium).
             let eps = self.state.eps[node];
             let stiffness = params.gamma_per_pa_s
                 * (params.a_pa * eps * eps + 3.0 * b * phi_before * phi_before
+                    - 2.0 * params.cubic_pa * phi_before
                     - a_coeff * b / params.a_pa)
                     .abs();
+            let formula = if params.cubic_pa == 0.0 {
+                "gamma*|a*eps^2 + 3*b*phi^2 - A*b/a|"
+            } else {
+                "gamma*|a*eps^2 + 3*b*phi^2 - 2*b3*phi - A*b/a|"
+            };
             let noisy = if matches!(self.config.noise, crate::noise::NoiseKind::Gaussian { .. }) {
                 " (phi before the step came from the noise kick of the step before; reduce \
                  lubricant.noise.sigma or time.dt)"
@@ -50,7 +60,7 @@ impl Simulation {
                 diagnosis: format!(
                     "explicit Euler overshot below 0 (Eq. 8 keeps phi >= 0): phi before the \
                      step = {phi_before:e}{noisy}; dt x stiffness = {:.3} with stiffness \
-                     gamma*|a*eps^2 + 3*b*phi^2 - A*b/a| = {stiffness:e} 1/s there; explicit \
+                     {formula} = {stiffness:e} 1/s there; explicit \
                      Euler needs it well below 1 (oscillates above 1, unstable above 2). \
                      Reduce time.dt or use time.scheme = \"accurate\".",
                     dt_s * stiffness
@@ -95,5 +105,21 @@ impl Simulation {
         self.state.force_n = self.force_3d();
         self.drive_second_half(dt_s);
         Ok(())
+    }
+}
+
+impl Simulation {
+    /// φ ← φ + Δt·rhs(φ, ε) at every node (explicit Euler); the first node where φ turned
+    /// negative or NaN, with its φ before the step.
+    fn euler_phi(&mut self, dt_s: f64, rhs: impl Fn(f64, f64) -> f64) -> Option<(usize, f64)> {
+        let mut overshoot: Option<(usize, f64)> = None;
+        for (i, (phi, &eps)) in self.state.phi.iter_mut().zip(&self.state.eps).enumerate() {
+            let before = *phi;
+            *phi += dt_s * rhs(before, eps);
+            if overshoot.is_none() && (phi.is_nan() || *phi < 0.0) {
+                overshoot = Some((i, before));
+            }
+        }
+        overshoot
     }
 }

@@ -23,6 +23,7 @@ mod adaptive;
 pub mod coupling;
 pub mod error_estimate;
 pub mod events;
+mod film;
 mod literal;
 pub mod step_control;
 
@@ -341,7 +342,8 @@ impl std::fmt::Debug for Simulation {
 }
 
 impl Simulation {
-    /// Builds operators and the initial state (X = Ẋ = 0, u0 = u3D = 0, φ = √(A/a)).
+    /// Builds operators and the initial state (X = Ẋ = 0, u0 = u3D = 0, φ = √(A/a), or the
+    /// first-order film's solid branch φ₊(0)).
     ///
     /// # Errors
     /// The first invalid configuration value.
@@ -381,7 +383,9 @@ impl Simulation {
         let noise = NoiseSource::new(config.noise, n)
             .map_err(|e| crate::config::ConfigError::new("lubricant.noise", "-", &e.to_string()))?;
         let a0 = config.temperature.a_coeff_pa(0.0);
-        let phi_init = config.lubricant.equilibrium_phi(0.0, a0);
+        // The unstrained solid film: √(A/a), or φ₊(0) of the first-order film (which also
+        // starts solid, as a metastable solid, for A ≤ 0 while b₃² ≥ −4b·A·b/a).
+        let phi_init = config.lubricant.solid_phi(0.0, a0);
         let (radii_m, area_weights) = match c.model {
             ContactModel::Radial => (grid.radii_m(), grid.area_weights()),
             ContactModel::Homogeneous => (vec![0.0], vec![1.0]),
@@ -750,7 +754,7 @@ impl Simulation {
     fn observe_events(&mut self) {
         let thr = self.config.melt_threshold;
         let a_coeff = self.config.temperature.a_coeff_pa(self.state.drive.t_s);
-        let phi_eq = self.config.lubricant.equilibrium_phi(0.0, a_coeff);
+        let phi_eq = self.config.lubricant.solid_phi(0.0, a_coeff);
         let recovery_phi = self.config.events.recovery_phi(thr, phi_eq);
         let mut melted_nodes = 0;
         let mut unrecovered_nodes = 0;
@@ -846,7 +850,15 @@ impl Simulation {
                 non_finite_advice(&self.config),
             );
         }
-        let limit = self.config.numerics.runaway_stress_factor * self.config.lubricant.tau_max_pa;
+        let l = &self.config.lubricant;
+        // τmax; the first-order film's stationary curve peaks higher (at A(0), its largest).
+        let scale = if l.cubic_pa == 0.0 {
+            l.tau_max_pa
+        } else {
+            l.tau_max_pa
+                .max(l.peak_stress_pa(self.config.temperature.a_coeff_pa(0.0)))
+        };
+        let limit = self.config.numerics.runaway_stress_factor * scale;
         let mut worst = (0usize, 0.0_f64);
         let mut sum = 0.0;
         for (i, (&tau, &phi)) in s.tau_pa.iter().zip(&s.phi).enumerate() {
@@ -870,8 +882,13 @@ impl Simulation {
                 "tau",
                 s.tau_pa[worst.0],
                 format!(
-                    "|tau| exceeds numerics.runaway_stress_factor x tau_max = {limit:e} Pa: the \
+                    "|tau| exceeds numerics.runaway_stress_factor x {} = {limit:e} Pa: the \
                      solution is running away. {}",
+                    if l.cubic_pa == 0.0 {
+                        "tau_max"
+                    } else {
+                        "the stationary curve's peak"
+                    },
                     non_finite_advice(&self.config)
                 ),
             );

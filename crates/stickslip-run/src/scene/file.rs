@@ -117,6 +117,14 @@ pub struct LubricantSection {
     /// φ below which a node counts as melted (default 0.01).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub melt_threshold: Option<f64>,
+    /// b₃ of the first-order film, Pa (default 0: the second-order film; as resolved, present
+    /// only when > 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cubic: Option<f64>,
+    /// The first-order film's melting strain ε₊ instead of `cubic` (converted to b₃ once, at
+    /// the initial temperature; as resolved, given as `cubic`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eps_melt: Option<f64>,
     /// `[lubricant.noise]` (optional; default floor 1e-6).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub noise: Option<NoiseSection>,

@@ -180,6 +180,54 @@ fn resolve_temperature(
     }
 }
 
+/// b₃ of the first-order film (docs/model.md#the-first-order-film) from `lubricant.cubic` or
+/// from `lubricant.eps_melt` (never both): b₃ = 2·√(a·b·(ε₊² − εc²)), εc at the initial
+/// temperature A(0). b₃ is a material constant, converted once; with a temperature law the
+/// melting strain then follows A(t) (ε₊² − εc² stays b₃²/(4ab)).
+fn resolve_cubic(
+    l: &LubricantSection,
+    lubricant: LandauParams,
+    temperature: &Temperature,
+) -> Result<LandauParams, SceneError> {
+    if let (Some(cubic), Some(eps_melt)) = (l.cubic, l.eps_melt) {
+        return Err(SceneError::Contradictory {
+            key: "lubricant.eps_melt".to_string(),
+            value: error::human(eps_melt),
+            other: format!("lubricant.cubic = {}", error::human(cubic)),
+            allowed: "either lubricant.cubic (b3) or lubricant.eps_melt (the melting strain it \
+                      gives), not both"
+                .to_string(),
+        });
+    }
+    let cubic = match (l.cubic, l.eps_melt) {
+        (Some(cubic), _) => keys::check("lubricant.cubic", cubic)?,
+        (None, Some(eps_melt)) => {
+            let a0 = temperature.a_coeff_pa(0.0);
+            let eps_c = lubricant.critical_strain(a0);
+            lubricant
+                .cubic_for_melting_strain(eps_melt, a0)
+                .ok_or_else(|| {
+                    SceneError::invalid(
+                        "lubricant.eps_melt",
+                        error::human(eps_melt),
+                        format!(
+                            "finite and > eps_c = {} (√(A0·b)/a at the initial temperature, \
+                             temperature.A0 = {} Pa; 0 when A0 <= 0); not with lubricant.cubic",
+                            error::human(eps_c),
+                            error::human(a0)
+                        ),
+                    )
+                })?
+        }
+        (None, None) => 0.0,
+    };
+    // -0 is 0: the second-order film.
+    Ok(LandauParams {
+        cubic_pa: if cubic == 0.0 { 0.0 } else { cubic },
+        ..lubricant
+    })
+}
+
 /// G* from g_eff or from g1, nu1, g2, nu2 by Eq. 9: G* = ((2−ν1)/(4G1) + (2−ν2)/(4G2))^−1.
 fn resolve_modulus(c: &ContactSection) -> Result<f64, SceneError> {
     let pair = [
@@ -473,6 +521,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         eps_max: required(l.eps_max, "lubricant.eps_max")?,
         a_pa: required(l.a, "lubricant.a")?,
         gamma_per_pa_s: required(l.gamma, "lubricant.gamma")?,
+        cubic_pa: 0.0,
     };
     let melt_threshold = or_default(
         l.melt_threshold,
@@ -482,6 +531,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
     let (noise, noise_section) = resolve_noise(&l.noise.clone().unwrap_or_default())?;
     let (temperature, temperature_section) =
         resolve_temperature(&scene.temperature.clone().unwrap_or_default(), &lubricant)?;
+    let lubricant = resolve_cubic(&l, lubricant, &temperature)?;
 
     let c = scene.contact.clone().unwrap_or_default();
     let radius = required(c.radius, "contact.radius")?;
@@ -549,6 +599,10 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
             a: Some(lubricant.a_pa),
             gamma: Some(lubricant.gamma_per_pa_s),
             melt_threshold: Some(melt_threshold),
+            // b₃ as resolved, whichever key gave it; absent for the second-order film, so that
+            // its resolved scene (and run.json) is what it was before the key existed.
+            cubic: (lubricant.cubic_pa > 0.0).then_some(lubricant.cubic_pa),
+            eps_melt: None,
             noise: Some(noise_section),
         }),
         temperature: Some(temperature_section),

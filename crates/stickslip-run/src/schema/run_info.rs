@@ -67,9 +67,9 @@ pub struct DerivedReport {
     /// A at t = 0, Pa.
     #[serde(rename = "A")]
     pub a: f64,
-    /// εc = √(A·b)/a at t = 0.
+    /// εc = √(A·b)/a at t = 0 (the first-order film re-solidifies there, ε₋ = εc).
     pub eps_c: f64,
-    /// φ0 = √(A/a).
+    /// φ0 = √(A/a), the initial state (the first-order film's φ₊(0)).
     pub phi0: f64,
     /// ω = √(K/m), rad/s (0 for the rigid drive).
     pub omega: f64,
@@ -84,7 +84,7 @@ pub struct DerivedReport {
     pub lagged_sweep_contraction: f64,
     /// Largest friction force τmax·π·a0², N.
     pub melting_force: f64,
-    /// εc·h0, m.
+    /// Melting strain times h0, m: εc·h0 (ε₊·h0 for the first-order film).
     pub critical_displacement: f64,
     /// 2π/ω, s (null for the rigid drive).
     pub spring_period: Option<f64>,
@@ -92,6 +92,24 @@ pub struct DerivedReport {
     pub euler_number: Option<f64>,
     /// Quasi-static estimate of the first onset, s (null: none before time.end).
     pub first_onset_estimate: Option<f64>,
+    /// First-order film only (absent for b₃ = 0): b₃, Pa.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cubic: Option<f64>,
+    /// First-order film only: ε₊, where the solid branch ends and the film melts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eps_melt: Option<f64>,
+    /// First-order film only: ε₋ = εc, where a liquid film re-solidifies.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eps_solidify: Option<f64>,
+    /// First-order film only: ε₊² − ε₋², the hysteresis width (b₃²/(4ab) while A > 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hysteresis_width: Option<f64>,
+    /// First-order film only: τ on the solid branch at ε₊, Pa.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tau_melt: Option<f64>,
+    /// First-order film with A ≤ 0 only: whether it starts as a metastable solid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub metastable_solid: Option<bool>,
 }
 
 impl DerivedReport {
@@ -114,6 +132,12 @@ impl DerivedReport {
             spring_period: preflight.spring_period_s,
             euler_number: preflight.euler_number,
             first_onset_estimate: preflight.first_onset_estimate_s,
+            cubic: preflight.first_order.map(|f| f.cubic_pa),
+            eps_melt: preflight.first_order.map(|f| f.eps_melt),
+            eps_solidify: preflight.first_order.map(|f| f.eps_solidify),
+            hysteresis_width: preflight.first_order.map(|f| f.hysteresis_width),
+            tau_melt: preflight.first_order.map(|f| f.tau_melt_pa),
+            metastable_solid: preflight.first_order.and_then(|f| f.metastable_solid),
         }
     }
 }

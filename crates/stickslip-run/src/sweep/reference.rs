@@ -123,14 +123,15 @@ pub fn markdown() -> String {
     );
 
     out.push_str(
-        "\n### Regimes\n\nDecided in this order (R: the largest area-weighted ⟨φ⟩/√(A/a) over \
-         the last complete cycle, `recovery` above; the physics behind the rules: \
+        "\n### Regimes\n\nDecided in this order (R: the largest area-weighted ⟨φ⟩/√(A/a) (the \
+         first-order film: ⟨φ⟩/φ₊(0)) over the last complete cycle, `recovery` above; the physics behind the rules: \
          [model.md](model.md#regimes-and-friction-maps)):\n\n| regime | rule |\n|---|---|\n",
     );
     for r in Regime::ALL {
         let rule = match r {
             Regime::Sliding => format!(
-                "A(0) ≤ 0, or no node solid for at least {} of the time after the first onset",
+                "A(0) ≤ 0 (a first-order film: unless it starts as a metastable solid), or no \
+                 node solid for at least {} of the time after the first onset",
                 t.sliding_fraction
             ),
             Regime::NoMelting => "no event".to_string(),

@@ -1,0 +1,132 @@
+//! The film's kinetics as the accurate step uses them, for the paper's second-order film and
+//! the first-order one (docs/model.md#the-first-order-film): the frozen-strain step, its
+//! relaxation rate, the exponent of the error estimate's propagator, the crossing of a level
+//! and whether a film regrows from one.
+//!
+//! The accurate step is generic over [`Film`] and picks the implementation once per step
+//! (b₃ = 0 or not), so the second-order film runs exactly the arithmetic it always ran.
+
+use super::error_estimate;
+use crate::landau::{LandauParams, bernoulli_phi, first_order};
+
+/// What the accurate step needs from the film's kinetics (y = φ²; c = a·ε² − A·b/a, Pa).
+pub(super) trait Film {
+    /// The exact frozen-strain step of φ over `dt_s` at strain `eps` and coefficient A.
+    fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64;
+    /// The local relaxation rate λ = −∂(dy/dt)/∂y of y = φ² at (φ, c), 1/s: the weight θ(λΔt)
+    /// of the effective strain.
+    fn rate(&self, c: f64, phi: f64, y: f64) -> f64;
+    /// The exponent z ≈ ∫λ ds of the error estimate's propagator over a path from (φ0, y0)
+    /// to (φ1, y1) of length `h_s` ([`error_estimate::propagator_exponent`]).
+    fn exponent(&self, y0: f64, y1: f64, phi0: f64, phi1: f64, c: f64, h_s: f64) -> f64;
+    /// Fraction θ ∈ [0, 1] of the step at which the exact path from φ0 to φ1 meets `level`
+    /// (rising or falling); 1 when the path cannot explain the crossing (noise, the floor).
+    fn crossing(&self, phi0: f64, phi1: f64, level: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64;
+    /// Whether a film at `phi` under coefficient `c` grows at once.
+    fn regrows(&self, phi: f64, c: f64) -> bool;
+}
+
+/// The paper's film (b₃ = 0): the Bernoulli solution of Eq. 8.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SecondOrder {
+    pub params: LandauParams,
+    pub b: f64,
+    pub two_gamma: f64,
+}
+
+impl Film for SecondOrder {
+    fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {
+        bernoulli_phi(phi0, eps, a_coeff, &self.params, dt_s)
+    }
+
+    fn rate(&self, c: f64, _phi: f64, y: f64) -> f64 {
+        self.two_gamma * (c + 2.0 * self.b * y)
+    }
+
+    fn exponent(&self, y0: f64, y1: f64, _phi0: f64, _phi1: f64, c: f64, h_s: f64) -> f64 {
+        error_estimate::propagator_exponent(y0, y1, c, self.b, self.two_gamma, h_s)
+    }
+
+    fn crossing(&self, phi0: f64, phi1: f64, level: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {
+        if phi0 <= 0.0 || (phi0 - level) * (phi1 - level) > 0.0 {
+            return 1.0;
+        }
+        let y0 = phi0 * phi0;
+        let ys = level * level;
+        let b = self.b;
+        let c = self.params.bernoulli_c_pa(eps, a_coeff);
+        let two_gamma = self.two_gamma;
+        // y(t) = c·y0·E/(c + b·y0·(1 − E)), E = e^(−2γct), solved for y(t) = ys; for c = 0,
+        // y = y0/(1 + 2γ·b·y0·t).
+        let t = if c == 0.0 {
+            (y0 / ys - 1.0) / (two_gamma * b * y0)
+        } else {
+            let e = ys * (c + b * y0) / (y0 * (c + b * ys));
+            -e.ln() / (two_gamma * c)
+        };
+        if t.is_finite() {
+            (t / dt_s).clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    }
+
+    fn regrows(&self, _phi: f64, c: f64) -> bool {
+        c < 0.0
+    }
+}
+
+/// The first-order film (b₃ > 0): [`first_order`]'s exact step.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct FirstOrder {
+    pub params: LandauParams,
+    pub b: f64,
+    pub b3: f64,
+    pub two_gamma: f64,
+}
+
+impl FirstOrder {
+    pub fn new(params: LandauParams) -> Self {
+        Self {
+            params,
+            b: params.b_pa(),
+            b3: params.cubic_pa,
+            two_gamma: 2.0 * params.gamma_per_pa_s,
+        }
+    }
+}
+
+impl Film for FirstOrder {
+    fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {
+        let c = self.params.bernoulli_c_pa(eps, a_coeff);
+        first_order::exact_phi(phi0, c, self.b, self.b3, self.params.gamma_per_pa_s, dt_s)
+    }
+
+    /// dy/dt = −2γ·y·(c + b·y − b₃·√y): λ = 2γ·(c + 2b·y − (3/2)·b₃·φ), which vanishes on the
+    /// solid branch at the fold.
+    fn rate(&self, c: f64, phi: f64, y: f64) -> f64 {
+        self.two_gamma * (c + 2.0 * self.b * y - 1.5 * self.b3 * phi)
+    }
+
+    /// The trapezoidal rule in λ as for the second-order film, with the cubic term's
+    /// −(3/2)·b₃·φ averaged over the two ends.
+    fn exponent(&self, y0: f64, y1: f64, phi0: f64, phi1: f64, c: f64, h_s: f64) -> f64 {
+        self.two_gamma * (c + self.b * (y0 + y1) - 0.75 * self.b3 * (phi0 + phi1)) * h_s
+    }
+
+    fn crossing(&self, phi0: f64, phi1: f64, level: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {
+        if phi0 <= 0.0 || (phi0 - level) * (phi1 - level) > 0.0 {
+            return 1.0;
+        }
+        let c = self.params.bernoulli_c_pa(eps, a_coeff);
+        match first_order::time_to(phi0, level, c, self.b, self.b3, self.params.gamma_per_pa_s) {
+            Some(t) => (t / dt_s).clamp(0.0, 1.0),
+            None => 1.0,
+        }
+    }
+
+    /// φ grows where b·φ² − b₃·φ + c < 0, between the barrier and the solid branch.
+    fn regrows(&self, phi: f64, c: f64) -> bool {
+        self.b * phi * phi - self.b3 * phi + c < 0.0
+    }
+}
