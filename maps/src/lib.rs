@@ -7,13 +7,19 @@
 //!   speed, the loss of recovery at high speed, the critical speed on paper against the map;
 //! - [`spring`]: spring stiffness × drive speed at the fig2 parameters: equal K·V0/m, equal
 //!   results while time.end ≪ 2π/ω, and where that stops;
-//! - [`model`]: film thickness × substrate modulus, radial against homogeneous model.
+//! - [`model`]: film thickness × substrate modulus, radial against homogeneous model;
+//! - [`model_first_order`]: the same for the first-order film, cell by cell against the
+//!   second-order film's map (the paper's contrast);
+//! - [`rigid_first_order`]: the first-order film under the rigid drive, melting strain × speed:
+//!   the advance per cycle on paper, the fold's delay, the abrupt loss of recovery.
 //!
 //! Invariant: every number in the report's prose is computed from the maps it describes;
 //! nothing here steps a simulation (the sweep engine does).
 
 pub mod model;
+pub mod model_first_order;
 pub mod rigid;
+pub mod rigid_first_order;
 pub mod spring;
 
 use std::fmt::Write as _;
@@ -219,10 +225,24 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         opts.jobs,
         opts.resume,
     )?;
+    let model_fo_map = run_map(
+        &maps_dir.join("model_first_order.toml"),
+        &out.join("model_first_order"),
+        opts.jobs,
+        opts.resume,
+    )?;
+    let rigid_fo_map = run_map(
+        &maps_dir.join("rigid_first_order.toml"),
+        &out.join("rigid_first_order"),
+        opts.jobs,
+        opts.resume,
+    )?;
     let sections = vec![
         rigid::section(&rigid_map)?,
         spring::section(&spring_map)?,
         model::section(&model_map)?,
+        model_first_order::section(&model_fo_map, &model_map)?,
+        rigid_first_order::section(&rigid_fo_map)?,
     ];
     for s in &sections {
         let cols = 2;

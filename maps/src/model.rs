@@ -20,19 +20,11 @@ const MODEL: &str = "contact.model";
 /// Relative agreement asked of the two models where ρ ≤ 1.
 pub const TOLERANCE: f64 = 0.01;
 
-/// The model map's section.
-///
-/// # Errors
-/// If the base scene does not resolve.
-pub fn section(map: &Map) -> Result<Section, String> {
-    let scene = map.base_scene()?;
-    let c = &scene.config;
-    let a0 = c.contact.radius_m;
-    let a = c.lubricant.a_pa;
-    let phi0_sq = c.temperature.a_coeff_pa(0.0) / a;
-    let rho = |h0: f64, g: f64| std::f64::consts::PI * a0 * a * phi0_sq / (2.0 * g * h0);
+/// The map's cells: (h0, G*, the radial point, the homogeneous point).
+#[must_use]
+pub fn cells(map: &Map) -> Vec<(f64, f64, &MapRow, &MapRow)> {
     let rows = &map.json.table.rows;
-    let mut cells: Vec<(f64, f64, &MapRow, &MapRow)> = Vec::new();
+    let mut cells = Vec::new();
     for r in rows.iter().filter(|r| map.word(r, MODEL) == "radial") {
         let (h, g) = (map.axis(r, H), map.axis(r, G));
         if let Some(hom) = rows.iter().find(|x| {
@@ -41,6 +33,27 @@ pub fn section(map: &Map) -> Result<Section, String> {
             cells.push((h, g, r, hom));
         }
     }
+    cells
+}
+
+/// The substrate's share ρ = π·a0·a·φ²/(2·G*·h0) at film thickness `h0` and modulus `g` for
+/// the base scene's film at φ² = `phi_sq`.
+#[must_use]
+pub fn substrate_share(scene: &stickslip_run::ResolvedScene, phi_sq: f64, h0: f64, g: f64) -> f64 {
+    let c = &scene.config;
+    std::f64::consts::PI * c.contact.radius_m * c.lubricant.a_pa * phi_sq / (2.0 * g * h0)
+}
+
+/// The model map's section.
+///
+/// # Errors
+/// If the base scene does not resolve.
+pub fn section(map: &Map) -> Result<Section, String> {
+    let scene = map.base_scene()?;
+    let c = &scene.config;
+    let phi0_sq = c.temperature.a_coeff_pa(0.0) / c.lubricant.a_pa;
+    let rho = |h0: f64, g: f64| substrate_share(&scene, phi0_sq, h0, g);
+    let cells = cells(map);
     let diff = |x: Option<f64>, y: Option<f64>| match (x, y) {
         (Some(x), Some(y)) => Some((y / x - 1.0).abs()),
         _ => None,
