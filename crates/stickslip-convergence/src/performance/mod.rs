@@ -24,6 +24,8 @@
 //! - **P4** a fresh clone's build and test times, read from `reports/build-timing.json`
 //!   (`cargo xtask build-timing` measures them; too long to rerun here).
 //! - **P5** a 32 × 32 friction map at N = 50 with 1 and 2 jobs ([`sweep`]).
+//! - **P6** fig2 at N = [`T1_NODES`] with the first-order film ([`P6_SCENE`]'s b₃) against
+//!   the paper's film, whole process and per step evaluation.
 //! - **T3** loop time per step against N (fixed steps, fast and dense operators), log–log slope.
 //! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`], against a
 //!   same-N reference at N = [`T4_NODES`] as for P3.
@@ -64,6 +66,10 @@ pub const P1_REFERENCE_TOLERANCE: f64 = 1e-6;
 /// P1 profile: the approach run ends at this fraction of the first onset's time.
 pub const APPROACH_FRACTION: f64 = 0.999;
 
+/// P6: the goal for fig2 with the first-order film over fig2, N = [`T1_NODES`], whole process.
+pub const P6_RATIO_GOAL: f64 = 1.5;
+/// P6: the first-order film's scene, beside the fig2 scene (fig2 with `lubricant.eps_melt`).
+pub const P6_SCENE: &str = "fig2_first_order.toml";
 /// P2: the goal for elastic over rigid substrate at fixed steps.
 pub const P2_RATIO_GOAL: f64 = 1.5;
 /// P3: the goal for fig2 at N = [`T1_NODES`], whole process, s.
@@ -436,6 +442,11 @@ pub struct Performance {
     pub p3_reference: SameNReference,
     /// T4's same-N reference (N = [`T4_NODES`]).
     pub t4_reference: SameNReference,
+    /// P6: fig2 at N = [`T1_NODES`] with the first-order film of [`P6_SCENE`], 2 threads (the
+    /// b3 = 0 run is `fig2_accurate_runs[0]`).
+    pub first_order: Timed,
+    /// P6: the first-order film's b₃, Pa.
+    pub first_order_cubic_pa: f64,
     /// P1: fig2 as shipped (the scene's own N, default adaptive accurate settings), 2 threads.
     pub shipped: Timed,
     /// P1: settings of its reference (same N, tighter tolerance).
@@ -533,6 +544,21 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let t1_sets = vec![set("contact.nodes", T1_NODES)];
     let t1_two = timed(s, "t1", &t1_sets, 2, s.repeats, r)?;
     let t1_one = timed(s, "t1", &t1_sets, 1, s.repeats, r)?;
+
+    // P6: the same run with the first-order film's b3 (the scene beside fig2 differs from it in
+    // that key only), so the ratio is the film's cost.
+    progress(&format!(
+        "P6: fig2 with the first-order film, N = {T1_NODES}"
+    ));
+    let fo_path = s.scene.with_file_name(P6_SCENE);
+    let fo = Scene::from_path(&fo_path, &[] as &[String])
+        .map_err(|e| format!("{}: {e}", fo_path.display()))?;
+    let mut p6_sets = t1_sets.clone();
+    p6_sets.push(set(
+        "lubricant.cubic",
+        format!("{:e}", fo.config.lubricant.cubic_pa),
+    ));
+    let first_order = timed(s, "p6", &p6_sets, 2, s.repeats, &[])?;
 
     // P1: fig2 as shipped, and its reference at the same N.
     let shipped_nodes = if s.quick { 250 } else { paper_nodes };
@@ -732,6 +758,8 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         fig2_accurate_max_onset_error_us: t1_two.max_onset_error_us,
         fig2_accurate_errors: event_errors(&t1_two.event_values, &p3_reference),
         fig2_accurate_runs: vec![t1_two, t1_one],
+        first_order,
+        first_order_cubic_pa: fo.config.lubricant.cubic_pa,
         fig2_literal_extrapolated_s,
         literal_window_s,
         literal_window_run,

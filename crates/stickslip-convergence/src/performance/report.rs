@@ -3,6 +3,7 @@
 //! [`Performance`] with the reporting kit. Every number in the text comes from the
 //! measurements or from the goals of [`super`].
 
+use super::targets::{seconds, verdict};
 use super::{
     DENSE_MAX_NODES, ONSET_GOAL_US, Performance, SLOPE_GOAL, T1_NODES, T2_GOAL_S, T4_NODES,
 };
@@ -102,15 +103,6 @@ fn wp_figure(p: &Performance) -> Result<String, String> {
     }
     panel = panel.hline(ONSET_GOAL_US, format!("{} µs target", tick(ONSET_GOAL_US)));
     render_svg(&[panel], 1, 800, 560)
-}
-
-pub(super) fn verdict(ok: bool) -> &'static str {
-    if ok { "**met**" } else { "**not met**" }
-}
-
-/// Seconds with three significant digits, comma-separated.
-pub(super) fn seconds(ws: &[f64]) -> String {
-    ws.iter().map(|w| sig(*w, 3)).collect::<Vec<_>>().join(", ")
 }
 
 fn markdown(p: &Performance) -> String {
@@ -381,6 +373,8 @@ mod tests {
                 max_f_peak_rel: Some(7e-5),
             },
             fig2_accurate_runs: vec![timed(0.15, 3354), timed(0.17, 3354)],
+            first_order: timed(0.12, 1800),
+            first_order_cubic_pa: 4.069e6,
             fig2_literal_extrapolated_s: 97.0,
             literal_window_s: 3.4e-5,
             literal_window_run: timed(2.6, 3400),
@@ -465,6 +459,11 @@ mod tests {
         assert!(md.contains("a series row every 10 steps"), "{md}");
         assert!(md.contains("| adaptive | 5e-5 (default) |"), "{md}");
         assert!(md.contains("gives 314 µs at N = 2000"), "{md}");
+        // P6: 0.12 s / 0.15 s; per evaluation (0.9·0.12/1820)/(0.9·0.15/3374).
+        assert!(
+            md.contains("| 0.800× (0.120 s against 0.150 s); per step evaluation 1.48×"),
+            "{md}"
+        );
         // P1: 97 s / 1.9 s; P2: 28 s / 20 s; P4: 150 s / 200 s; P5: (50 − 48)/48, 50/(2·26).
         assert!(
             md.contains("| 51.1× (1.90 s against 97.0 s extrapolated)"),

@@ -1,17 +1,27 @@
-//! The P1–P5 rows of the performance table and the P1, P4 and P5 sections of
+//! The P1–P6 rows of the performance table and the P1, P4 and P5 sections of
 //! `performance.md` (P2 and P3 are in [`super::report`]). Every number comes from the
 //! measurements in [`Performance`] or the goals of [`super`].
 
-use super::report::{seconds, verdict};
 use super::sweep::{EFFICIENCY_GOAL, OVERHEAD_GOAL};
 use super::{
     P1_ONSET_GOAL_US, P1_SPEEDUP_GOAL, P2_RATIO_GOAL, P3_GOAL_S, P4_TEST_RATIO_GOAL,
-    P4_VALIDATE_GOAL_S, Performance, T1_NODES, T2_GOAL_S,
+    P4_VALIDATE_GOAL_S, P6_RATIO_GOAL, Performance, T1_NODES, T2_GOAL_S,
 };
 use std::fmt::Write as _;
 use stickslip_report::fmt::{opt, sig, tick};
 
-/// The rows P1–P5 of the targets table.
+/// A target's verdict in the report's words. (Here, not in `report`, which calls this module:
+/// no two files of the performance report import each other.)
+pub(super) fn verdict(ok: bool) -> &'static str {
+    if ok { "**met**" } else { "**not met**" }
+}
+
+/// Seconds with three significant digits, comma-separated.
+pub(super) fn seconds(ws: &[f64]) -> String {
+    ws.iter().map(|w| sig(*w, 3)).collect::<Vec<_>>().join(", ")
+}
+
+/// The rows P1–P6 of the targets table.
 pub(super) fn targets_table(m: &mut String, p: &Performance) {
     let sh = &p.shipped;
     let _ = writeln!(
@@ -119,6 +129,28 @@ pub(super) fn targets_table(m: &mut String, p: &Performance) {
         sig(100.0 * overhead, 2),
         sig(sw.efficiency(), 3),
         verdict(overhead <= OVERHEAD_GOAL && sw.efficiency() >= EFFICIENCY_GOAL)
+    );
+    let (fo, so) = (&p.first_order, &p.fig2_accurate_runs[0]);
+    let ratio = fo.wall_s / so.wall_s;
+    let _ = writeln!(
+        m,
+        "| P6 fig2 at N = {T1_NODES} with the first-order film (b₃ = {} Pa of {}) against b₃ = 0, \
+         whole process | ≤ {}× | {}× ({} s against {} s); per step evaluation {}× ({} µs against \
+         {} µs; {} against {} evaluations, {} against {} events) | {} |",
+        sig(p.first_order_cubic_pa, 4),
+        super::P6_SCENE,
+        tick(P6_RATIO_GOAL),
+        sig(ratio, 3),
+        sig(fo.wall_s, 3),
+        sig(so.wall_s, 3),
+        sig(fo.us_per_evaluation() / so.us_per_evaluation(), 3),
+        sig(fo.us_per_evaluation(), 3),
+        sig(so.us_per_evaluation(), 3),
+        fo.evaluations(),
+        so.evaluations(),
+        fo.events,
+        so.events,
+        verdict(ratio <= P6_RATIO_GOAL)
     );
 }
 
