@@ -11,7 +11,9 @@
 //! - [`model_first_order`]: the same for the first-order film, cell by cell against the
 //!   second-order film's map (the paper's contrast);
 //! - [`rigid_first_order`]: the first-order film under the rigid drive, melting strain × speed:
-//!   the advance per cycle on paper, the fold's delay, the abrupt loss of recovery.
+//!   the advance per cycle on paper, the fold's delay, the abrupt loss of recovery;
+//! - [`steady`]: the rigid drive's regimes on the steady state (`time.until = "periodic"`), in a
+//!   window and in one twice as long.
 //!
 //! Invariant: every number in the report's prose is computed from the maps it describes;
 //! nothing here steps a simulation (the sweep engine does).
@@ -21,6 +23,7 @@ pub mod model_first_order;
 pub mod rigid;
 pub mod rigid_first_order;
 pub mod spring;
+pub mod steady;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -237,12 +240,19 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         opts.jobs,
         opts.resume,
     )?;
+    let steady_map = run_map(
+        &maps_dir.join("rigid_steady.toml"),
+        &out.join("rigid_steady"),
+        opts.jobs,
+        opts.resume,
+    )?;
     let sections = vec![
         rigid::section(&rigid_map)?,
         spring::section(&spring_map)?,
         model::section(&model_map)?,
         model_first_order::section(&model_fo_map, &model_map)?,
         rigid_first_order::section(&rigid_fo_map)?,
+        steady::section(&steady_map)?,
     ];
     for s in &sections {
         let cols = 2;

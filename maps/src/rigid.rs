@@ -14,10 +14,14 @@ use stickslip_report::map::panels;
 use stickslip_report::palette::DARK;
 use stickslip_report::plot::{Marker, Series};
 use stickslip_run::ResolvedScene;
+use stickslip_run::boundary;
 use stickslip_run::summary::Regime;
 
 const V: &str = "drive.velocity";
 const A: &str = "temperature.A0";
+
+/// Relative tolerance of the critical speeds found by bisection.
+pub const BOUNDARY_RTOL: f64 = 1e-3;
 
 /// The critical speed on paper for A0 = `a0` Pa with the scene's film (see the module docs),
 /// m/s; `f` the recovery asked for.
@@ -166,6 +170,63 @@ pub fn section(map: &Map) -> Result<Section, String> {
             sig(warm[warm.len() - 1], 3)
         ),
         pass: paper_ok,
+    });
+
+    // The same critical speed by bisection (`stickslip boundary`): inside the map's bracket.
+    let mut bisected = Vec::new();
+    for &a0 in &warm {
+        let row = row_of(a0);
+        let Some(k) = row.windows(2).position(|w| {
+            w[0].summary.recovery.unwrap_or(0.0) >= f && w[1].summary.recovery.unwrap_or(0.0) < f
+        }) else {
+            continue;
+        };
+        let (lo, hi) = (map.axis(row[k], V), map.axis(row[k + 1], V));
+        let first = rows
+            .iter()
+            .position(|r| std::ptr::eq(r, row[0]))
+            .ok_or("a row without its point")?;
+        let scene = map.json.sweep.scene(first).map_err(|e| e.to_string())?;
+        let b = boundary::find(
+            &scene,
+            V,
+            (v_lo, v_hi),
+            BOUNDARY_RTOL,
+            th,
+            None,
+            &mut |_| {},
+        )
+        .map_err(|e| e.to_string())?;
+        let interpolated = crossing(
+            &row.iter()
+                .map(|r| (map.axis(r, V), r.summary.recovery.unwrap_or(0.0)))
+                .collect::<Vec<_>>(),
+            f,
+        )
+        .unwrap_or(f64::NAN);
+        bisected.push((a0, b, (lo, hi), interpolated));
+    }
+    let inside = bisected
+        .iter()
+        .filter(|(_, b, (lo, hi), _)| b.value >= *lo && b.value <= *hi)
+        .count();
+    let worst_rel = bisected
+        .iter()
+        .map(|(_, b, _, x)| (b.value / x - 1.0).abs())
+        .fold(0.0_f64, f64::max);
+    let runs_max = bisected.iter().map(|(_, b, ..)| b.runs).max().unwrap_or(0);
+    checks.push(Check {
+        claim: format!(
+            "`stickslip boundary` (bisection to {BOUNDARY_RTOL}) finds the end of stick–slip \
+             between the two speeds where the map's recovery crosses {f}, in every row"
+        ),
+        measured: format!(
+            "{inside} of {} rows; at most {} from the log-interpolated crossing; at most \
+             {runs_max} runs each",
+            bisected.len(),
+            sig(worst_rel, 2)
+        ),
+        pass: !bisected.is_empty() && inside == bisected.len(),
     });
 
     // Figure: regimes and recovery, the paper's curve and the map's crossings on both.
