@@ -808,7 +808,7 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
     let fig3_probes = probe_radii_text(runs, "fig3");
     let nodes = runs
         .get("fig2")
-        .map_or(crate::runner::NODES, |r| r.info.nodes());
+        .map_or(crate::sizes::NODES, |r| r.info.nodes());
     let rigid_v0 = runs.get("rigid").map_or_else(
         |_| "?".to_string(),
         |r| format!("{:e}", r.info.velocity_m_per_s()),

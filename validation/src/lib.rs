@@ -2,7 +2,8 @@
 //! claims C1–C10 as measured criteria, the hard cases, and the reports of `cargo xtask
 //! validate`.
 //!
-//! Layout: [`runner`] holds the run list and runs scenes through the binary (with
+//! Layout: [`sizes`] holds N of the radial scenes and the reduced run's definition (imported by
+//! the run list, the claims and the reduced check, and importing none of them); [`runner`] holds the run list and runs scenes through the binary (with
 //! `stickslip_report::binary`), reading every output file through the run library's schema
 //! (`stickslip_run::RunOutput`); [`facts`] reads the scene values and derived numbers of a run
 //! from its run.json; [`claims`] turns outputs into verdicts; [`figures`] draws the SVGs with
@@ -26,4 +27,5 @@ pub mod hard;
 pub mod reduced;
 pub mod report;
 pub mod runner;
+pub mod sizes;
 pub mod validate;

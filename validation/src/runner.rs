@@ -13,10 +13,7 @@ use stickslip_run::schema::SchemaError;
 use stickslip_run::schema::run_info::FailureRecord;
 use stickslip_run::{ResolvedScene, RunOutput, RunStatus, Scene, SceneError};
 
-/// Nodes used for every radial scene (the paper used N = 2000). The evidence that this
-/// suffices is measured on every validation: the `fig2_n50` and `fig2_n100` runs against
-/// `fig2` (the report's Resolution section); the cost per N is in reports/performance.md.
-pub const NODES: usize = 200;
+pub use crate::sizes::NODES;
 
 /// The old default of `output.event_merge_gap`, s: the event-rule comparison runs every paper
 /// scene with it beside the default settings.
@@ -299,8 +296,8 @@ pub fn specs() -> Vec<RunSpec> {
         "fig2",
         "the reduced block of summary.json",
     );
-    reduced.nodes = crate::reduced::NODES;
-    reduced.sets = crate::reduced::cli_overrides()
+    reduced.nodes = crate::sizes::REDUCED_NODES;
+    reduced.sets = crate::sizes::reduced_overrides()
         .into_iter()
         .filter(|s| !s.starts_with("contact.nodes="))
         .collect();
