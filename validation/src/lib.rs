@@ -1,5 +1,5 @@
 //! stickslip-validation: the paper's scenes run through the `stickslip` binary, the paper's
-//! claims C1–C10 as measured criteria, the hard cases, and the reports of `cargo xtask
+//! claims C1–C13 as measured criteria, the hard cases, and the reports of `cargo xtask
 //! validate`.
 //!
 //! Layout: [`sizes`] holds N of the radial scenes and the reduced run's definition (imported by
@@ -19,11 +19,13 @@
 //! byte for byte.
 
 pub mod claims;
+pub mod claims_first_order;
 pub mod events_rule;
 pub mod facts;
 pub mod figures;
 pub mod findings;
 pub mod hard;
+pub mod hysteresis;
 pub mod reduced;
 pub mod report;
 pub mod runner;

@@ -306,7 +306,7 @@ pub fn specs() -> Vec<RunSpec> {
     let mut all = vec![
         literal_default,
         literal,
-        RunSpec::new("fig2", "fig2", "Fig. 2, 5a; C1–C4, C6, C9"),
+        RunSpec::new("fig2", "fig2", "Fig. 2, 5a; C1–C4, C6, C9, C12, C13"),
         fig3,
         RunSpec::new("fig4", "fig4", "Fig. 4, 5b; C2, C7, C9"),
         RunSpec::new("rigid", "rigid", "C10"),
@@ -314,9 +314,24 @@ pub fn specs() -> Vec<RunSpec> {
         n100,
         n50,
         RunSpec::new("melt", "melt", "C8"),
-        RunSpec::new("homogeneous", "homogeneous", "C6"),
+        RunSpec::new("homogeneous", "homogeneous", "C6, C12"),
+        RunSpec::new(
+            "fig2_first_order",
+            "fig2_first_order",
+            "the first-order film (ε₊ = 1.3·εc); C12, C13",
+        ),
+        RunSpec::new("homogeneous_first_order", "homogeneous_first_order", "C12"),
         reduced,
     ];
+    for a0 in crate::sizes::HYSTERESIS_A0_PA {
+        let mut h = RunSpec::new(
+            &crate::sizes::hysteresis_run(a0),
+            "hysteresis",
+            &format!("C11: the first-order film's melting strain at A0 = {a0:e} Pa"),
+        );
+        h.sets.push(format!("temperature.A0={a0:e}"));
+        all.push(h);
+    }
     let partners: Vec<RunSpec> = EVENT_RULE_RUNS
         .iter()
         .filter(|name| !all.iter().any(|s| s.name == old_gap_partner(name)))

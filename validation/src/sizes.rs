@@ -32,3 +32,12 @@ pub fn reduced_overrides() -> Vec<String> {
         "output.series_interval=1e-7".into(),
     ]
 }
+
+/// The temperatures of claim C11's `hysteresis` runs, A0 in Pa: fig2's 1.5e6 Pa and a third
+/// below and above it (εc from 1.41 to 2; the first-order film's ε₊ from 2.02 to 2.46).
+pub const HYSTERESIS_A0_PA: [f64; 3] = [1.0e6, 1.5e6, 2.0e6];
+
+/// The run name of the `hysteresis` scene at temperature `a0_pa` (`hysteresis_A1.5e6`).
+pub fn hysteresis_run(a0_pa: f64) -> String {
+    format!("hysteresis_A{a0_pa:e}")
+}
