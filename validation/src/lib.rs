@@ -23,6 +23,7 @@ pub mod claims_first_order;
 pub mod events_rule;
 pub mod facts;
 pub mod figures;
+pub mod figures_first_order;
 pub mod findings;
 pub mod hard;
 pub mod hysteresis;
