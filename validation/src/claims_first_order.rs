@@ -454,9 +454,10 @@ pub fn finding(runs: &Runs) -> Option<String> {
          first-order film (ε₊ = {}·εc) by {}, {}, {} % and {} % — {}, {}, {} and {} times as \
          much. Not only the order of the transition differs: at the same τmax, εmax and a the \
          first-order solid starts at φ₊(0) = {} against φ0 = {}, so it is {} times as stiff \
-         (aφ²), and the substrate's share of the stamp's advance (run.json's \
-         lagged_sweep_contraction) is {} against {}: the two contact models agree where that \
-         share is ≤ 1 (docs/model.md, the maps' radial-against-homogeneous check), so part of \
+         (aφ²), and the coupling's spectral radius ρ, the substrate's share of the stamp's \
+         advance (run.json's lagged_sweep_contraction), is {} against {}: the two contact \
+         models agree where ρ ≤ 1 (docs/model.md, the maps' radial-against-homogeneous \
+         check), so part of \
          the contrast may come from the stiffer film rather than from the order of the \
          transition; these runs do not separate the two. Its fronts start at the edge as the \
          second-order film's do (C13).",
