@@ -1,5 +1,6 @@
 //! The paper's claims C1–C10 (docs/model.md#the-papers-claims) as measured criteria on run outputs
-//! read through the run library's schema ([`RunOutput`]).
+//! read through the run library's schema ([`RunOutput`]); C11–C13, the first-order film's, are
+//! in [`crate::claims_first_order`].
 //!
 //! Every claim states its criterion with the threshold, and the reason for the threshold sits
 //! next to the constant. A claim whose runs are missing or failed is a failing claim: nothing
@@ -94,7 +95,8 @@ pub struct Part {
 }
 
 impl Part {
-    fn fail(text: impl Into<String>) -> Self {
+    /// A failing part whose text says why.
+    pub fn fail(text: impl Into<String>) -> Self {
         let text = text.into();
         Self {
             pass: false,
@@ -756,7 +758,8 @@ pub fn c10_part(run: &RunOutput) -> Part {
     }
 }
 
-fn assemble(
+/// A claim from its parts: it passes when every part passes (and there is one).
+pub fn assemble(
     id: &'static str,
     statement: &'static str,
     criterion: String,
@@ -808,7 +811,7 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
     let fig3_probes = probe_radii_text(runs, "fig3");
     let nodes = runs
         .get("fig2")
-        .map_or(crate::runner::NODES, |r| r.info.nodes());
+        .map_or(crate::sizes::NODES, |r| r.info.nodes());
     let rigid_v0 = runs.get("rigid").map_or_else(
         |_| "?".to_string(),
         |r| format!("{:e}", r.info.velocity_m_per_s()),

@@ -764,4 +764,7 @@ pub fn all(runs: &Runs) -> Vec<Figure> {
         homogeneous(runs),
         literal(runs),
     ]
+    .into_iter()
+    .chain(crate::figures_first_order::all(runs))
+    .collect()
 }

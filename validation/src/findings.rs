@@ -22,6 +22,7 @@ pub fn all(claims: &[Claim], runs: &Runs) -> Vec<String> {
         .collect();
     f.extend(literal(runs));
     f.extend(homogeneous(runs));
+    f.extend(crate::claims_first_order::finding(runs));
     f.extend(rigid_fast(runs));
     f.extend(continuous_slip(runs));
     f.extend(force_check(runs));

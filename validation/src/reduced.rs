@@ -14,29 +14,14 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use stickslip_run::RunOutput;
 
-/// Nodes of the reduced run.
-pub const NODES: usize = 30;
 /// Time step of the reduced run, s.
-pub const DT_S: f64 = 2e-8;
+pub use crate::sizes::REDUCED_DT_S as DT_S;
 /// End time of the reduced run, s.
-pub const END_S: f64 = 1.0e-3;
-
-/// The `--set` overrides that turn `validation/scenes/fig2.toml` into the reduced run: the
-/// paper's fig2 (accurate scheme, floor noise 1e-6, default event settings) at N = [`NODES`],
-/// fixed steps Δt = [`DT_S`], end = [`END_S`], rows every 1e-7 s.
-pub fn cli_overrides() -> Vec<String> {
-    vec![
-        format!("contact.nodes={NODES}"),
-        format!("time.dt={DT_S:e}"),
-        format!("time.end={END_S:e}"),
-        "time.scheme=accurate".into(),
-        "time.stepping=fixed".into(),
-        "lubricant.noise.kind=floor".into(),
-        "lubricant.noise.floor=1e-6".into(),
-        format!("output.profile_times=[{END_S:e}]"),
-        "output.series_interval=1e-7".into(),
-    ]
-}
+pub use crate::sizes::REDUCED_END_S as END_S;
+/// Nodes of the reduced run.
+pub use crate::sizes::REDUCED_NODES as NODES;
+/// The `--set` overrides that turn `validation/scenes/fig2.toml` into the reduced run.
+pub use crate::sizes::reduced_overrides as cli_overrides;
 
 /// Qualitative features of a reduced run: what `summary.json` commits and the test checks.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -13,10 +13,7 @@ use stickslip_run::schema::SchemaError;
 use stickslip_run::schema::run_info::FailureRecord;
 use stickslip_run::{ResolvedScene, RunOutput, RunStatus, Scene, SceneError};
 
-/// Nodes used for every radial scene (the paper used N = 2000). The evidence that this
-/// suffices is measured on every validation: the `fig2_n50` and `fig2_n100` runs against
-/// `fig2` (the report's Resolution section); the cost per N is in reports/performance.md.
-pub const NODES: usize = 200;
+pub use crate::sizes::NODES;
 
 /// The old default of `output.event_merge_gap`, s: the event-rule comparison runs every paper
 /// scene with it beside the default settings.
@@ -299,8 +296,8 @@ pub fn specs() -> Vec<RunSpec> {
         "fig2",
         "the reduced block of summary.json",
     );
-    reduced.nodes = crate::reduced::NODES;
-    reduced.sets = crate::reduced::cli_overrides()
+    reduced.nodes = crate::sizes::REDUCED_NODES;
+    reduced.sets = crate::sizes::reduced_overrides()
         .into_iter()
         .filter(|s| !s.starts_with("contact.nodes="))
         .collect();
@@ -309,7 +306,7 @@ pub fn specs() -> Vec<RunSpec> {
     let mut all = vec![
         literal_default,
         literal,
-        RunSpec::new("fig2", "fig2", "Fig. 2, 5a; C1–C4, C6, C9"),
+        RunSpec::new("fig2", "fig2", "Fig. 2, 5a; C1–C4, C6, C9, C12, C13"),
         fig3,
         RunSpec::new("fig4", "fig4", "Fig. 4, 5b; C2, C7, C9"),
         RunSpec::new("rigid", "rigid", "C10"),
@@ -317,9 +314,24 @@ pub fn specs() -> Vec<RunSpec> {
         n100,
         n50,
         RunSpec::new("melt", "melt", "C8"),
-        RunSpec::new("homogeneous", "homogeneous", "C6"),
+        RunSpec::new("homogeneous", "homogeneous", "C6, C12"),
+        RunSpec::new(
+            "fig2_first_order",
+            "fig2_first_order",
+            "the first-order film (ε₊ = 1.3·εc); C12, C13",
+        ),
+        RunSpec::new("homogeneous_first_order", "homogeneous_first_order", "C12"),
         reduced,
     ];
+    for a0 in crate::sizes::HYSTERESIS_A0_PA {
+        let mut h = RunSpec::new(
+            &crate::sizes::hysteresis_run(a0),
+            "hysteresis",
+            &format!("C11: the first-order film's melting strain at A0 = {a0:e} Pa"),
+        );
+        h.sets.push(format!("temperature.A0={a0:e}"));
+        all.push(h);
+    }
     let partners: Vec<RunSpec> = EVENT_RULE_RUNS
         .iter()
         .filter(|name| !all.iter().any(|s| s.name == old_gap_partner(name)))

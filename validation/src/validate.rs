@@ -59,7 +59,8 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     }
     let reduced = runs.get("fig2_reduced_cli").map(crate::reduced::features);
     let resolution = Resolution::of(&runs);
-    let claims = evaluate(&runs);
+    let mut claims = evaluate(&runs);
+    claims.extend(crate::claims_first_order::evaluate(&runs));
     let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
     let outcome = Outcome {
         claims: &claims,

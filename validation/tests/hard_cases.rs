@@ -236,3 +236,12 @@ fn failure_records_are_typed_and_the_report_renders() {
     assert!(md.contains("| **3 Δt far too large (1e-6 s)**"), "{md}");
     assert!(md.contains("stickslip run validation/hard/large_dt.toml"));
 }
+
+#[test]
+fn case9_first_order_fold_large_step_melts_early_but_never_before_eps_plus() {
+    let c = hard::first_order_fold(bench());
+    assert_checks(&c);
+    // Explicit Euler's number for the first-order film: Δt·γ·φ₊(0)·(2b·φ₊(0) − b3) ≈ 166.
+    let e = c.euler_number().expect("the preflight has euler_number");
+    assert!((150.0..180.0).contains(&e), "euler_number {e}");
+}

@@ -19,7 +19,7 @@ Commands:
                 criterion benches), then python-test, the wheel's check and slurm-check; a
                 timed summary at the end; exits 1 if any stage failed
       --no-python, --no-slurm   skip that stage (--no-python skips the wheel too)
-  validate      simulate the paper's scenes, check claims C1–C10, write reports/
+  validate      simulate the paper's scenes, check claims C1–C13, write reports/
                 (index.md, summary.json, SVG figures); exits 1 if a claim fails
       --check   rerun and compare verdicts, event counts and the reduced block with the
                 committed reports/summary.json, writing nothing; exits 1 on a mismatch

@@ -19,6 +19,7 @@
 mod complete_melting;
 mod critical_strain;
 mod extreme_sizes;
+mod first_order_fold;
 mod large_dt;
 mod noise_extremes;
 mod rigid_fast;
@@ -31,6 +32,10 @@ pub use critical_strain::{
     NEAR_CRITICAL_PROFILE_S, NearCritical, near_critical,
 };
 pub use extreme_sizes::{EdgeScaling, SCALINGS, Scaled, edge_scaling, scaling_sets};
+pub use first_order_fold::{
+    FOLD_ADAPTIVE_REL_TOL, FOLD_DT_S, FOLD_LITERAL_SMALL_DT_S, FOLD_REFERENCE_DT_S, FirstOrderFold,
+    first_order_fold, melting_strains,
+};
 pub use large_dt::{LARGE_DT_S, LargeDt, large_dt};
 pub use noise_extremes::{LARGE_SIGMAS, NoiseExtremes, noise_extremes, stuck_melted};
 pub use rigid_fast::{RigidFast, rigid_fast, spacing};
@@ -407,6 +412,7 @@ pub fn measure_all(b: &Bench, with_big_n: bool) -> Vec<Box<dyn Case>> {
         Box::new(move || Box::new(edge_scaling(b, with_big_n))),
         Box::new(|| Box::new(noise_extremes(b))),
         Box::new(|| Box::new(rigid_fast(b))),
+        Box::new(|| Box::new(first_order_fold(b))),
     ];
     let next = std::sync::atomic::AtomicUsize::new(0);
     let results: std::sync::Mutex<Vec<(usize, Box<dyn Case>)>> = std::sync::Mutex::new(Vec::new());
