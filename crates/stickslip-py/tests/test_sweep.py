@@ -34,7 +34,7 @@ range = {{ from = -1e5, to = 1.5e6, count = 3, scale = "linear" }}
 COLUMNS = [
     "point", "drive.velocity", "temperature.A0", "status", "regime", "n_events",
     "t_first_onset", "period_last", "x_period_last", "f_peak_first", "f_peak_last", "f_mean",
-    "recovery", "melted_time_fraction", "wall_s", "message", "steady",
+    "recovery", "melted_time_fraction", "wall_s", "message", "steady", "level",
 ]
 
 
@@ -97,6 +97,9 @@ def test_same_numbers_as_the_cli(table: dict, sweep_file: Path, cli: Path, tmp_p
         elif name == "steady":
             assert table[name].dtype == np.bool_
             assert [str(v).lower() for v in table[name]] == cells, name
+        elif name == "level":
+            assert table[name].dtype == np.int64
+            assert [str(v) for v in table[name]] == cells, name
         elif name != "wall_s":
             written = np.array([float(c) if c else np.nan for c in cells])
             assert same_bits(table[name].astype(np.float64), written), name

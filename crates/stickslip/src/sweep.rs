@@ -351,6 +351,16 @@ fn run(
         eprintln!("interrupted: finished points are kept; rerun the same command to run the rest");
         return ExitCode::from(crate::EXIT_INTERRUPTED);
     }
+    if let Some(w) = report.waiting {
+        // A refined sweep's next level is decided by every shard's results of this one.
+        say!(
+            "shard {i}/{n} waits at level {}: {} of its points in other shards are not              finished; rerun this shard once they are (it skips what is done and goes on with              level {}); `sweep slurm --submit` submits one dependent array per level",
+            w.level,
+            w.missing,
+            w.level + 1
+        );
+        return ExitCode::SUCCESS;
+    }
     match exec::after_shard(dir, &sweep.fingerprint(), options.shard) {
         Ok(m) => report_merge(dir, &m, true),
         // The shard's points are done and recorded: a merge that cannot write is not a
@@ -406,6 +416,7 @@ fn submit_slurm(
         tasks,
         extra,
         &run_args,
+        sweep.refine.as_ref().map(|r| r.levels),
     );
     let script = dir.join(slurm::SCRIPT);
     if let Err(e) = std::fs::create_dir_all(dir.join("slurm"))
@@ -413,40 +424,80 @@ fn submit_slurm(
     {
         return crate::fail(format!("cannot write {}: {e}", script.display()), 1);
     }
-    say!(
-        "wrote {} ({} points in {tasks} tasks)",
-        script.display(),
-        sweep.points
-    );
+    match &sweep.refine {
+        None => say!(
+            "wrote {} ({} points in {tasks} tasks)",
+            script.display(),
+            sweep.points
+        ),
+        Some(r) => say!(
+            "wrote {} (a refined sweep: {} base points, then {} levels, in {tasks} tasks; one \
+             array per level)",
+            script.display(),
+            r.base.iter().product::<usize>(),
+            r.levels
+        ),
+    }
     if !submit {
-        say!("submit with: sbatch {}", script.display());
+        let levels = sweep.refine.as_ref().map_or(0, |r| r.levels);
+        if levels == 0 {
+            say!("submit with: sbatch {}", script.display());
+        } else {
+            say!(
+                "submit with --submit, or by hand one array per level, each after the one \
+                 before: ID=$(sbatch --parsable {0}), then {levels} times ID=$(sbatch \
+                 --parsable --dependency=afterok:$ID {0})",
+                script.display()
+            );
+        }
         return ExitCode::SUCCESS;
     }
-    match Command::new("sbatch")
-        .arg("--parsable")
-        .arg(&script)
-        .output()
-    {
-        Ok(out) if out.status.success() => {
-            let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
-            say!("submitted job {id}");
-            say!(
-                "the last task to finish writes the map; to merge by hand: stickslip sweep merge \
-                 {}",
-                dir.display()
-            );
-            ExitCode::SUCCESS
+    // A refined sweep: one array per level, each after the previous one ended well (its
+    // tasks' results decide the next level's points).
+    let waves = sweep.refine.as_ref().map_or(1, |r| r.levels as usize + 1);
+    let mut previous: Option<String> = None;
+    for wave in 0..waves {
+        let mut cmd = Command::new("sbatch");
+        cmd.arg("--parsable");
+        if let Some(id) = &previous {
+            cmd.arg(format!("--dependency=afterok:{id}"));
         }
-        Ok(out) => crate::fail(
-            format!(
-                "sbatch failed ({}): {}",
-                out.status,
-                String::from_utf8_lossy(&out.stderr).trim()
-            ),
-            1,
-        ),
-        Err(e) => crate::fail(format!("cannot run sbatch: {e}"), 1),
+        match cmd.arg(&script).output() {
+            Ok(out) if out.status.success() => {
+                let text = String::from_utf8_lossy(&out.stdout);
+                // --parsable prints `ID` or `ID;CLUSTER`.
+                let id = text.trim().split(';').next().unwrap_or("").to_string();
+                if waves > 1 {
+                    say!(
+                        "submitted job {id} (level {wave} of {}{})",
+                        waves - 1,
+                        previous
+                            .as_ref()
+                            .map_or_else(String::new, |p| format!(", after job {p}"))
+                    );
+                } else {
+                    say!("submitted job {id}");
+                }
+                previous = Some(id);
+            }
+            Ok(out) => {
+                return crate::fail(
+                    format!(
+                        "sbatch failed ({}): {}",
+                        out.status,
+                        String::from_utf8_lossy(&out.stderr).trim()
+                    ),
+                    1,
+                );
+            }
+            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), 1),
+        }
     }
+    say!(
+        "the last task to finish writes the map; to merge by hand: stickslip sweep merge {}",
+        dir.display()
+    );
+    ExitCode::SUCCESS
 }
 
 fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {

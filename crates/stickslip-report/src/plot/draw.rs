@@ -332,6 +332,14 @@ where
                 .map(|c| Rectangle::new([(c.x.0, c.y.0), (c.x.1, c.y.1)], c.color.filled())),
         )
         .map_err(err)?;
+    chart
+        .draw_series(
+            panel
+                .segments
+                .iter()
+                .map(|s| PathElement::new(vec![s.from, s.to], s.color.stroke_width(2))),
+        )
+        .map_err(err)?;
     let at_x = |f: f64| {
         if xlog {
             x0 * (x1 / x0).powf(f)

@@ -132,6 +132,17 @@ pub struct Cell {
     pub color: RGBColor,
 }
 
+/// A straight segment in data coordinates, drawn over the cells.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    /// Start.
+    pub from: (f64, f64),
+    /// End.
+    pub to: (f64, f64),
+    /// Colour.
+    pub color: RGBColor,
+}
+
 /// Text at a point in data coordinates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Note {
@@ -285,6 +296,8 @@ pub struct Panel {
     pub vlines: Vec<(f64, String)>,
     /// Filled cells, drawn first.
     pub cells: Vec<Cell>,
+    /// Straight segments drawn over the cells (a regime boundary).
+    pub segments: Vec<Segment>,
     /// Text notes.
     pub notes: Vec<Note>,
     /// Legend position.
@@ -317,6 +330,7 @@ impl Panel {
             hlines: Vec::new(),
             vlines: Vec::new(),
             cells: Vec::new(),
+            segments: Vec::new(),
             notes: Vec::new(),
             legend: LegendAt::UpperLeft,
             x_range: None,

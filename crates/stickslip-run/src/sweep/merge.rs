@@ -76,7 +76,7 @@ pub fn write_table(
         shard,
         rows: records.iter().map(MapRow::of).collect(),
     };
-    debug_assert_eq!(table.rows.len(), sweep.shard_len(index, count));
+    debug_assert!(sweep.refine.is_some() || table.rows.len() == sweep.shard_len(index, count));
     let shards = dir.join(SHARDS_DIR);
     std::fs::create_dir_all(&shards).map_err(io_err(dir))?;
     let text = serde_json::to_string(&table).map_err(|e| io_err(dir)(io::Error::other(e)))?;
@@ -171,6 +171,7 @@ fn rows_from_tables(
     let sweep = &lock.sweep;
     let build = super::split_fingerprint(&lock.fingerprint).map_or("", |(_, b)| b);
     let mut per_shard: Vec<Vec<MapRow>> = Vec::with_capacity(count);
+    let mut refined: Vec<(PathBuf, Vec<MapRow>)> = Vec::new();
     for index in 0..count {
         let path = dir.join(SHARDS_DIR).join(table_name(index, count, build));
         cost.tables_read += 1;
@@ -193,8 +194,15 @@ fn rows_from_tables(
             }
             return Ok(None);
         }
+        if table.shard != (index, count) {
+            return Ok(None);
+        }
+        if sweep.refine.is_some() {
+            refined.push((path, table.rows));
+            continue;
+        }
         let expected = sweep.shard_len(index, count);
-        if table.shard != (index, count) || table.rows.len() != expected {
+        if table.rows.len() != expected {
             return Ok(None);
         }
         for (k, row) in table.rows.iter().enumerate() {
@@ -214,6 +222,9 @@ fn rows_from_tables(
         }
         per_shard.push(table.rows);
     }
+    if let Some(refine) = &sweep.refine {
+        return refined_rows(sweep, refine, refined);
+    }
     // Interleave: point p is row p / N of shard p mod N.
     let mut iters: Vec<std::vec::IntoIter<MapRow>> =
         per_shard.into_iter().map(Vec::into_iter).collect();
@@ -221,6 +232,45 @@ fn rows_from_tables(
         .map(|p| iters[p % count].next())
         .collect::<Option<Vec<MapRow>>>();
     Ok(rows)
+}
+
+/// The rows of a refined sweep from its shards' tables: every level's points must be there
+/// (walked from the tables' own rows), and nothing else; `None` otherwise (a set of tables
+/// from an earlier run of the same build, partly replaced).
+fn refined_rows(
+    sweep: &Sweep,
+    refine: &super::refine::Refine,
+    tables: Vec<(PathBuf, Vec<MapRow>)>,
+) -> Result<Option<Vec<MapRow>>, SweepRunError> {
+    let mut all: BTreeMap<usize, MapRow> = BTreeMap::new();
+    for (path, rows) in tables {
+        for row in rows {
+            let p = row.point;
+            let values: Vec<String> = if p < sweep.points {
+                sweep.values(p).iter().map(super::value_text).collect()
+            } else {
+                Vec::new()
+            };
+            if row.values != values {
+                return Err(SweepRunError::Foreign {
+                    path,
+                    why: format!(
+                        "its row of point {p} ({}) is not this sweep's ({})",
+                        row.values.join(", "),
+                        values.join(", ")
+                    ),
+                });
+            }
+            all.insert(p, row);
+        }
+    }
+    let walk = super::refine::walk(sweep, refine, |p| {
+        Ok::<_, SweepRunError>(all.get(&p).cloned())
+    })?;
+    if !walk.complete() || walk.points() != all.len() {
+        return Ok(None);
+    }
+    Ok(Some(walk.rows.into_values().collect()))
 }
 
 /// Writes map.csv and map.json of `sweep` from `rows`; the [`Merge::Complete`].
@@ -282,6 +332,8 @@ fn merge_tables(
     }
     let points = lock.sweep.points;
     let missing = match prefer {
+        // A refined sweep's shards do not know each other's points: at least one is missing.
+        Some(_) if lock.sweep.refine.is_some() => 1,
         Some(n) => {
             let present = sets.get(&n);
             (0..n)
@@ -345,6 +397,9 @@ fn merge_once(dir: &Path, read_records: bool) -> Result<Merge, SweepRunError> {
         return Ok(m);
     }
     let sweep = &lock.sweep;
+    if let Some(refine) = &sweep.refine {
+        return merge_refined(dir, &lock, refine, cost, started);
+    }
     if !read_records {
         let have = listed(dir).map_err(io_err(dir))?.len();
         if have < sweep.points {
@@ -386,6 +441,54 @@ fn merge_once(dir: &Path, read_records: bool) -> Result<Merge, SweepRunError> {
         });
     }
     write_map(dir, sweep, rows, cost, started)
+}
+
+/// A current record's row (`None` for a missing, damaged or other build's record).
+fn current_row(
+    dir: &Path,
+    sweep: &Sweep,
+    fingerprint: &str,
+    p: usize,
+    other_build: &mut usize,
+) -> Result<Option<MapRow>, SweepRunError> {
+    match PointRecord::find(dir, p, &sweep.values(p), fingerprint).map_err(io_err(dir))? {
+        Found::Current(r) => Ok(Some(MapRow::of(&r))),
+        Found::OtherBuild { .. } => {
+            *other_build += 1;
+            Ok(None)
+        }
+        Found::Missing | Found::Damaged => Ok(None),
+        Found::OtherSweep { why } => Err(SweepRunError::Foreign {
+            path: PointRecord::path(dir, p),
+            why,
+        }),
+    }
+}
+
+/// The merge of a refined sweep from its records: level by level, as far as they go.
+fn merge_refined(
+    dir: &Path,
+    lock: &SweepLock,
+    refine: &super::refine::Refine,
+    mut cost: MergeCost,
+    started: Instant,
+) -> Result<Merge, SweepRunError> {
+    let sweep = &lock.sweep;
+    let mut other_build = 0;
+    let walk = super::refine::walk(sweep, refine, |p| {
+        cost.records_read += 1;
+        current_row(dir, sweep, &lock.fingerprint, p, &mut other_build)
+    })?;
+    if !walk.complete() {
+        cost.seconds = started.elapsed().as_secs_f64();
+        return Ok(Merge::Incomplete {
+            missing: walk.missing.len(),
+            points: walk.points(),
+            other_build,
+            cost,
+        });
+    }
+    write_map(dir, sweep, walk.rows.into_values().collect(), cost, started)
 }
 
 /// As [`merge`], waiting up to `timeout` for the directory to hold a sweep and for its points
@@ -432,6 +535,8 @@ pub struct MapRead {
     pub table: MapTable,
     /// Every point has its row.
     pub complete: bool,
+    /// The points of the map: the sweep's, or a refined sweep's so far (the levels reached).
+    pub points: usize,
 }
 
 /// Reads the table of the sweep in `dir` without writing anything: map.csv when it is there;
@@ -447,9 +552,36 @@ pub fn read_map(dir: &Path) -> Result<MapRead, SweepRunError> {
     let sweep = lock.sweep;
     if dir.join(CSV_FILE).is_file() {
         let table = MapTable::read(dir).map_err(|e| io_err(dir)(io::Error::other(e)))?;
+        let points = match &sweep.refine {
+            Some(refine) => {
+                let rows: BTreeMap<usize, &MapRow> =
+                    table.rows.iter().map(|r| (r.point, r)).collect();
+                super::refine::walk(&sweep, refine, |p| {
+                    Ok::<_, SweepRunError>(rows.get(&p).map(|r| (*r).clone()))
+                })?
+                .points()
+            }
+            None => sweep.points,
+        };
         return Ok(MapRead {
-            complete: table.rows.len() == sweep.points,
+            complete: table.rows.len() == points,
+            points,
             table,
+            sweep,
+        });
+    }
+    if let Some(refine) = &sweep.refine {
+        let mut other_build = 0;
+        let walk = super::refine::walk(&sweep, refine, |p| {
+            current_row(dir, &sweep, &lock.fingerprint, p, &mut other_build)
+        })?;
+        return Ok(MapRead {
+            complete: walk.complete(),
+            points: walk.points(),
+            table: MapTable {
+                axes: sweep.axes.iter().map(|a| a.key.clone()).collect(),
+                rows: walk.rows.into_values().collect(),
+            },
             sweep,
         });
     }
@@ -471,6 +603,7 @@ pub fn read_map(dir: &Path) -> Result<MapRead, SweepRunError> {
     }
     Ok(MapRead {
         complete: rows.len() == sweep.points,
+        points: sweep.points,
         table: MapTable {
             axes: sweep.axes.iter().map(|a| a.key.clone()).collect(),
             rows,
