@@ -354,12 +354,18 @@ fn run(
     if let Some(w) = report.waiting {
         // A refined sweep's next level is decided by every shard's results of this one.
         say!(
-            "shard {i}/{n} waits at level {}: {} of its points in other shards are not              finished; rerun this shard once they are (it skips what is done and goes on with              level {}); `sweep slurm --submit` submits one dependent array per level",
+            "shard {i}/{n} waits at level {}: {} of its points in other shards are not \
+             finished; rerun this shard once they are (it skips what is done and goes on with \
+             level {}); `sweep slurm --submit` submits one dependent array per level",
             w.level,
             w.missing,
             w.level + 1
         );
         return ExitCode::SUCCESS;
+    }
+    if let Some(m) = &report.map {
+        // A refined sweep: the shard that found every level complete wrote the map.
+        return report_merge(dir, m, true);
     }
     match exec::after_shard(dir, &sweep.fingerprint(), options.shard) {
         Ok(m) => report_merge(dir, &m, true),
@@ -446,8 +452,10 @@ fn submit_slurm(
             say!(
                 "submit with --submit, or by hand one array per level, each after the one \
                  before: ID=$(sbatch --parsable {0}), then {levels} times ID=$(sbatch \
-                 --parsable --dependency=afterok:$ID {0})",
-                script.display()
+                 --parsable --dependency=afterok:$ID {0}), then sbatch \
+                 --dependency=afterok:$ID --wrap \"stickslip sweep merge {1}\"",
+                script.display(),
+                dir.display()
             );
         }
         return ExitCode::SUCCESS;
@@ -492,6 +500,49 @@ fn submit_slurm(
             }
             Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), 1),
         }
+    }
+    if waves > 1 {
+        // Tasks of the last array finishing together may each see the others' points
+        // missing: a merge after the last array writes the map whatever the order.
+        let mut cmd = Command::new("sbatch");
+        cmd.args([
+            "--parsable".to_string(),
+            format!("--dependency=afterok:{}", previous.unwrap_or_default()),
+            format!("--job-name=stickslip-{}", sweep.name),
+            format!(
+                "--output={}",
+                abs(dir).join("slurm").join("merge-%j.out").display()
+            ),
+        ]);
+        for arg in extra {
+            cmd.arg(arg);
+        }
+        cmd.arg(format!(
+            "--wrap={}",
+            slurm::merge_command(&binary, &abs(dir))
+        ));
+        match cmd.output() {
+            Ok(out) if out.status.success() => {
+                let text = String::from_utf8_lossy(&out.stdout);
+                let id = text.trim().split(';').next().unwrap_or("");
+                say!("submitted job {id} (the merge, after the last level)");
+            }
+            Ok(out) => {
+                return crate::fail(
+                    format!(
+                        "sbatch of the merge failed ({}): {}; merge by hand once the arrays \
+                         ended: stickslip sweep merge {}",
+                        out.status,
+                        String::from_utf8_lossy(&out.stderr).trim(),
+                        dir.display()
+                    ),
+                    1,
+                );
+            }
+            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), 1),
+        }
+        say!("to merge by hand: stickslip sweep merge {}", dir.display());
+        return ExitCode::SUCCESS;
     }
     say!(
         "the last task to finish writes the map; to merge by hand: stickslip sweep merge {}",

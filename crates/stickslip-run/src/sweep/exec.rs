@@ -100,6 +100,8 @@ pub struct ShardReport {
     /// of it are missing (their results decide the next level's points); `None` when it ran
     /// every level (or the sweep is not refined).
     pub waiting: Option<Waiting>,
+    /// A refined sweep whose levels this shard found complete: the map it wrote.
+    pub map: Option<Merge>,
 }
 
 /// A shard of a refined sweep waiting for others ([`ShardReport::waiting`]).
@@ -258,7 +260,10 @@ impl Shard<'_> {
 /// every N-th of the level's points in point order, starting at its index I; the next level's
 /// points are computed from every shard's results of this one ([`super::refine::next_points`]).
 /// When other shards' points of a level are missing, the shard stops there
-/// ([`ShardReport::waiting`]): a rerun once they finished skips what is done and goes on.
+/// ([`ShardReport::waiting`]): a rerun once they finished skips what is done and goes on. The
+/// shard that finds every level complete writes the map itself ([`ShardReport::map`]; it read
+/// every point's record on the way) and no shard table: a refined shard reads the records of
+/// every level it passes, so an array of N tasks reads about N·P records in all.
 ///
 /// # Errors
 /// [`SweepRunError::Foreign`] for a record of another sweep, [`SweepRunError::TakenOver`]
@@ -319,9 +324,10 @@ fn run_refined(
     let shard = run.shard;
     let (sweep, dir) = (shard.sweep, shard.dir);
     let mut known: BTreeMap<usize, MapRow> = BTreeMap::new();
-    let mut mine: Vec<PointRecord> = Vec::new();
     let mut set = refine::base_points(sweep, refine);
     let mut level = 0;
+    // Records of other shards read.
+    let mut read = 0;
     loop {
         let part: Vec<usize> = set.iter().copied().skip(index).step_by(count).collect();
         let Some(rows) = run.points(part.len(), &|k| part[k])? else {
@@ -334,9 +340,9 @@ fn run_refined(
         for r in &rows {
             known.insert(r.point, MapRow::of(r));
         }
-        mine.extend(rows);
         // The other shards' points of this level.
         let mut missing = 0;
+        read += set.len() - part.len();
         for (k, &p) in set.iter().enumerate() {
             if k % count == index {
                 continue;
@@ -367,9 +373,21 @@ fn run_refined(
             break;
         }
     }
-    mine.sort_by_key(|r| r.point);
+    // Every level is complete, and this shard read every point's current record: it writes
+    // the map (several shards finishing together write the same one, atomically).
     shard.watch.check()?;
-    super::merge::write_table(dir, sweep, &shard.fingerprint, (index, count), &mine)
+    let merge = super::merge::write_map(
+        dir,
+        sweep,
+        known.into_values().collect(),
+        MergeCost {
+            records_read: read,
+            ..MergeCost::default()
+        },
+        Instant::now(),
+    )?;
+    run.report.map = Some(merge);
+    Ok(())
 }
 
 /// Runs lists of points on `jobs` threads, gathering the report.

@@ -76,7 +76,7 @@ pub fn write_table(
         shard,
         rows: records.iter().map(MapRow::of).collect(),
     };
-    debug_assert!(sweep.refine.is_some() || table.rows.len() == sweep.shard_len(index, count));
+    debug_assert_eq!(table.rows.len(), sweep.shard_len(index, count));
     let shards = dir.join(SHARDS_DIR);
     std::fs::create_dir_all(&shards).map_err(io_err(dir))?;
     let text = serde_json::to_string(&table).map_err(|e| io_err(dir)(io::Error::other(e)))?;
@@ -171,7 +171,6 @@ fn rows_from_tables(
     let sweep = &lock.sweep;
     let build = super::split_fingerprint(&lock.fingerprint).map_or("", |(_, b)| b);
     let mut per_shard: Vec<Vec<MapRow>> = Vec::with_capacity(count);
-    let mut refined: Vec<(PathBuf, Vec<MapRow>)> = Vec::new();
     for index in 0..count {
         let path = dir.join(SHARDS_DIR).join(table_name(index, count, build));
         cost.tables_read += 1;
@@ -197,10 +196,6 @@ fn rows_from_tables(
         if table.shard != (index, count) {
             return Ok(None);
         }
-        if sweep.refine.is_some() {
-            refined.push((path, table.rows));
-            continue;
-        }
         let expected = sweep.shard_len(index, count);
         if table.rows.len() != expected {
             return Ok(None);
@@ -222,9 +217,6 @@ fn rows_from_tables(
         }
         per_shard.push(table.rows);
     }
-    if let Some(refine) = &sweep.refine {
-        return refined_rows(sweep, refine, refined);
-    }
     // Interleave: point p is row p / N of shard p mod N.
     let mut iters: Vec<std::vec::IntoIter<MapRow>> =
         per_shard.into_iter().map(Vec::into_iter).collect();
@@ -234,47 +226,8 @@ fn rows_from_tables(
     Ok(rows)
 }
 
-/// The rows of a refined sweep from its shards' tables: every level's points must be there
-/// (walked from the tables' own rows), and nothing else; `None` otherwise (a set of tables
-/// from an earlier run of the same build, partly replaced).
-fn refined_rows(
-    sweep: &Sweep,
-    refine: &super::refine::Refine,
-    tables: Vec<(PathBuf, Vec<MapRow>)>,
-) -> Result<Option<Vec<MapRow>>, SweepRunError> {
-    let mut all: BTreeMap<usize, MapRow> = BTreeMap::new();
-    for (path, rows) in tables {
-        for row in rows {
-            let p = row.point;
-            let values: Vec<String> = if p < sweep.points {
-                sweep.values(p).iter().map(super::value_text).collect()
-            } else {
-                Vec::new()
-            };
-            if row.values != values {
-                return Err(SweepRunError::Foreign {
-                    path,
-                    why: format!(
-                        "its row of point {p} ({}) is not this sweep's ({})",
-                        row.values.join(", "),
-                        values.join(", ")
-                    ),
-                });
-            }
-            all.insert(p, row);
-        }
-    }
-    let walk = super::refine::walk(sweep, refine, |p| {
-        Ok::<_, SweepRunError>(all.get(&p).cloned())
-    })?;
-    if !walk.complete() || walk.points() != all.len() {
-        return Ok(None);
-    }
-    Ok(Some(walk.rows.into_values().collect()))
-}
-
 /// Writes map.csv and map.json of `sweep` from `rows`; the [`Merge::Complete`].
-fn write_map(
+pub(super) fn write_map(
     dir: &Path,
     sweep: &Sweep,
     rows: Vec<MapRow>,
@@ -313,6 +266,11 @@ fn merge_tables(
     cost: &mut MergeCost,
     started: Instant,
 ) -> Result<Result<Merge, usize>, SweepRunError> {
+    if lock.sweep.refine.is_some() {
+        // A refined sweep's shards write no tables: the shard that finds every level complete
+        // writes the map (super::exec::run_shard), else the merge reads the records.
+        return Ok(Err(1));
+    }
     let build = super::split_fingerprint(&lock.fingerprint).map_or("", |(_, b)| b);
     let sets = table_sets(dir, build).map_err(io_err(dir))?;
     let mut complete: Vec<usize> = sets
@@ -332,8 +290,6 @@ fn merge_tables(
     }
     let points = lock.sweep.points;
     let missing = match prefer {
-        // A refined sweep's shards do not know each other's points: at least one is missing.
-        Some(_) if lock.sweep.refine.is_some() => 1,
         Some(n) => {
             let present = sets.get(&n);
             (0..n)

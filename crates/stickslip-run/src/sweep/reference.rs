@@ -40,7 +40,10 @@ fn refinement() -> String {
          the I-th), and stops with exit 0 at a level whose other points are not finished yet \
          (it says which); a rerun goes on. `sweep slurm --submit` submits the script once per \
          level and once for the base grid, each array after the previous one ended well \
-         (`--dependency=afterok`); the last task of the last array merges. `sweep plot` draws \
+         (`--dependency=afterok`), then `sweep merge` as a job after the last one (the shard \
+         that finds every level complete writes the map, but tasks ending together may each \
+         miss the others' points). A shard reads the records of every level it passes \
+         (about N·P reads for an array of N tasks) and writes no shard table. `sweep plot` draws \
          each point's cell at its level's size (half a level-k step either way, finer cells \
          over coarser) and the regime boundary as a line.\n"
     )

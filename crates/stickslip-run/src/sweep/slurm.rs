@@ -10,8 +10,10 @@
 //! each after the previous one ended well (`--dependency=afterok:ID`): the tasks of array k
 //! skip the levels done, compute level k's points from the records and run their part, and a
 //! task whose level is still missing other tasks' points exits 0 (the next array goes on).
-//! The last task of the last array to finish merges. No task waits on another inside an
-//! array, so a site running fewer tasks at once than the array has cannot deadlock.
+//! After array k every point of level k is done, whatever the order of its tasks; tasks of the
+//! last array finishing together may each see the others' points missing, so a merge job
+//! ([`merge_command`]) follows the last array. No task waits on another inside an array, so
+//! a site running fewer tasks at once than the array has cannot deadlock.
 
 use std::path::Path;
 
@@ -60,7 +62,8 @@ pub fn script(
         out.push_str(&format!(
             "# A refined sweep of {levels} levels: submit this script {} times, each after the \
              previous array ended well (sbatch --dependency=afterok:ID); each array's tasks run \
-             their part of the next level (`stickslip sweep slurm --submit` does this).\n",
+             their part of the next level; then `stickslip sweep merge` after the last one \
+             (`stickslip sweep slurm --submit` does this).\n",
             levels + 1
         ));
     }
@@ -79,6 +82,17 @@ pub fn script(
     // Exit 4 (the map is complete but has failed points) is a result, not a failed task.
     out.push_str("status=$?\nif [ \"$status\" -eq 4 ]; then exit 0; fi\nexit \"$status\"\n");
     out
+}
+
+/// The shell command of the merge job after a refined sweep's last array: `sweep merge DIR`,
+/// exit 4 (a complete map with failed points) counted as success, as the tasks do.
+#[must_use]
+pub fn merge_command(binary: &Path, dir: &Path) -> String {
+    format!(
+        "{} sweep merge {}; status=$?; if [ \"$status\" -eq 4 ]; then exit 0; fi; exit \"$status\"",
+        shell_quote(&binary.display().to_string()),
+        shell_quote(&dir.display().to_string())
+    )
 }
 
 /// `s` in single quotes for the shell (plain when it needs none).
