@@ -285,10 +285,17 @@ impl Refined {
                 from: s.from,
                 to: s.to,
                 color: BOUNDARY,
+                width: 2,
             })
             .collect()
     }
 }
+
+/// Refined maps with more cells than this draw no cell outlines.
+const MAX_OUTLINED: usize = 5000;
+
+/// The colour of a refined map's cell outlines.
+const OUTLINE: RGBColor = RGBColor(250, 250, 250);
 
 /// The colour of a refined map's regime boundary.
 const BOUNDARY: RGBColor = RGBColor(20, 20, 20);
@@ -458,13 +465,17 @@ fn pair(
     regime.series.push(failed(PointStatus::Refused));
     add_not_run(&mut regime);
     let boundary = |panel: &mut Panel| {
-        if let Some(r) = geo.refined
-            && !r.boundary.is_empty()
-        {
+        if let Some(r) = geo.refined {
             panel.segments = r.segments();
-            panel
-                .series
-                .push(Series::new("regime boundary", Vec::new(), BOUNDARY));
+            // Outlined cells, so the levels show where neighbours share a colour.
+            if r.cells.len() <= MAX_OUTLINED {
+                panel.cell_outline = Some(OUTLINE);
+            }
+            if !r.boundary.is_empty() {
+                panel
+                    .series
+                    .push(Series::new("regime boundary", Vec::new(), BOUNDARY));
+            }
         }
     };
     boundary(&mut regime);

@@ -487,3 +487,39 @@ fn map_csv_without_level_or_steady_still_reads() {
         assert_eq!(old.rows[0].summary.regime, Regime::StickSlip);
     }
 }
+
+#[test]
+fn a_column_splits_by_its_relative_jump() {
+    let sweep = resolve(&sweep_text(
+        A0_LINEAR,
+        "[refine]\nlevels = 1\non = \"recovery\"\nthreshold = 0.1\n",
+    ))
+    .unwrap();
+    let r = sweep.refine.as_ref().unwrap();
+    let with = |v: Option<f64>| {
+        let mut x = row(0, Regime::Partial);
+        x.summary.recovery = v;
+        x
+    };
+    // |a − b| > threshold · max(|a|, |b|).
+    assert!(r.differ(&with(Some(0.5)), &with(Some(0.56))));
+    assert!(!r.differ(&with(Some(0.5)), &with(Some(0.54))));
+    assert!(r.differ(&with(Some(-0.5)), &with(Some(0.5))));
+    assert!(!r.differ(&with(Some(0.0)), &with(Some(0.0))));
+    // A missing value differs from a number, not from another missing value.
+    assert!(r.differ(&with(None), &with(Some(0.5))));
+    assert!(!r.differ(&with(None), &with(None)));
+    // Regimes alone do not split on a column; a failed point differs from an ok one.
+    let mut other = with(Some(0.5));
+    other.summary.regime = Regime::StickSlip;
+    assert!(!r.differ(&with(Some(0.5)), &other));
+    let mut failed = with(Some(0.5));
+    failed.status = PointStatus::Failed;
+    assert!(r.differ(&failed, &with(Some(0.5))));
+    assert!(!r.differ(&failed, &failed.clone()));
+    // On the regime, a failed point is a class of its own.
+    let by_regime = resolve(&sweep_text(A0_LINEAR, "[refine]\nlevels = 1\n")).unwrap();
+    let rr = by_regime.refine.as_ref().unwrap();
+    assert!(rr.differ(&failed, &with(Some(0.5))));
+    assert!(rr.differ(&with(Some(0.5)), &other));
+}

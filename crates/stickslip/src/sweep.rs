@@ -564,7 +564,7 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
                          not run yet",
                         read.sweep.name,
                         read.table.rows.len(),
-                        read.sweep.points
+                        read.points
                     );
                 }
                 MapJson::new(&read.sweep, read.table)

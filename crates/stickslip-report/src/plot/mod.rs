@@ -141,6 +141,8 @@ pub struct Segment {
     pub to: (f64, f64),
     /// Colour.
     pub color: RGBColor,
+    /// Stroke width in pixels.
+    pub width: u32,
 }
 
 /// Text at a point in data coordinates.
@@ -296,6 +298,9 @@ pub struct Panel {
     pub vlines: Vec<(f64, String)>,
     /// Filled cells, drawn first.
     pub cells: Vec<Cell>,
+    /// Each cell outlined in this colour, drawn with it (so later cells cover earlier
+    /// outlines).
+    pub cell_outline: Option<RGBColor>,
     /// Straight segments drawn over the cells (a regime boundary).
     pub segments: Vec<Segment>,
     /// Text notes.
@@ -330,6 +335,7 @@ impl Panel {
             hlines: Vec::new(),
             vlines: Vec::new(),
             cells: Vec::new(),
+            cell_outline: None,
             segments: Vec::new(),
             notes: Vec::new(),
             legend: LegendAt::UpperLeft,
