@@ -11,7 +11,10 @@
 //! the script carried the options, that the tasks overlapped in time (slurmctld's log of
 //! their starts and ends), that every task exited 0, and that the tasks kept each point's
 //! output (`--keep all` carried through); compare the map with a local run's; check that
-//! `sweep merge` agrees; stop the daemons this command started, by pid (also on failure).
+//! `sweep merge` agrees. Then a refined sweep (`maps/slurm-check-refine.toml`, `[refine]`):
+//! `sweep slurm --submit` chains one array per level and a merge (`--dependency=afterok`),
+//! every task must exit 0, and the map the last task merged must equal a local run's and hold points
+//! beyond the base grid. Stop the daemons this command started, by pid (also on failure).
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, Stdio};
@@ -22,6 +25,10 @@ use stickslip_run::sweep::map::MapTable;
 const SWEEP: &str = "maps/slurm-check.toml";
 /// Array tasks.
 const TASKS: usize = 4;
+/// The refined sweep the check runs, one array per level.
+const REFINED: &str = "maps/slurm-check-refine.toml";
+/// Array tasks of each level of the refined sweep.
+const REFINED_TASKS: usize = 3;
 /// CPUs the node is configured with: more task slots than tasks (one CPU each).
 const NODE_CPUS: usize = 8;
 /// Longest wait for the node or the jobs.
@@ -282,6 +289,104 @@ fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
         "slurm-check: map.csv from {TASKS} concurrent Slurm tasks equals the local run's in \
          every column but wall_s ({} points)",
         a.len() - 1
+    );
+    check_refined(root, &dir, &bin, &slurm)
+}
+
+/// The refined sweep: one array per level, chained by `sweep slurm --submit`; every task exits
+/// 0 and the merged map equals a local run's (see the module docs).
+fn check_refined(
+    root: &Path,
+    dir: &Path,
+    bin: &Path,
+    slurm: &dyn Fn(&str, &[&str]) -> Command,
+) -> Result<(), String> {
+    let sweep = root.join(REFINED);
+    let out = dir.join("out").join("refined");
+    let program = bin.to_str().unwrap_or("stickslip");
+    let submitted = run(&mut slurm(
+        program,
+        &[
+            "sweep",
+            "slurm",
+            sweep.to_str().unwrap_or(REFINED),
+            "--out",
+            out.to_str().unwrap_or(""),
+            "--tasks",
+            &REFINED_TASKS.to_string(),
+            "--submit",
+        ],
+    ))?;
+    print!("{submitted}");
+    let started = Instant::now();
+    wait_for("the refined sweep's arrays to finish", || {
+        run(&mut slurm(
+            "squeue",
+            &["-h", "-n", "stickslip-slurm-check-refine"],
+        ))
+        .is_ok_and(|s| s.trim().is_empty())
+    })?;
+    let lock = stickslip_run::sweep::exec::load_lock(&out).map_err(|e| e.to_string())?;
+    let levels = lock.sweep.refine.as_ref().map_or(0, |r| r.levels as usize);
+    println!(
+        "slurm-check: the refined sweep's {} arrays ran in {:.1} s",
+        levels + 1,
+        started.elapsed().as_secs_f64()
+    );
+    let log = std::fs::read_to_string(dir.join("slurmctld.log")).map_err(|e| e.to_string())?;
+    let exits: Vec<&str> = log
+        .lines()
+        .filter(|l| l.contains("_job_complete") && l.contains("WEXITSTATUS"))
+        .collect();
+    if let Some(bad) = exits.iter().find(|l| !l.contains("WEXITSTATUS 0")) {
+        return Err(format!("a task failed: {bad}"));
+    }
+    // The first sweep's tasks, each level's array, and the merge after the last one.
+    let expected = TASKS + REFINED_TASKS * (levels + 1) + 1;
+    if exits.len() != expected {
+        return Err(format!(
+            "slurmctld.log shows the exit status of {} jobs, not {expected} ({TASKS} of the \
+             first sweep, {REFINED_TASKS} per level of the refined one and its merge)",
+            exits.len()
+        ));
+    }
+    if !out.join("map.csv").is_file() {
+        return Err(format!(
+            "the refined sweep's arrays ended without a map in {}",
+            out.display()
+        ));
+    }
+    let local = dir.join("out").join("refined-local");
+    let ran = run(Command::new(bin).args([
+        "sweep",
+        "run",
+        sweep.to_str().unwrap_or(REFINED),
+        "--out",
+        local.to_str().unwrap_or(""),
+        "--quiet",
+    ]))?;
+    print!("{ran}");
+    let (a, b) = (without_wall(&out)?, without_wall(&local)?);
+    if a != b {
+        return Err(format!(
+            "the refined sweep's Slurm map.csv differs from the local one (beyond wall_s): {} \
+             against {} rows",
+            a.len(),
+            b.len()
+        ));
+    }
+    let table = MapTable::read(&out).map_err(|e| e.to_string())?;
+    let refined = table.rows.iter().filter(|r| r.level > 0).count();
+    if refined == 0 {
+        return Err("the refined sweep's map has no point beyond the base grid".into());
+    }
+    println!(
+        "slurm-check: the refined sweep ({} levels, {} arrays of {REFINED_TASKS} tasks and a \
+         merge, each after the one before, all exited 0) equals the local run's map in every column \
+         but wall_s ({} points, {refined} of them refined)",
+        levels,
+        levels + 1,
+        table.rows.len()
     );
     Ok(())
 }

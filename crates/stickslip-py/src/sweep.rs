@@ -140,6 +140,14 @@ fn table_dict<'py>(
         stickslip_run::sweep::map::STEADY_COLUMN,
         PyArray1::from_vec(py, steady),
     )?;
+    let level: Vec<i64> = rows
+        .iter()
+        .map(|r| i64::try_from(r.level).unwrap_or(i64::MAX))
+        .collect();
+    d.set_item(
+        stickslip_run::sweep::map::LEVEL_COLUMN,
+        PyArray1::from_vec(py, level),
+    )?;
     Ok(d)
 }
 
@@ -148,7 +156,7 @@ fn table_dict<'py>(
 fn map_dict<'py>(py: Python<'py>, read: &MapRead) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("table", table_dict(py, &read.sweep, &read.table)?)?;
-    d.set_item("points", read.sweep.points)?;
+    d.set_item("points", read.points)?;
     d.set_item("complete", read.complete)?;
     Ok(d)
 }

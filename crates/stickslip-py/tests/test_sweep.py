@@ -34,7 +34,7 @@ range = {{ from = -1e5, to = 1.5e6, count = 3, scale = "linear" }}
 COLUMNS = [
     "point", "drive.velocity", "temperature.A0", "status", "regime", "n_events",
     "t_first_onset", "period_last", "x_period_last", "f_peak_first", "f_peak_last", "f_mean",
-    "recovery", "melted_time_fraction", "wall_s", "message", "steady",
+    "recovery", "melted_time_fraction", "wall_s", "message", "steady", "level",
 ]
 
 
@@ -97,6 +97,9 @@ def test_same_numbers_as_the_cli(table: dict, sweep_file: Path, cli: Path, tmp_p
         elif name == "steady":
             assert table[name].dtype == np.bool_
             assert [str(v).lower() for v in table[name]] == cells, name
+        elif name == "level":
+            assert table[name].dtype == np.int64
+            assert [str(v) for v in table[name]] == cells, name
         elif name != "wall_s":
             written = np.array([float(c) if c else np.nan for c in cells])
             assert same_bits(table[name].astype(np.float64), written), name
@@ -153,6 +156,32 @@ def test_bad_sweeps() -> None:
         stickslip.sweep("does/not/exist.toml")
     with pytest.raises(ValueError):
         stickslip.sweep(sweep_dict(scene), jobs=0)
+    # [refine]: bad values raise a SweepError (a ValueError) naming the key.
+    for refine, key in [
+        ({"levels": -1}, "refine.levels"),
+        ({"levels": 1.5}, "refine.levels"),
+        ({"levels": 2, "on": "status"}, "refine.on"),
+        ({"levels": 2, "on": "recovery"}, "refine.threshold"),
+        ({"levels": 2, "on": "recovery", "threshold": 0}, "refine.threshold"),
+        ({"levels": 2, "depth": 1}, "refine.depth"),
+        ({"levels": 60}, "refine.levels"),
+    ]:
+        bad = sweep_dict(scene)
+        bad["refine"] = refine
+        with pytest.raises(stickslip.SweepError) as e:
+            stickslip.sweep(bad)
+        assert e.value.key == key and isinstance(e.value, ValueError), (refine, e.value)
+
+
+def test_a_refined_sweep_has_levels() -> None:
+    d = sweep_dict((SCENES / "rigid.toml").as_posix())
+    d["refine"] = {"levels": 2}
+    table = stickslip.sweep(d, jobs=2)
+    assert table.complete and table.points == len(table["point"])
+    assert table["level"].dtype == np.int64 and max(table["level"]) >= 1
+    # Points are numbered in the finest grid (2 → 5 and 3 → 9 values), in point order.
+    assert list(table["point"]) == sorted(table["point"]) and max(table["point"]) < 45
+    assert set(table["drive.velocity"][table["level"] == 0]) == {1e-3, 3e-3}
 
 
 def test_argument_errors_are_type_and_value_errors(sweep_file: Path) -> None:

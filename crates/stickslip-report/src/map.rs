@@ -1,15 +1,19 @@
 //! Friction maps from a sweep's table: one panel of regimes as colours and one of a
 //! continuous quantity, over the first two numeric axes (log axes where the axis is
 //! log-spaced), failed and refused points marked; further axes (and word axes) give one pair
-//! of panels per value.
+//! of panels per value. A refined map draws each point's cell at its level's size, finer
+//! cells over coarser, and the regime boundary as a line (`stickslip_run::sweep::refine::
+//! geometry`).
 
 use crate::palette;
-use crate::plot::{Cell, ColorBar, Marker, Panel, Scale, Series};
+use crate::plot::{Cell, ColorBar, Marker, Panel, Scale, Segment, Series};
 use plotters::style::RGBColor;
+use std::collections::{BTreeMap, HashMap};
 use stickslip_run::summary::Regime;
 use stickslip_run::sweep::map::{MapJson, MapRow, SUMMARY_COLUMNS};
 use stickslip_run::sweep::record::PointStatus;
-use stickslip_run::sweep::{Axis, value_text};
+use stickslip_run::sweep::refine::{self, geometry};
+use stickslip_run::sweep::{Axis, Sweep, value_text};
 
 /// Quantities a map can show as colours: every numeric column of map.csv after the axes
 /// (the summary's numbers and `wall_s`); a numeric axis may be shown too.
@@ -123,7 +127,13 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
     // The points without a row (a sweep still running or interrupted): drawn as empty cells.
     let present: std::collections::HashSet<usize> =
         json.table.rows.iter().map(|r| r.point).collect();
-    let missing: Vec<Vec<String>> = if sweep.points <= MAX_MISSING_DRAWN {
+    let refined = Refined::of(sweep, &json.table.rows);
+    let missing: Vec<Vec<String>> = if let Some(r) = &refined {
+        r.missing
+            .iter()
+            .map(|&p| sweep.values(p).iter().map(value_text).collect())
+            .collect()
+    } else if sweep.points <= MAX_MISSING_DRAWN {
         (0..sweep.points)
             .filter(|p| !present.contains(p))
             .map(|p| sweep.values(p).iter().map(value_text).collect())
@@ -152,14 +162,11 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
-    let partial = if missing.is_empty() && json.table.rows.len() >= sweep.points {
+    let points = refined.as_ref().map_or(sweep.points, |r| r.points);
+    let partial = if missing.is_empty() && json.table.rows.len() >= points {
         String::new()
     } else {
-        format!(
-            " — partial, {} of {} points",
-            json.table.rows.len(),
-            sweep.points
-        )
+        format!(" — partial, {} of {} points", json.table.rows.len(), points)
     };
     let mut out = Vec::new();
     for facet in &facet_values {
@@ -190,10 +197,20 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
                     .join(", ")
             ) + &partial
         };
+        let mut rows = rows;
+        if refined.is_some() {
+            // Coarse cells first: finer ones are drawn over them.
+            rows.sort_by_key(|r| (r.level, r.point));
+        }
+        let geometry = Geometry {
+            axes,
+            lay: &lay,
+            refined: refined.as_ref(),
+            sweep,
+        };
         out.extend(pair(
             sweep.name.as_str(),
-            axes,
-            &lay,
+            &geometry,
             &rows,
             &not_run,
             quantity,
@@ -217,6 +234,106 @@ fn coords(lay: &Layout, values: &[String]) -> (f64, f64) {
     (num(lay.x), lay.y.map_or(0.0, num))
 }
 
+/// A cell's x and y extent.
+type Rect = ((f64, f64), (f64, f64));
+
+/// What a refined map adds: each point's cell (at its level's size), the regime boundary, and
+/// the points of the levels reached that have not run.
+struct Refined {
+    cells: HashMap<usize, Rect>,
+    boundary: Vec<geometry::Segment>,
+    missing: Vec<usize>,
+    points: usize,
+}
+
+impl Refined {
+    fn of(sweep: &Sweep, rows: &[MapRow]) -> Option<Self> {
+        let r = sweep.refine.as_ref()?;
+        let by_point: BTreeMap<usize, &MapRow> = rows.iter().map(|row| (row.point, row)).collect();
+        let walk = refine::walk(sweep, r, |p| {
+            Ok::<_, ()>(by_point.get(&p).map(|row| (*row).clone()))
+        })
+        .ok()?;
+        // The cells of the rows and of the points not run yet.
+        let mut all: Vec<usize> = rows.iter().map(|row| row.point).collect();
+        all.extend(&walk.missing);
+        let one_axis = sweep.axes.len() == 1;
+        let cells = geometry::cells_of(sweep, r, &all)
+            .into_iter()
+            .map(|c| {
+                let y = if one_axis {
+                    (0.0, 1.0)
+                } else {
+                    (c.lo[1], c.hi[1])
+                };
+                (c.point, ((c.lo[0], c.hi[0]), y))
+            })
+            .collect();
+        Some(Self {
+            cells,
+            boundary: geometry::boundary(sweep, r, rows),
+            points: walk.points(),
+            missing: walk.missing,
+        })
+    }
+
+    /// The boundary as the plot's segments.
+    fn segments(&self) -> Vec<Segment> {
+        self.boundary
+            .iter()
+            .map(|s| Segment {
+                from: s.from,
+                to: s.to,
+                color: BOUNDARY,
+                width: 2,
+            })
+            .collect()
+    }
+}
+
+/// Refined maps with more cells than this draw no cell outlines.
+const MAX_OUTLINED: usize = 5000;
+
+/// The colour of a refined map's cell outlines.
+const OUTLINE: RGBColor = RGBColor(250, 250, 250);
+
+/// The colour of a refined map's regime boundary.
+const BOUNDARY: RGBColor = RGBColor(20, 20, 20);
+
+/// Where a map's cells are.
+struct Geometry<'a> {
+    axes: &'a [Axis],
+    lay: &'a Layout,
+    refined: Option<&'a Refined>,
+    sweep: &'a Sweep,
+}
+
+impl Geometry<'_> {
+    /// The cell of the point with `values` (`point` its number).
+    fn cell(&self, point: usize, values: &[String]) -> Rect {
+        match self.refined.and_then(|r| r.cells.get(&point)) {
+            Some(&c) => c,
+            None => cell_of(self.axes, self.lay, values),
+        }
+    }
+
+    /// The number of the point with `values` (a point not run has no row).
+    fn point_of(&self, values: &[String]) -> usize {
+        let idx: Vec<usize> = self
+            .axes
+            .iter()
+            .zip(values)
+            .map(|(a, v)| {
+                a.values
+                    .iter()
+                    .position(|x| value_text(x) == *v)
+                    .unwrap_or(0)
+            })
+            .collect();
+        self.sweep.point(&idx)
+    }
+}
+
 fn cell_of(axes: &[Axis], lay: &Layout, point: &[String]) -> ((f64, f64), (f64, f64)) {
     let find = |i: usize| {
         let a = &axes[i];
@@ -233,17 +350,16 @@ const MAX_MISSING_DRAWN: usize = 1_000_000;
 /// The colour of a point that has not run.
 const NOT_RUN: RGBColor = RGBColor(246, 246, 246);
 
-#[allow(clippy::too_many_arguments)]
 fn pair(
     name: &str,
-    axes: &[Axis],
-    lay: &Layout,
+    geo: &Geometry<'_>,
     rows: &[&MapRow],
     not_run: &[&Vec<String>],
     quantity: &str,
     suffix: &str,
     (lo, hi): (f64, f64),
 ) -> Vec<Panel> {
+    let (axes, lay) = (geo.axes, geo.lay);
     let xs = if axes[lay.x].log {
         Scale::Log
     } else {
@@ -290,7 +406,7 @@ fn pair(
         }
         let mut centres = Vec::new();
         for values in not_run {
-            let (x, y) = cell_of(axes, lay, values);
+            let (x, y) = geo.cell(geo.point_of(values), values);
             panel.cells.push(Cell {
                 x,
                 y,
@@ -318,7 +434,7 @@ fn pair(
     .scales(xs, ys)
     .legend_outside();
     for r in rows {
-        let (x, y) = cell_of(axes, lay, &r.values);
+        let (x, y) = geo.cell(r.point, &r.values);
         regime.cells.push(Cell {
             x,
             y,
@@ -348,6 +464,21 @@ fn pair(
     regime.series.push(failed(PointStatus::Failed));
     regime.series.push(failed(PointStatus::Refused));
     add_not_run(&mut regime);
+    let boundary = |panel: &mut Panel| {
+        if let Some(r) = geo.refined {
+            panel.segments = r.segments();
+            // Outlined cells, so the levels show where neighbours share a colour.
+            if r.cells.len() <= MAX_OUTLINED {
+                panel.cell_outline = Some(OUTLINE);
+            }
+            if !r.boundary.is_empty() {
+                panel
+                    .series
+                    .push(Series::new("regime boundary", Vec::new(), BOUNDARY));
+            }
+        }
+    };
+    boundary(&mut regime);
     // The quantity.
     let values: Vec<f64> = rows
         .iter()
@@ -374,7 +505,7 @@ fn pair(
     .legend_outside();
     if two_d {
         for (r, &v) in rows.iter().zip(&values) {
-            let (x, y) = cell_of(axes, lay, &r.values);
+            let (x, y) = geo.cell(r.point, &r.values);
             q.cells.push(Cell {
                 x,
                 y,
@@ -421,6 +552,7 @@ fn pair(
     q.series.push(failed(PointStatus::Refused));
     if two_d {
         add_not_run(&mut q);
+        boundary(&mut q);
     }
     if !two_d {
         regime = regime.y_range(0.0, 1.0);

@@ -351,6 +351,22 @@ fn run(
         eprintln!("interrupted: finished points are kept; rerun the same command to run the rest");
         return ExitCode::from(crate::EXIT_INTERRUPTED);
     }
+    if let Some(w) = report.waiting {
+        // A refined sweep's next level is decided by every shard's results of this one.
+        say!(
+            "shard {i}/{n} waits at level {}: {} of its points in other shards are not \
+             finished; rerun this shard once they are (it skips what is done and goes on with \
+             level {}); `sweep slurm --submit` submits one dependent array per level",
+            w.level,
+            w.missing,
+            w.level + 1
+        );
+        return ExitCode::SUCCESS;
+    }
+    if let Some(m) = &report.map {
+        // A refined sweep: the shard that found every level complete wrote the map.
+        return report_merge(dir, m, true);
+    }
     match exec::after_shard(dir, &sweep.fingerprint(), options.shard) {
         Ok(m) => report_merge(dir, &m, true),
         // The shard's points are done and recorded: a merge that cannot write is not a
@@ -406,6 +422,7 @@ fn submit_slurm(
         tasks,
         extra,
         &run_args,
+        sweep.refine.as_ref().map(|r| r.levels),
     );
     let script = dir.join(slurm::SCRIPT);
     if let Err(e) = std::fs::create_dir_all(dir.join("slurm"))
@@ -413,40 +430,125 @@ fn submit_slurm(
     {
         return crate::fail(format!("cannot write {}: {e}", script.display()), 1);
     }
-    say!(
-        "wrote {} ({} points in {tasks} tasks)",
-        script.display(),
-        sweep.points
-    );
-    if !submit {
-        say!("submit with: sbatch {}", script.display());
-        return ExitCode::SUCCESS;
+    match &sweep.refine {
+        None => say!(
+            "wrote {} ({} points in {tasks} tasks)",
+            script.display(),
+            sweep.points
+        ),
+        Some(r) => say!(
+            "wrote {} (a refined sweep: {} base points, then {} levels, in {tasks} tasks; one \
+             array per level)",
+            script.display(),
+            r.base.iter().product::<usize>(),
+            r.levels
+        ),
     }
-    match Command::new("sbatch")
-        .arg("--parsable")
-        .arg(&script)
-        .output()
-    {
-        Ok(out) if out.status.success() => {
-            let id = String::from_utf8_lossy(&out.stdout).trim().to_string();
-            say!("submitted job {id}");
+    if !submit {
+        let levels = sweep.refine.as_ref().map_or(0, |r| r.levels);
+        if levels == 0 {
+            say!("submit with: sbatch {}", script.display());
+        } else {
             say!(
-                "the last task to finish writes the map; to merge by hand: stickslip sweep merge \
-                 {}",
+                "submit with --submit, or by hand one array per level, each after the one \
+                 before: ID=$(sbatch --parsable {0}), then {levels} times ID=$(sbatch \
+                 --parsable --dependency=afterok:$ID {0}), then sbatch \
+                 --dependency=afterok:$ID --wrap \"stickslip sweep merge {1}\"",
+                script.display(),
                 dir.display()
             );
-            ExitCode::SUCCESS
         }
-        Ok(out) => crate::fail(
-            format!(
-                "sbatch failed ({}): {}",
-                out.status,
-                String::from_utf8_lossy(&out.stderr).trim()
-            ),
-            1,
-        ),
-        Err(e) => crate::fail(format!("cannot run sbatch: {e}"), 1),
+        return ExitCode::SUCCESS;
     }
+    // A refined sweep: one array per level, each after the previous one ended well (its
+    // tasks' results decide the next level's points).
+    let waves = sweep.refine.as_ref().map_or(1, |r| r.levels as usize + 1);
+    let mut previous: Option<String> = None;
+    for wave in 0..waves {
+        let mut cmd = Command::new("sbatch");
+        cmd.arg("--parsable");
+        if let Some(id) = &previous {
+            cmd.arg(format!("--dependency=afterok:{id}"));
+        }
+        match cmd.arg(&script).output() {
+            Ok(out) if out.status.success() => {
+                let text = String::from_utf8_lossy(&out.stdout);
+                // --parsable prints `ID` or `ID;CLUSTER`.
+                let id = text.trim().split(';').next().unwrap_or("").to_string();
+                if waves > 1 {
+                    say!(
+                        "submitted job {id} (level {wave} of {}{})",
+                        waves - 1,
+                        previous
+                            .as_ref()
+                            .map_or_else(String::new, |p| format!(", after job {p}"))
+                    );
+                } else {
+                    say!("submitted job {id}");
+                }
+                previous = Some(id);
+            }
+            Ok(out) => {
+                return crate::fail(
+                    format!(
+                        "sbatch failed ({}): {}",
+                        out.status,
+                        String::from_utf8_lossy(&out.stderr).trim()
+                    ),
+                    1,
+                );
+            }
+            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), 1),
+        }
+    }
+    if waves > 1 {
+        // Tasks of the last array finishing together may each see the others' points
+        // missing: a merge after the last array writes the map whatever the order.
+        let mut cmd = Command::new("sbatch");
+        cmd.args([
+            "--parsable".to_string(),
+            format!("--dependency=afterok:{}", previous.unwrap_or_default()),
+            format!("--job-name=stickslip-{}", sweep.name),
+            format!(
+                "--output={}",
+                abs(dir).join("slurm").join("merge-%j.out").display()
+            ),
+        ]);
+        for arg in extra {
+            cmd.arg(arg);
+        }
+        cmd.arg(format!(
+            "--wrap={}",
+            slurm::merge_command(&binary, &abs(dir))
+        ));
+        match cmd.output() {
+            Ok(out) if out.status.success() => {
+                let text = String::from_utf8_lossy(&out.stdout);
+                let id = text.trim().split(';').next().unwrap_or("");
+                say!("submitted job {id} (the merge, after the last level)");
+            }
+            Ok(out) => {
+                return crate::fail(
+                    format!(
+                        "sbatch of the merge failed ({}): {}; merge by hand once the arrays \
+                         ended: stickslip sweep merge {}",
+                        out.status,
+                        String::from_utf8_lossy(&out.stderr).trim(),
+                        dir.display()
+                    ),
+                    1,
+                );
+            }
+            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), 1),
+        }
+        say!("to merge by hand: stickslip sweep merge {}", dir.display());
+        return ExitCode::SUCCESS;
+    }
+    say!(
+        "the last task to finish writes the map; to merge by hand: stickslip sweep merge {}",
+        dir.display()
+    );
+    ExitCode::SUCCESS
 }
 
 fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
@@ -462,7 +564,7 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
                          not run yet",
                         read.sweep.name,
                         read.table.rows.len(),
-                        read.sweep.points
+                        read.points
                     );
                 }
                 MapJson::new(&read.sweep, read.table)

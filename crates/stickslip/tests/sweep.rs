@@ -421,6 +421,60 @@ const BAD: &[Bad] = &[
         args: &[],
     },
     Bad {
+        name: "refine: negative levels",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = -1\n",
+        key: "refine.levels",
+        args: &[],
+    },
+    Bad {
+        name: "refine: non-integer levels",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = 2.5\n",
+        key: "refine.levels",
+        args: &[],
+    },
+    Bad {
+        name: "refine: too many levels",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = 99\n",
+        key: "refine.levels",
+        args: &[],
+    },
+    Bad {
+        name: "refine: unknown column",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = 2\non = \"speed\"\nthreshold = 0.1\n",
+        key: "refine.on",
+        args: &[],
+    },
+    Bad {
+        name: "refine: non-numeric column",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = 2\non = \"message\"\nthreshold = 0.1\n",
+        key: "refine.on",
+        args: &[],
+    },
+    Bad {
+        name: "refine: threshold <= 0",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = 2\non = \"recovery\"\nthreshold = -0.1\n",
+        key: "refine.threshold",
+        args: &[],
+    },
+    Bad {
+        name: "refine: threshold missing",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = 2\non = \"recovery\"\n",
+        key: "refine.threshold",
+        args: &[],
+    },
+    Bad {
+        name: "refine: unknown key",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0, 2.0]\n[refine]\nlevels = 2\nlevel = 3\n",
+        key: "refine.level",
+        args: &[],
+    },
+    Bad {
+        name: "refine: a word axis",
+        body: "[[axis]]\nkey = \"contact.model\"\nvalues = [\"radial\", \"homogeneous\"]\n[refine]\nlevels = 1\n",
+        key: "refine",
+        args: &[],
+    },
+    Bad {
         name: "a bad shard",
         body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n",
         key: "3/2",
@@ -465,7 +519,7 @@ fn bad_sweep_files_exit_2_name_the_key_and_write_nothing() {
             failures.push(format!("{}: wrote {}", case.name, dir.display()));
         }
     }
-    assert!(BAD.len() >= 15);
+    assert!(BAD.len() >= 24);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
@@ -494,5 +548,131 @@ fn slurm_writes_a_job_array_script() {
     assert!(
         script.contains("--shard \"${SLURM_ARRAY_TASK_ID}/4\""),
         "{script}"
+    );
+}
+
+/// A refined sweep over the rigid drive: 3 × 3 base points (velocity × A0), 3 levels.
+fn refined_text(scene: &Path) -> String {
+    format!(
+        r#"name = "refined"
+scene = "{}"
+[set]
+"contact.nodes" = 20
+"time.max_events" = 6
+"time.max_open_event" = 2e-5
+"time.end" = 1e-3
+[[axis]]
+key = "drive.velocity"
+range = {{ from = 1e-3, to = 1e-2, count = 3, scale = "log" }}
+[[axis]]
+key = "temperature.A0"
+range = {{ from = -2e5, to = 1.4e6, count = 3 }}
+[refine]
+levels = 3
+"#,
+        scene.display()
+    )
+}
+
+#[test]
+fn a_refined_sweep_killed_or_sharded_ends_with_the_same_map_and_plots_its_cells() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = write(tmp.path(), "r.toml", &refined_text(&common::scene("rigid")));
+    let f = file.to_str().unwrap();
+    let reference = tmp.path().join("reference");
+    let out = sweep(&["run", f, "--out", reference.to_str().unwrap(), "--quiet"]);
+    assert!(out.status.success(), "{}", texts(&out).1);
+    let expected = map_without_wall(&reference);
+    let table = MapTable::read(&reference).unwrap();
+    assert_eq!(table.header().last().map(String::as_str), Some("level"));
+    assert!(table.rows.iter().any(|r| r.level == 3));
+    // SIGKILLed at three instants (after 5, 25 and 45 finished points), rerun each time.
+    let dir = tmp.path().join("killed");
+    let records = |p: &Path| {
+        std::fs::read_dir(p).map_or(0, |d| {
+            d.filter(|e| {
+                e.as_ref()
+                    .is_ok_and(|e| !e.file_name().to_string_lossy().starts_with('.'))
+            })
+            .count()
+        })
+    };
+    let mut killed_at = Vec::new();
+    for threshold in [5, 25, 45] {
+        let mut child = bin()
+            .args([
+                "sweep",
+                "run",
+                f,
+                "--out",
+                dir.to_str().unwrap(),
+                "--jobs",
+                "1",
+                "--quiet",
+            ])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = Instant::now();
+        while records(&dir.join("points")) < threshold && child.try_wait().unwrap().is_none() {
+            assert!(start.elapsed() < Duration::from_secs(60), "no progress");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        child.kill().unwrap();
+        child.wait().unwrap();
+        killed_at.push(records(&dir.join("points")));
+    }
+    let rerun = sweep(&["run", f, "--out", dir.to_str().unwrap(), "--quiet"]);
+    assert!(rerun.status.success(), "{}", texts(&rerun).1);
+    assert_eq!(map_without_wall(&dir), expected, "killed at {killed_at:?}");
+    println!("refined sweep killed with {killed_at:?} records written");
+    // Three shards in rounds: a shard waits at a level whose other points are missing.
+    let sharded = tmp.path().join("sharded");
+    let mut waited = false;
+    for _round in 0..5 {
+        for i in 0..3 {
+            let shard = format!("{i}/3");
+            let out = sweep(&[
+                "run",
+                f,
+                "--out",
+                sharded.to_str().unwrap(),
+                "--shard",
+                &shard,
+                "--quiet",
+            ]);
+            assert!(out.status.success(), "{}", texts(&out).1);
+            waited |= texts(&out).0.contains("waits at level");
+        }
+        if sharded.join("map.csv").exists() {
+            break;
+        }
+    }
+    assert!(waited);
+    assert_eq!(map_without_wall(&sharded), expected);
+    // The plot: cells at their levels' sizes and the boundary.
+    let plotted = sweep(&["plot", reference.to_str().unwrap()]);
+    assert!(plotted.status.success(), "{}", texts(&plotted).1);
+    let svg = std::fs::read_to_string(reference.join("map_recovery.svg")).unwrap();
+    assert!(svg.contains("regime boundary"));
+    // The Slurm script says it goes once per level.
+    let slurm_dir = tmp.path().join("slurm");
+    let out = sweep(&[
+        "slurm",
+        f,
+        "--out",
+        slurm_dir.to_str().unwrap(),
+        "--tasks",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", texts(&out).1);
+    let script = std::fs::read_to_string(slurm_dir.join("sweep.sbatch")).unwrap();
+    assert!(script.contains("submit this script 4 times"), "{script}");
+    assert!(
+        texts(&out).0.contains("--dependency=afterok"),
+        "{}",
+        texts(&out).0
     );
 }

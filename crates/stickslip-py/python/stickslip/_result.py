@@ -116,10 +116,11 @@ class MapTable(Dict[str, np.ndarray]):
     (int64), ``t_first_onset`` s, ``period_last`` s, ``x_period_last`` m, ``f_peak_first``
     N, ``f_peak_last`` N, ``f_mean`` N, ``recovery``, ``melted_time_fraction``, ``wall_s`` s
     (float64, NaN for none), ``message`` (str objects), ``steady`` (bool: the point's last
-    cycles repeat).
+    cycles repeat), ``level`` (int64: the point's level in a refined sweep, 0 the base grid).
 
     Attributes:
-        points: the number of points of the sweep.
+        points: the number of points of the sweep (of a refined sweep: of the levels
+            reached so far).
         complete: every point has its row.
     """
 

@@ -325,11 +325,21 @@ where
         .draw()
         .map_err(err)?;
     chart
+        .draw_series(panel.cells.iter().flat_map(|c| {
+            let corners = [(c.x.0, c.y.0), (c.x.1, c.y.1)];
+            std::iter::once(Rectangle::new(corners, c.color.filled())).chain(
+                panel
+                    .cell_outline
+                    .map(|o| Rectangle::new(corners, o.stroke_width(1))),
+            )
+        }))
+        .map_err(err)?;
+    chart
         .draw_series(
             panel
-                .cells
+                .segments
                 .iter()
-                .map(|c| Rectangle::new([(c.x.0, c.y.0), (c.x.1, c.y.1)], c.color.filled())),
+                .map(|s| PathElement::new(vec![s.from, s.to], s.color.stroke_width(s.width))),
         )
         .map_err(err)?;
     let at_x = |f: f64| {

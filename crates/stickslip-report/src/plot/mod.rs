@@ -132,6 +132,19 @@ pub struct Cell {
     pub color: RGBColor,
 }
 
+/// A straight segment in data coordinates, drawn over the cells.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    /// Start.
+    pub from: (f64, f64),
+    /// End.
+    pub to: (f64, f64),
+    /// Colour.
+    pub color: RGBColor,
+    /// Stroke width in pixels.
+    pub width: u32,
+}
+
 /// Text at a point in data coordinates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Note {
@@ -285,6 +298,11 @@ pub struct Panel {
     pub vlines: Vec<(f64, String)>,
     /// Filled cells, drawn first.
     pub cells: Vec<Cell>,
+    /// Each cell outlined in this colour, drawn with it (so later cells cover earlier
+    /// outlines).
+    pub cell_outline: Option<RGBColor>,
+    /// Straight segments drawn over the cells (a regime boundary).
+    pub segments: Vec<Segment>,
     /// Text notes.
     pub notes: Vec<Note>,
     /// Legend position.
@@ -317,6 +335,8 @@ impl Panel {
             hlines: Vec::new(),
             vlines: Vec::new(),
             cells: Vec::new(),
+            cell_outline: None,
+            segments: Vec::new(),
             notes: Vec::new(),
             legend: LegendAt::UpperLeft,
             x_range: None,

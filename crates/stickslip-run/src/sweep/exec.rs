@@ -10,7 +10,9 @@
 //! checked when its point comes up, so a sweep of a million points starts at once.
 
 use super::Sweep;
+use super::map::MapRow;
 use super::record::{Found, PointRecord, PointStatus, listed};
+use super::refine::{self, Refine};
 use crate::driver::{Control, NullSink};
 use crate::outcome::StopReason;
 use crate::sink::dir::{DirOptions, DirSink};
@@ -92,6 +94,23 @@ pub struct ShardReport {
     pub points_wall_s: f64,
     /// Sum over the points run of the seconds spent in the driver (simulation proper).
     pub points_run_s: f64,
+    /// A refined sweep: the levels this shard reached (its part of each ran).
+    pub levels: usize,
+    /// A refined sweep: the level at which the shard stopped because other shards' points
+    /// of it are missing (their results decide the next level's points); `None` when it ran
+    /// every level (or the sweep is not refined).
+    pub waiting: Option<Waiting>,
+    /// A refined sweep whose levels this shard found complete: the map it wrote.
+    pub map: Option<Merge>,
+}
+
+/// A shard of a refined sweep waiting for others ([`ShardReport::waiting`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Waiting {
+    /// The level (0: the base grid) whose points other shards have not finished.
+    pub level: usize,
+    /// How many of its points have no current record yet.
+    pub missing: usize,
 }
 
 impl ShardReport {
@@ -215,6 +234,7 @@ impl Shard<'_> {
             }
         };
         record.fingerprint.clone_from(&self.fingerprint);
+        record.level = self.sweep.level(p);
         // The directory must still be this sweep's: one metadata look-up per record.
         self.watch.check()?;
         // The point's wall time is measured just before its record is written; the write's own
@@ -235,6 +255,15 @@ impl Shard<'_> {
 /// Runs the points of `options.shard` whose record is not current, `options.jobs` at a time;
 /// `progress` is called about five times a second. A shard that ran to its end writes its
 /// table (`DIR/shards/`) for the merge.
+///
+/// A refined sweep ([`Sweep::refine`]) runs level by level: the shard's part of a level is
+/// every N-th of the level's points in point order, starting at its index I; the next level's
+/// points are computed from every shard's results of this one ([`super::refine::next_points`]).
+/// When other shards' points of a level are missing, the shard stops there
+/// ([`ShardReport::waiting`]): a rerun once they finished skips what is done and goes on. The
+/// shard that finds every level complete writes the map itself ([`ShardReport::map`]; it read
+/// every point's record on the way) and no shard table: a refined shard reads the records of
+/// every level it passes, so an array of N tasks reads about N·P records in all.
 ///
 /// # Errors
 /// [`SweepRunError::Foreign`] for a record of another sweep, [`SweepRunError::TakenOver`]
@@ -260,88 +289,207 @@ pub fn run_shard(
         fingerprint,
     };
     shard.watch.check()?;
-    let len = sweep.shard_len(index, count);
-    let next = AtomicUsize::new(0);
-    let stop = AtomicBool::new(false);
-    let stopped =
-        || stop.load(Ordering::Relaxed) || interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
-    let mut report = ShardReport::default();
-    let mut rows: Vec<Option<PointRecord>> = Vec::new();
-    rows.resize_with(len, || None);
-    let mut first_error: Option<SweepRunError> = None;
-    std::thread::scope(|s| {
-        let (tx, rx) = mpsc::channel();
-        for _ in 0..options.jobs.max(1) {
-            let tx = tx.clone();
-            let (next, shard, stopped) = (&next, &shard, &stopped);
-            s.spawn(move || {
-                loop {
-                    if stopped() {
-                        break;
-                    }
-                    let k = next.fetch_add(1, Ordering::Relaxed);
-                    if k >= len {
-                        break;
-                    }
-                    let result = shard.point(index + k * count);
-                    if tx.send((k, result)).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        drop(tx);
-        let tick = Duration::from_millis(200);
-        loop {
-            match rx.recv_timeout(tick) {
-                Ok((k, Ok(Done::Ran(record, run_s, again)))) => {
-                    report.ran += 1;
-                    report.points_wall_s += record.wall_s;
-                    report.points_run_s += run_s;
-                    match record.status {
-                        PointStatus::Failed => report.failed += 1,
-                        PointStatus::Refused => report.refused += 1,
-                        PointStatus::Ok => {}
-                    }
-                    match again {
-                        Some(Again::Build(b)) => *report.recomputed.entry(b).or_insert(0) += 1,
-                        Some(Again::Damaged) => report.damaged += 1,
-                        None => {}
-                    }
-                    rows[k] = Some(*record);
-                }
-                Ok((k, Ok(Done::Skipped(record)))) => {
-                    report.skipped += 1;
-                    rows[k] = Some(*record);
-                }
-                Ok((_, Ok(Done::Interrupted))) => report.interrupted = true,
-                Ok((_, Err(e))) => {
-                    first_error.get_or_insert(e);
-                    stop.store(true, Ordering::Relaxed);
-                }
-                Err(mpsc::RecvTimeoutError::Timeout) => {}
-                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+    let mut run = Runner {
+        shard: &shard,
+        jobs: options.jobs.max(1),
+        started,
+        report: ShardReport::default(),
+        offered: 0,
+        progress,
+    };
+    if let Some(refine) = &sweep.refine {
+        run_refined(&mut run, refine, options.shard)?;
+    } else {
+        let len = sweep.shard_len(index, count);
+        let rows = run.points(len, &|k| index + k * count)?;
+        match rows {
+            Some(rows) if !run.report.interrupted => {
+                shard.watch.check()?;
+                super::merge::write_table(dir, sweep, &shard.fingerprint, options.shard, &rows)?;
             }
-            progress(&SweepProgress {
-                done: report.ran,
-                total: len - report.skipped,
-                skipped: report.skipped,
-                failed: report.failed + report.refused,
-                elapsed_s: started.elapsed().as_secs_f64(),
-            });
+            _ => run.report.interrupted = true,
         }
-    });
-    if let Some(e) = first_error {
-        return Err(e);
     }
-    let rows: Option<Vec<PointRecord>> = rows.into_iter().collect();
-    match rows {
-        Some(rows) if !report.interrupted => {
-            shard.watch.check()?;
-            super::merge::write_table(dir, sweep, &shard.fingerprint, options.shard, &rows)?;
-        }
-        _ => report.interrupted = true,
-    }
+    let mut report = run.report;
     report.wall_s = started.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// The levels of a refined sweep for one shard (see [`run_shard`]).
+fn run_refined(
+    run: &mut Runner<'_, '_>,
+    refine: &Refine,
+    (index, count): (usize, usize),
+) -> Result<(), SweepRunError> {
+    let shard = run.shard;
+    let (sweep, dir) = (shard.sweep, shard.dir);
+    let mut known: BTreeMap<usize, MapRow> = BTreeMap::new();
+    let mut set = refine::base_points(sweep, refine);
+    let mut level = 0;
+    // Records of other shards read.
+    let mut read = 0;
+    loop {
+        let part: Vec<usize> = set.iter().copied().skip(index).step_by(count).collect();
+        let Some(rows) = run.points(part.len(), &|k| part[k])? else {
+            run.report.interrupted = true;
+            return Ok(());
+        };
+        if run.report.interrupted {
+            return Ok(());
+        }
+        for r in &rows {
+            known.insert(r.point, MapRow::of(r));
+        }
+        // The other shards' points of this level.
+        let mut missing = 0;
+        read += set.len() - part.len();
+        for (k, &p) in set.iter().enumerate() {
+            if k % count == index {
+                continue;
+            }
+            match PointRecord::find(dir, p, &sweep.values(p), &shard.fingerprint)
+                .map_err(io_err(dir))?
+            {
+                Found::Current(r) => {
+                    known.insert(p, MapRow::of(&r));
+                }
+                Found::OtherSweep { why } => {
+                    return Err(SweepRunError::Foreign {
+                        path: PointRecord::path(dir, p),
+                        why,
+                    });
+                }
+                Found::Missing | Found::Damaged | Found::OtherBuild { .. } => missing += 1,
+            }
+        }
+        run.report.levels = level + 1;
+        if missing > 0 {
+            run.report.waiting = Some(Waiting { level, missing });
+            return Ok(());
+        }
+        level += 1;
+        set = refine::next_points(sweep, refine, level, &known);
+        if set.is_empty() {
+            break;
+        }
+    }
+    // Every level is complete, and this shard read every point's current record: it writes
+    // the map (several shards finishing together write the same one, atomically).
+    shard.watch.check()?;
+    let merge = super::merge::write_map(
+        dir,
+        sweep,
+        known.into_values().collect(),
+        MergeCost {
+            records_read: read,
+            ..MergeCost::default()
+        },
+        Instant::now(),
+    )?;
+    run.report.map = Some(merge);
+    Ok(())
+}
+
+/// Runs lists of points on `jobs` threads, gathering the report.
+struct Runner<'a, 'p> {
+    shard: &'a Shard<'a>,
+    jobs: usize,
+    started: Instant,
+    report: ShardReport,
+    /// Points offered to run so far (earlier levels included), for the progress.
+    offered: usize,
+    progress: &'p mut dyn FnMut(&SweepProgress),
+}
+
+impl Runner<'_, '_> {
+    /// Runs the `len` points `at(0)`, …, `at(len − 1)` (skipping current records): their
+    /// records in that order, or `None` when interrupted before all of them finished.
+    fn points(
+        &mut self,
+        len: usize,
+        at: &(dyn Fn(usize) -> usize + Sync),
+    ) -> Result<Option<Vec<PointRecord>>, SweepRunError> {
+        let shard = self.shard;
+        let interrupt = shard.interrupt;
+        let next = AtomicUsize::new(0);
+        let stop = AtomicBool::new(false);
+        let stopped =
+            || stop.load(Ordering::Relaxed) || interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
+        let offered = self.offered;
+        self.offered += len;
+        let report = &mut self.report;
+        let progress = &mut *self.progress;
+        let started = self.started;
+        let mut rows: Vec<Option<PointRecord>> = Vec::new();
+        rows.resize_with(len, || None);
+        let mut first_error: Option<SweepRunError> = None;
+        std::thread::scope(|s| {
+            let (tx, rx) = mpsc::channel();
+            for _ in 0..self.jobs {
+                let tx = tx.clone();
+                let (next, stopped) = (&next, &stopped);
+                s.spawn(move || {
+                    loop {
+                        if stopped() {
+                            break;
+                        }
+                        let k = next.fetch_add(1, Ordering::Relaxed);
+                        if k >= len {
+                            break;
+                        }
+                        let result = shard.point(at(k));
+                        if tx.send((k, result)).is_err() {
+                            break;
+                        }
+                    }
+                });
+            }
+            drop(tx);
+            let tick = Duration::from_millis(200);
+            loop {
+                match rx.recv_timeout(tick) {
+                    Ok((k, Ok(Done::Ran(record, run_s, again)))) => {
+                        report.ran += 1;
+                        report.points_wall_s += record.wall_s;
+                        report.points_run_s += run_s;
+                        match record.status {
+                            PointStatus::Failed => report.failed += 1,
+                            PointStatus::Refused => report.refused += 1,
+                            PointStatus::Ok => {}
+                        }
+                        match again {
+                            Some(Again::Build(b)) => {
+                                *report.recomputed.entry(b).or_insert(0) += 1;
+                            }
+                            Some(Again::Damaged) => report.damaged += 1,
+                            None => {}
+                        }
+                        rows[k] = Some(*record);
+                    }
+                    Ok((k, Ok(Done::Skipped(record)))) => {
+                        report.skipped += 1;
+                        rows[k] = Some(*record);
+                    }
+                    Ok((_, Ok(Done::Interrupted))) => report.interrupted = true,
+                    Ok((_, Err(e))) => {
+                        first_error.get_or_insert(e);
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    Err(mpsc::RecvTimeoutError::Timeout) => {}
+                    Err(mpsc::RecvTimeoutError::Disconnected) => break,
+                }
+                progress(&SweepProgress {
+                    done: report.ran,
+                    total: offered + len - report.skipped,
+                    skipped: report.skipped,
+                    failed: report.failed + report.refused,
+                    elapsed_s: started.elapsed().as_secs_f64(),
+                });
+            }
+        });
+        if let Some(e) = first_error {
+            return Err(e);
+        }
+        Ok(rows.into_iter().collect())
+    }
 }

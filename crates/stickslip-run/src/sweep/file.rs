@@ -28,6 +28,20 @@ pub struct SweepFile {
     pub axis: Vec<AxisFile>,
     /// Regime thresholds (docs/reference.md, section Regimes).
     pub regime: Option<RegimeThresholds>,
+    /// Adaptive refinement of the map (docs/reference.md, section Refinement).
+    pub refine: Option<RefineFile>,
+}
+
+/// `[refine]`: split the cells whose corner points differ, `levels` times.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefineFile {
+    /// Levels of refinement (an integer ≥ 0; 0 = none).
+    pub levels: Option<i64>,
+    /// `"regime"` (default) or a numeric column of map.csv.
+    pub on: Option<String>,
+    /// With `on` a column: the relative jump that splits a cell.
+    pub threshold: Option<f64>,
 }
 
 /// One `[[axis]]`.

@@ -3,7 +3,8 @@
 //!
 //! Columns: `point`, one column per axis key (named by the key), `status`, `regime`,
 //! `n_events`, `t_first_onset`, `period_last`, `x_period_last`, `f_peak_first`,
-//! `f_peak_last`, `f_mean`, `recovery`, `melted_time_fraction`, `wall_s`, `message` (quoted).
+//! `f_peak_last`, `f_mean`, `recovery`, `melted_time_fraction`, `wall_s`, `message` (quoted),
+//! `steady`, `level` (the last two appended later: files without them still read).
 //! Numbers in shortest round-trip `{:e}` form; an empty cell is "no value".
 
 use super::record::{PointRecord, PointStatus};
@@ -22,6 +23,10 @@ pub const JSON_FILE: &str = "map.json";
 /// The last column of map.csv (after `message`): whether the point's last cycles repeat
 /// (`true`/`false`, run.json's `summary.steady`).
 pub const STEADY_COLUMN: &str = "steady";
+
+/// The column after `steady`: the point's level in a refined sweep (0: the base grid, and
+/// every point of a sweep without `[refine]`).
+pub const LEVEL_COLUMN: &str = "level";
 
 /// The summary columns after the axes and status, in order.
 pub const SUMMARY_COLUMNS: [Column; 11] = [
@@ -97,6 +102,9 @@ pub struct MapRow {
     pub wall_s: f64,
     /// The failure or refusal (empty when ok).
     pub message: String,
+    /// Level in a refined sweep (0: the base grid).
+    #[serde(default)]
+    pub level: usize,
 }
 
 impl MapRow {
@@ -110,6 +118,7 @@ impl MapRow {
             summary: r.summary.clone(),
             wall_s: r.wall_s,
             message: r.message.clone(),
+            level: r.level,
         }
     }
 
@@ -187,6 +196,7 @@ impl MapTable {
         h.extend(SUMMARY_COLUMNS.iter().map(|c| c.name.to_string()));
         h.push("message".into());
         h.push(STEADY_COLUMN.into());
+        h.push(LEVEL_COLUMN.into());
         h
     }
 
@@ -217,6 +227,7 @@ impl MapTable {
             }
             cells.push(quote(&r.message));
             cells.push(s.steady.to_string());
+            cells.push(r.level.to_string());
             out.push_str(&cells.join(","));
             out.push('\n');
         }
@@ -231,9 +242,15 @@ impl MapTable {
         let bad = |line: usize, m: String| SchemaError::new(CSV_FILE, Some(line), m);
         let mut lines = text.lines();
         let header = cells(lines.next().ok_or_else(|| bad(1, "empty file".into()))?);
-        // `steady` came last, after `message`: a map.csv written before it reads as not steady.
-        let has_steady = header.last().is_some_and(|h| h == STEADY_COLUMN);
-        let fixed = 1 + 1 + SUMMARY_COLUMNS.len() + 1 + usize::from(has_steady);
+        // Columns appended after `message`, in this order: `steady`, then `level`. A map.csv
+        // written before either reads as not steady, and at level 0.
+        let has_level = header.last().is_some_and(|h| h == LEVEL_COLUMN);
+        let has_steady = header
+            .len()
+            .checked_sub(1 + usize::from(has_level))
+            .is_some_and(|i| header[i] == STEADY_COLUMN);
+        let fixed =
+            1 + 1 + SUMMARY_COLUMNS.len() + 1 + usize::from(has_steady) + usize::from(has_level);
         if header.len() < fixed || header[0] != "point" {
             return Err(bad(1, format!("header {header:?}")));
         }
@@ -287,6 +304,13 @@ impl MapTable {
                 },
                 wall_s: f(base + 11)?.unwrap_or(f64::NAN),
                 message: c[base + 12].clone(),
+                level: if has_level {
+                    let j = base + 13 + usize::from(has_steady);
+                    c[j].parse()
+                        .map_err(|_| bad(lineno, format!("level {:?}", c[j])))?
+                } else {
+                    0
+                },
             });
         }
         Ok(Self { axes, rows })
@@ -341,6 +365,8 @@ impl MapJson {
             columns.insert(c.name.into(), c.unit.into());
         }
         columns.insert("message".into(), "–".into());
+        columns.insert(STEADY_COLUMN.into(), "–".into());
+        columns.insert(LEVEL_COLUMN.into(), "–".into());
         Self {
             thresholds: sweep.thresholds,
             sweep: sweep.clone(),

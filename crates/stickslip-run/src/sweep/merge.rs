@@ -193,8 +193,11 @@ fn rows_from_tables(
             }
             return Ok(None);
         }
+        if table.shard != (index, count) {
+            return Ok(None);
+        }
         let expected = sweep.shard_len(index, count);
-        if table.shard != (index, count) || table.rows.len() != expected {
+        if table.rows.len() != expected {
             return Ok(None);
         }
         for (k, row) in table.rows.iter().enumerate() {
@@ -224,7 +227,7 @@ fn rows_from_tables(
 }
 
 /// Writes map.csv and map.json of `sweep` from `rows`; the [`Merge::Complete`].
-fn write_map(
+pub(super) fn write_map(
     dir: &Path,
     sweep: &Sweep,
     rows: Vec<MapRow>,
@@ -263,6 +266,11 @@ fn merge_tables(
     cost: &mut MergeCost,
     started: Instant,
 ) -> Result<Result<Merge, usize>, SweepRunError> {
+    if lock.sweep.refine.is_some() {
+        // A refined sweep's shards write no tables: the shard that finds every level complete
+        // writes the map (super::exec::run_shard), else the merge reads the records.
+        return Ok(Err(1));
+    }
     let build = super::split_fingerprint(&lock.fingerprint).map_or("", |(_, b)| b);
     let sets = table_sets(dir, build).map_err(io_err(dir))?;
     let mut complete: Vec<usize> = sets
@@ -345,6 +353,9 @@ fn merge_once(dir: &Path, read_records: bool) -> Result<Merge, SweepRunError> {
         return Ok(m);
     }
     let sweep = &lock.sweep;
+    if let Some(refine) = &sweep.refine {
+        return merge_refined(dir, &lock, refine, cost, started);
+    }
     if !read_records {
         let have = listed(dir).map_err(io_err(dir))?.len();
         if have < sweep.points {
@@ -386,6 +397,54 @@ fn merge_once(dir: &Path, read_records: bool) -> Result<Merge, SweepRunError> {
         });
     }
     write_map(dir, sweep, rows, cost, started)
+}
+
+/// A current record's row (`None` for a missing, damaged or other build's record).
+fn current_row(
+    dir: &Path,
+    sweep: &Sweep,
+    fingerprint: &str,
+    p: usize,
+    other_build: &mut usize,
+) -> Result<Option<MapRow>, SweepRunError> {
+    match PointRecord::find(dir, p, &sweep.values(p), fingerprint).map_err(io_err(dir))? {
+        Found::Current(r) => Ok(Some(MapRow::of(&r))),
+        Found::OtherBuild { .. } => {
+            *other_build += 1;
+            Ok(None)
+        }
+        Found::Missing | Found::Damaged => Ok(None),
+        Found::OtherSweep { why } => Err(SweepRunError::Foreign {
+            path: PointRecord::path(dir, p),
+            why,
+        }),
+    }
+}
+
+/// The merge of a refined sweep from its records: level by level, as far as they go.
+fn merge_refined(
+    dir: &Path,
+    lock: &SweepLock,
+    refine: &super::refine::Refine,
+    mut cost: MergeCost,
+    started: Instant,
+) -> Result<Merge, SweepRunError> {
+    let sweep = &lock.sweep;
+    let mut other_build = 0;
+    let walk = super::refine::walk(sweep, refine, |p| {
+        cost.records_read += 1;
+        current_row(dir, sweep, &lock.fingerprint, p, &mut other_build)
+    })?;
+    if !walk.complete() {
+        cost.seconds = started.elapsed().as_secs_f64();
+        return Ok(Merge::Incomplete {
+            missing: walk.missing.len(),
+            points: walk.points(),
+            other_build,
+            cost,
+        });
+    }
+    write_map(dir, sweep, walk.rows.into_values().collect(), cost, started)
 }
 
 /// As [`merge`], waiting up to `timeout` for the directory to hold a sweep and for its points
@@ -432,6 +491,8 @@ pub struct MapRead {
     pub table: MapTable,
     /// Every point has its row.
     pub complete: bool,
+    /// The points of the map: the sweep's, or a refined sweep's so far (the levels reached).
+    pub points: usize,
 }
 
 /// Reads the table of the sweep in `dir` without writing anything: map.csv when it is there;
@@ -447,9 +508,36 @@ pub fn read_map(dir: &Path) -> Result<MapRead, SweepRunError> {
     let sweep = lock.sweep;
     if dir.join(CSV_FILE).is_file() {
         let table = MapTable::read(dir).map_err(|e| io_err(dir)(io::Error::other(e)))?;
+        let points = match &sweep.refine {
+            Some(refine) => {
+                let rows: BTreeMap<usize, &MapRow> =
+                    table.rows.iter().map(|r| (r.point, r)).collect();
+                super::refine::walk(&sweep, refine, |p| {
+                    Ok::<_, SweepRunError>(rows.get(&p).map(|r| (*r).clone()))
+                })?
+                .points()
+            }
+            None => sweep.points,
+        };
         return Ok(MapRead {
-            complete: table.rows.len() == sweep.points,
+            complete: table.rows.len() == points,
+            points,
             table,
+            sweep,
+        });
+    }
+    if let Some(refine) = &sweep.refine {
+        let mut other_build = 0;
+        let walk = super::refine::walk(&sweep, refine, |p| {
+            current_row(dir, &sweep, &lock.fingerprint, p, &mut other_build)
+        })?;
+        return Ok(MapRead {
+            complete: walk.complete(),
+            points: walk.points(),
+            table: MapTable {
+                axes: sweep.axes.iter().map(|a| a.key.clone()).collect(),
+                rows: walk.rows.into_values().collect(),
+            },
             sweep,
         });
     }
@@ -471,6 +559,7 @@ pub fn read_map(dir: &Path) -> Result<MapRead, SweepRunError> {
     }
     Ok(MapRead {
         complete: rows.len() == sweep.points,
+        points: sweep.points,
         table: MapTable {
             axes: sweep.axes.iter().map(|a| a.key.clone()).collect(),
             rows,

@@ -15,10 +15,13 @@
 //! - [`merge`]: a shard's table (`DIR/shards/I-of-N.json`) and the merge into the map, from
 //!   the tables of a complete set of shards (O(P) for the whole array) or from the records;
 //! - [`slurm`]: the job-array script;
+//! - [`refine`]: adaptive refinement (`[refine]`): the finest grid, the cells that split, the
+//!   next level's points from the results so far, and a refined map's geometry;
 //! - [`reference`]: the sweeps part of `docs/reference.md`, from these definitions.
 //!
-//! Points are numbered 0 … P−1 in the order of the cartesian product, the last axis fastest.
-//! A shard I/N runs the points with index mod N = I. Results do not depend on jobs or shards:
+//! Points are numbered 0 … P−1 in the order of the cartesian product, the last axis fastest
+//! (in a refined sweep, of the finest grid's axes). A shard I/N runs the points with index mod
+//! N = I (in a refined sweep, every N-th point of each level). Results do not depend on jobs or shards:
 //! each point is a deterministic run of its own scene.
 
 pub mod exec;
@@ -28,6 +31,7 @@ pub mod map;
 pub mod merge;
 pub mod record;
 pub mod reference;
+pub mod refine;
 pub mod slurm;
 
 pub use file::SweepError;
@@ -171,6 +175,11 @@ pub struct Sweep {
     pub points: usize,
     /// The base scene as written (parsed), with `[set]` applied.
     pub base: toml::Table,
+    /// `[refine]`, when given: then [`Sweep::axes`] hold the finest grid's values,
+    /// [`Sweep::points`] counts that grid, and the points run are the base grid's and those
+    /// of the split cells ([`refine`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine: Option<refine::Refine>,
 }
 
 /// Inserts `value` at the dotted `path` of `table`, creating tables on the way.
@@ -489,7 +498,18 @@ impl Sweep {
         if axes.is_empty() {
             return Err(SweepError::invalid("axis", "none", "at least one [[axis]]"));
         }
-        let points = point_count(&axes, allow_large)?;
+        // The base grid counts against the limits (the points run up front); a refined
+        // sweep's finest grid against the directory's hard limit (refine::resolve).
+        let mut points = point_count(&axes, allow_large)?;
+        let refine = match &file.refine {
+            Some(r) => {
+                let (refine, fine) = refine::resolve(r, &axes, &file.axis)?;
+                axes = fine;
+                points = axes.iter().map(|a| a.values.len()).product();
+                Some(refine)
+            }
+            None => None,
+        };
         Scene::resolve_table(base.clone(), &[] as &[&str]).map_err(|error| SweepError::Base {
             path: scene_path.display().to_string(),
             error: Box::new(error),
@@ -504,6 +524,7 @@ impl Sweep {
             thresholds,
             points,
             base,
+            refine,
         };
         for p in sweep.points_validated_up_front() {
             sweep.scene(p).map_err(|error| SweepError::Point {
@@ -531,6 +552,13 @@ impl Sweep {
         if self.validated_up_front() {
             return Box::new(0..self.points);
         }
+        // A refined sweep beyond the limit: its base grid, then one point per value.
+        let base = match &self.refine {
+            Some(r) if r.base.iter().product::<usize>() <= MAX_POINTS => {
+                refine::base_points(self, r)
+            }
+            _ => Vec::new(),
+        };
         // The stride of axis j in the point number (last axis fastest).
         let strides: Vec<usize> = (0..self.axes.len())
             .map(|j| {
@@ -541,11 +569,32 @@ impl Sweep {
             })
             .collect();
         Box::new(
-            self.axes
-                .iter()
-                .zip(strides)
-                .flat_map(|(a, stride)| (0..a.values.len()).map(move |i| i * stride)),
+            base.into_iter().chain(
+                self.axes
+                    .iter()
+                    .zip(strides)
+                    .flat_map(|(a, stride)| (0..a.values.len()).map(move |i| i * stride)),
+            ),
         )
+    }
+
+    /// The number of the point at axis `indices` (last axis fastest); the inverse of
+    /// [`Sweep::indices`].
+    #[must_use]
+    pub fn point(&self, indices: &[usize]) -> usize {
+        indices
+            .iter()
+            .zip(&self.axes)
+            .fold(0, |p, (&i, a)| p * a.values.len() + i)
+    }
+
+    /// The level of point `p`: 0 for every point of a sweep without `[refine]`, else
+    /// [`refine::Refine::level`].
+    #[must_use]
+    pub fn level(&self, p: usize) -> usize {
+        self.refine
+            .as_ref()
+            .map_or(0, |r| r.level(&self.indices(p)))
     }
 
     /// The axis indices of point `p` (last axis fastest).
@@ -607,11 +656,16 @@ impl Sweep {
     }
 
     /// What identifies this sweep apart from the build: a hash (16 hex digits) of the base
-    /// scene with `[set]`, the axes and the thresholds.
+    /// scene with `[set]`, the axes, the thresholds and `[refine]`.
     #[must_use]
     pub fn definition(&self) -> String {
-        let text =
-            serde_json::to_string(&(&self.base, &self.axes, &self.thresholds)).unwrap_or_default();
+        // Without [refine] the text is what it was before refinement existed, so the
+        // directories of earlier sweeps stay current.
+        let text = match &self.refine {
+            None => serde_json::to_string(&(&self.base, &self.axes, &self.thresholds)),
+            Some(r) => serde_json::to_string(&(&self.base, &self.axes, &self.thresholds, r)),
+        }
+        .unwrap_or_default();
         format!("{:016x}", fnv1a64(FNV1A64_INIT, text.as_bytes()))
     }
 

@@ -65,6 +65,15 @@ pub struct PointRecord {
     /// point was computed; empty in records of earlier versions.
     #[serde(default)]
     pub fingerprint: String,
+    /// The point's level in a refined sweep (0: the base grid, and every point of a sweep
+    /// without `[refine]`; not written then).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub level: usize,
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// What the record file of a point holds, checked against the sweep.
@@ -119,6 +128,7 @@ impl PointRecord {
             run_s,
             message,
             fingerprint: String::new(),
+            level: 0,
         }
     }
 
@@ -147,6 +157,7 @@ impl PointRecord {
             run_s: 0.0,
             message: message.replace(['\n', '\r'], " "),
             fingerprint: String::new(),
+            level: 0,
         }
     }
 

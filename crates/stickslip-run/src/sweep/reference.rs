@@ -2,10 +2,52 @@
 //! regime rules, written from the definitions they describe (the thresholds' defaults, the
 //! summary columns, the point limit), so the reference cannot drift from the code.
 
-use super::map::{CSV_FILE, JSON_FILE, SUMMARY_COLUMNS};
+use super::map::{CSV_FILE, JSON_FILE, LEVEL_COLUMN, SUMMARY_COLUMNS};
 use super::record::PointStatus;
+use super::refine::{MAX_AXES, ON_REGIME, columns};
 use super::{HARD_MAX_POINTS, MAX_POINTS};
 use crate::summary::{Regime, RegimeThresholds};
+
+/// `### Refinement`: the `[refine]` table's rules.
+fn refinement() -> String {
+    format!(
+        "\n### Refinement\n\n\
+         ```toml\n[refine]\nlevels = 4              # integer ≥ 0; 0 = no refinement\n\
+         on = \"{ON_REGIME}\"           # or the name of a numeric map.csv column …\n\
+         threshold = 0.1         # … with a relative jump that splits a cell\n```\n\n\
+         A refined sweep runs its base grid, then `levels` times splits every cell whose \
+         corners differ and runs the new points. An axis of n values has (n − 1)·2^levels + 1 \
+         on the finest grid: a `range` is the same range with that count (the finest grid is \
+         the uniform sweep of that count, value for value); listed values get 2^levels − 1 \
+         values between neighbours, evenly spaced, geometrically where the axis is \
+         log-spaced. Points are numbered in the finest grid (the last axis fastest), so a \
+         point's number is the same at every level and for any jobs or shards, and map.csv \
+         (rows in point order) holds a subset of the uniform finest grid's points. A cell of \
+         level k is the interval (one axis) or rectangle (two axes) between neighbouring \
+         points of the level-k grid (2^(levels−k) finest steps apart) whose corners all ran; \
+         it splits when two corners differ — in regime (a failed or refused point is a class \
+         of its own), or with `on` a column in that column's value by more than `threshold` \
+         (relative, as above; a missing value differs from a number, two missing values do \
+         not; failed or refused points compare by status) — and gives the finer grid's points \
+         on its edges' midpoints and its centre. The next level's points depend only on the \
+         results of the levels before: a rerun after a kill skips every finished point and \
+         finds the same points. At most {MAX_AXES} axes, all numeric (a word axis, or a third \
+         axis, exits 2 naming `refine`); an integer key's axis whose finest grid would repeat \
+         a value, or levels whose finest grid passes {HARD_MAX_POINTS} points, exit 2 naming \
+         `refine.levels`. The limit of {MAX_POINTS} points without `--allow-large` counts \
+         the base grid.\n\n\
+         With `--shard I/N`, a shard runs every N-th point of each level (in point order, from \
+         the I-th), and stops with exit 0 at a level whose other points are not finished yet \
+         (it says which); a rerun goes on. `sweep slurm --submit` submits the script once per \
+         level and once for the base grid, each array after the previous one ended well \
+         (`--dependency=afterok`), then `sweep merge` as a job after the last one (the shard \
+         that finds every level complete writes the map, but tasks ending together may each \
+         miss the others' points). A shard reads the records of every level it passes \
+         (about N·P reads for an array of N tasks) and writes no shard table. `sweep plot` draws \
+         each point's cell at its level's size (half a level-k step either way, finer cells \
+         over coarser) and the regime boundary as a line.\n"
+    )
+}
 
 /// Markdown: `## Sweeps` with the file, the table and the regimes.
 #[must_use]
@@ -21,7 +63,7 @@ pub fn markdown() -> String {
          the same integer, are refused.\n\n",
     );
     out.push_str("### Sweep file\n\n| key | meaning |\n|---|---|\n");
-    let rows: [(&str, String); 9] = [
+    let rows: [(&str, String); 12] = [
         ("name", "name of the sweep (required)".into()),
         (
             "scene",
@@ -68,6 +110,28 @@ pub fn markdown() -> String {
                 t.sliding_fraction
             ),
         ),
+        (
+            "[refine] levels",
+            "levels of adaptive refinement, an integer ≥ 0 (0 = none); see Refinement below".into(),
+        ),
+        (
+            "[refine] on",
+            format!(
+                "what splits a cell: `\"{ON_REGIME}\"` (default: corners of different regime) \
+                 or a numeric map.csv column: {}",
+                columns()
+                    .iter()
+                    .map(|c| format!("`{c}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
+        (
+            "[refine] threshold",
+            "with `on` a column (required then, and only then), > 0: a cell splits when two of \
+             its corners' values a, b have \\|a − b\\| > threshold · max(\\|a\\|, \\|b\\|)"
+                .into(),
+        ),
     ];
     for (key, meaning) in rows {
         out.push_str(&format!("| `{key}` | {meaning} |\n"));
@@ -78,12 +142,13 @@ pub fn markdown() -> String {
          value is validated at once and each point's scene when the point runs: a combination \
          of values the scene refuses is a `refused` row.\n"
     ));
+    out.push_str(&refinement());
     out.push_str(
         "\n### Sweep directory\n\n\
          | file | what |\n|---|---|\n\
          | `sweep.json` | the sweep as resolved, its fingerprint (a hash of the base scene with \
-         `[set]`, the axes and the thresholds, and the build identity of the numerics) and \
-         the build |\n\
+         `[set]`, the axes, the thresholds and `[refine]`, and the build identity of the \
+         numerics) and the build |\n\
          | `points/NNNNNNN.json` | one record per finished point: its values, summary, status \
          and the sweep's fingerprint |\n\
          | `shards/I-of-N.BUILD.json` | the rows of shard I/N once it ran to its end; the last \
@@ -121,6 +186,11 @@ pub fn markdown() -> String {
          time.steady_rtol (its regime is the steady state's), else `false` (taken at the end of \
          its window; a map.csv without this column reads as `false`) |\n",
     );
+    out.push_str(&format!(
+        "| `{LEVEL_COLUMN}` | – | the point's level in a refined sweep: 0 for the base grid (and \
+         every point of a sweep without `[refine]`), k for the points of cells split k times (a \
+         map.csv without this column reads as 0) |\n"
+    ));
 
     out.push_str(
         "\n### Regimes\n\nDecided in this order (R: the largest area-weighted ⟨φ⟩/√(A/a) (the \

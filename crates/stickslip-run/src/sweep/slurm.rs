@@ -5,6 +5,15 @@
 //! DIR/sweep.sbatch`) and skips the points it had finished. The tasks run at the same time on
 //! one directory; each writes its shard's table, and the last to finish merges them into the
 //! map (`super::merge`): one merge of O(P) for the array.
+//!
+//! A refined sweep (`[refine]`, levels L) is submitted as L + 1 arrays of this one script,
+//! each after the previous one ended well (`--dependency=afterok:ID`): the tasks of array k
+//! skip the levels done, compute level k's points from the records and run their part, and a
+//! task whose level is still missing other tasks' points exits 0 (the next array goes on).
+//! After array k every point of level k is done, whatever the order of its tasks; tasks of the
+//! last array finishing together may each see the others' points missing, so a merge job
+//! ([`merge_command`]) follows the last array. No task waits on another inside an array, so
+//! a site running fewer tasks at once than the array has cannot deadlock.
 
 use std::path::Path;
 
@@ -16,7 +25,10 @@ pub const SCRIPT: &str = "sweep.sbatch";
 /// `binary`, `sweep_file` and `dir` should be absolute (the job runs wherever Slurm starts
 /// it); `extra` are additional `#SBATCH` lines' arguments (`--partition=short`, …);
 /// `run_args` are options of `sweep run` every task passes (`--allow-large`, `--keep all`).
+/// `levels`: a refined sweep's levels, said in a comment (the script is submitted once per
+/// level and once for the base grid).
 #[must_use]
+#[allow(clippy::too_many_arguments)]
 pub fn script(
     name: &str,
     binary: &Path,
@@ -25,6 +37,7 @@ pub fn script(
     tasks: usize,
     extra: &[String],
     run_args: &[String],
+    levels: Option<u32>,
 ) -> String {
     let q = |p: &Path| shell_quote(&p.display().to_string());
     let mut out = String::from("#!/bin/bash\n");
@@ -45,6 +58,15 @@ pub fn script(
          by index: sbatch --array=4,8 {}\n",
         q(&dir.join(SCRIPT))
     ));
+    if let Some(levels) = levels.filter(|&l| l > 0) {
+        out.push_str(&format!(
+            "# A refined sweep of {levels} levels: submit this script {} times, each after the \
+             previous array ended well (sbatch --dependency=afterok:ID); each array's tasks run \
+             their part of the next level; then `stickslip sweep merge` after the last one \
+             (`stickslip sweep slurm --submit` does this).\n",
+            levels + 1
+        ));
+    }
     out.push_str("set -uo pipefail\n");
     let options: String = run_args
         .iter()
@@ -60,6 +82,17 @@ pub fn script(
     // Exit 4 (the map is complete but has failed points) is a result, not a failed task.
     out.push_str("status=$?\nif [ \"$status\" -eq 4 ]; then exit 0; fi\nexit \"$status\"\n");
     out
+}
+
+/// The shell command of the merge job after a refined sweep's last array: `sweep merge DIR`,
+/// exit 4 (a complete map with failed points) counted as success, as the tasks do.
+#[must_use]
+pub fn merge_command(binary: &Path, dir: &Path) -> String {
+    format!(
+        "{} sweep merge {}; status=$?; if [ \"$status\" -eq 4 ]; then exit 0; fi; exit \"$status\"",
+        shell_quote(&binary.display().to_string()),
+        shell_quote(&dir.display().to_string())
+    )
 }
 
 /// `s` in single quotes for the shell (plain when it needs none).
