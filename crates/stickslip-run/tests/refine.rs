@@ -193,8 +193,13 @@ fn split_cells_give_their_edge_midpoints_and_centre() {
         })
         .count();
     assert_eq!(segments.len(), pairs);
-    // Cells: each inside the map, coarse first.
+    // Cells: each inside the map, coarse first; the same through map_geometry.
     let cells = geometry::cells(&two, r, &rows);
+    let g = geometry::map_geometry(&two, &rows).unwrap();
+    assert_eq!(
+        (g.cells.len(), g.boundary.len()),
+        (cells.len(), segments.len())
+    );
     assert_eq!(cells.len(), points);
     assert!(cells.windows(2).all(|c| c[0].level <= c[1].level));
     println!(

@@ -16,6 +16,10 @@
 //! refused, one of another build counts as missing. [`merge_wait`] waits for the sweep to be
 //! complete first (a merge started with the array, or a dependent Slurm job). [`read_map`]
 //! reads the table for a reader, complete or partial, and writes nothing.
+//!
+//! A refined sweep writes no shard tables: its shards read every level's records anyway (the
+//! next level's points follow from them), and the one that finds every level complete writes
+//! the map; [`merge`] and [`read_map`] walk its levels through the records.
 
 use super::Sweep;
 use super::lock::{SweepLock, SweepRunError, io_err, load_lock};

@@ -38,6 +38,27 @@ pub struct Segment {
     pub to: (f64, f64),
 }
 
+/// A refined map's geometry ([`map_geometry`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapGeometry {
+    /// Every row's cell, coarse levels first ([`cells`]).
+    pub cells: Vec<CellRect>,
+    /// The regime boundary ([`boundary`]).
+    pub boundary: Vec<Segment>,
+}
+
+/// The cells and the regime boundary of a refined map: `sweep` and `rows` as a finished
+/// map.json holds them (`MapJson::sweep`, `MapJson::table.rows`), or as `read_map` returns
+/// them; `None` for a sweep without `[refine]`.
+#[must_use]
+pub fn map_geometry(sweep: &Sweep, rows: &[MapRow]) -> Option<MapGeometry> {
+    let refine = sweep.refine.as_ref()?;
+    Some(MapGeometry {
+        cells: cells(sweep, refine, rows),
+        boundary: boundary(sweep, refine, rows),
+    })
+}
+
 /// Finest grids larger than this get no boundary from [`boundary`] (it visits every point of
 /// the finest grid).
 pub const MAX_BOUNDARY_GRID: usize = 4_000_000;
