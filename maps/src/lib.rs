@@ -143,9 +143,14 @@ pub fn run_map(file: &Path, dir: &Path, jobs: usize, resume: bool) -> Result<Map
         "maps: {}: {} points run, {} already done, {:.1} s",
         sweep.name, report.ran, report.skipped, report.wall_s
     );
-    match exec::after_shard(dir, &sweep.fingerprint(), options.shard).map_err(|e| e.to_string())? {
-        Merge::Complete { .. } => {}
-        Merge::Incomplete { missing, .. } => return Err(format!("{missing} points missing")),
+    // A refined sweep's shard writes the map itself once every level is complete.
+    let merge = match report.map {
+        Some(m) => m,
+        None => exec::after_shard(dir, &sweep.fingerprint(), options.shard)
+            .map_err(|e| e.to_string())?,
+    };
+    if let Merge::Incomplete { missing, .. } = merge {
+        return Err(format!("{}: {missing} points missing", sweep.name));
     }
     let json = MapJson::read(dir).map_err(|e| e.to_string())?;
     Ok(Map { json })
@@ -216,6 +221,13 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         opts.jobs,
         opts.resume,
     )?;
+    let window = out.join("rigid_uniform_window");
+    std::fs::create_dir_all(&window).map_err(|e| format!("{}: {e}", window.display()))?;
+    let window_file = window.join("sweep.toml");
+    let window_toml = rigid::uniform_window(&rigid_map, &maps_dir.join("rigid.toml"))?;
+    std::fs::write(&window_file, window_toml)
+        .map_err(|e| format!("{}: {e}", window_file.display()))?;
+    let uniform_map = run_map(&window_file, &window.join("sweep"), opts.jobs, opts.resume)?;
     let spring_map = run_map(
         &maps_dir.join("spring.toml"),
         &out.join("spring"),
@@ -247,7 +259,7 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         opts.resume,
     )?;
     let sections = vec![
-        rigid::section(&rigid_map)?,
+        rigid::section(&rigid_map, &uniform_map)?,
         spring::section(&spring_map)?,
         model::section(&model_map)?,
         model_first_order::section(&model_fo_map, &model_map)?,

@@ -138,9 +138,13 @@ pub fn section(map: &Map) -> Result<Section, String> {
     for &e in &strains {
         let first = rows
             .iter()
-            .position(|r| map.axis(r, E) == e)
+            .find(|r| map.axis(r, E) == e)
             .ok_or("an ε₊ row without points")?;
-        let scene = map.json.sweep.scene(first).map_err(|x| x.to_string())?;
+        let scene = map
+            .json
+            .sweep
+            .scene(first.point)
+            .map_err(|x| x.to_string())?;
         let (x_star, phi_star) = quasi_static_advance(&scene);
         let h0 = scene.config.contact.film_thickness_m;
         let lags: Vec<(f64, f64)> = row_of(e)
@@ -256,9 +260,13 @@ pub fn section(map: &Map) -> Result<Section, String> {
         let row = row_of(e);
         let first = rows
             .iter()
-            .position(|r| map.axis(r, E) == e)
+            .find(|r| map.axis(r, E) == e)
             .ok_or("an ε₊ row without points")?;
-        let scene = map.json.sweep.scene(first).map_err(|x| x.to_string())?;
+        let scene = map
+            .json
+            .sweep
+            .scene(first.point)
+            .map_err(|x| x.to_string())?;
         let found = critical_speed(&scene, v_lo, v_hi)?;
         // The map's bracket: the last stick_slip speed and the speed after it.
         let last_ss = row

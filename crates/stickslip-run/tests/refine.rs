@@ -11,7 +11,7 @@ use stickslip_run::summary::Regime;
 use stickslip_run::sweep::exec::{self, Merge, SweepOptions};
 use stickslip_run::sweep::map::{MapRow, MapTable};
 use stickslip_run::sweep::record::PointStatus;
-use stickslip_run::sweep::refine::{self, geometry};
+use stickslip_run::sweep::refine::{self, agreement, geometry};
 use stickslip_run::sweep::{Sweep, file};
 
 /// A sweep over the rigid drive (N = 20, short window) with `axes` and `refine` (TOML text).
@@ -387,6 +387,38 @@ fn a_refined_map_agrees_with_the_uniform_grid_at_the_finest_spacing() {
         );
         assert!(r.rows.len() < u.rows.len(), "{name}");
         assert_eq!(differing, 0, "{name}");
+        // The run library's comparison says the same, and sees a changed regime.
+        let refine = refined.refine.as_ref().unwrap();
+        let a = agreement::agreement(&refined, refine, &r.rows, &uniform, &u.rows);
+        assert_eq!(a.compared, uniform.points, "{name}");
+        assert_eq!(a.shared, r.rows.len(), "{name}");
+        assert_eq!(a.inferred, uniform.points - r.rows.len(), "{name}");
+        assert!(
+            a.shared_differ.is_empty() && a.inferred_differ.is_empty(),
+            "{name}"
+        );
+        assert_eq!(a.off_grid, 0, "{name}");
+        let mut changed = u.rows.clone();
+        let flip = |row: &mut MapRow| {
+            row.summary.regime = if row.summary.regime == Regime::Smooth {
+                Regime::StickSlip
+            } else {
+                Regime::Smooth
+            };
+        };
+        let not_run = (0..uniform.points).find(|p| !rows.contains_key(p)).unwrap();
+        flip(&mut changed[0]);
+        flip(&mut changed[not_run]);
+        let a = agreement::agreement(&refined, refine, &r.rows, &uniform, &changed);
+        assert_eq!(a.shared_differ, vec![0], "{name}");
+        assert_eq!(a.inferred_differ, vec![not_run], "{name}");
+        // Every other value of the finest grid, as listed values, lies on it.
+        let half = agreement::subgrid_values(&refined, 2, &[]);
+        assert_eq!(
+            half[0].len(),
+            refined.axes[0].values.len().div_ceil(2),
+            "{name}"
+        );
     }
 }
 

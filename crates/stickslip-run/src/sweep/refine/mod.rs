@@ -25,6 +25,7 @@
 //! At most [`MAX_AXES`] axes, every one numeric; the finest grid counts against the
 //! directory's limit of [`super::HARD_MAX_POINTS`] points.
 
+pub mod agreement;
 pub mod geometry;
 
 use super::file::{AxisFile, RefineFile};
