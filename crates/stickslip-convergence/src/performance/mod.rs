@@ -24,12 +24,15 @@
 //! - **P4** a fresh clone's build and test times, read from `reports/build-timing.json`
 //!   (`cargo xtask build-timing` measures them; too long to rerun here).
 //! - **P5** a 32 × 32 friction map at N = 50 with 1 and 2 jobs ([`sweep`]).
+//! - **M1–M2** a refined friction map against the uniform grid of its resolution, and the
+//!   critical speed by bisection ([`refine`]).
 //! - **P6** fig2 at N = [`T1_NODES`] with the first-order film ([`P6_SCENE`]'s b₃) against
 //!   the paper's film, whole process and per step evaluation.
 //! - **T3** loop time per step against N (fixed steps, fast and dense operators), log–log slope.
 //! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`], against a
 //!   same-N reference at N = [`T4_NODES`] as for P3.
 
+pub mod refine;
 pub mod report;
 pub mod sweep;
 mod targets;
@@ -469,6 +472,8 @@ pub struct Performance {
     pub build: Option<stickslip_report::build_timing::BuildTiming>,
     /// P5: the friction-map sweep.
     pub sweep: sweep::SweepBench,
+    /// M1–M2: the refined map and the critical speed by bisection.
+    pub refine: refine::RefineBench,
     /// Total time of the benchmark, s.
     pub total_s: f64,
     /// Machine note.
@@ -736,6 +741,8 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     progress("P5: friction-map sweep, 1 and 2 jobs");
     let rigid_scene = s.scene.with_file_name("rigid.toml");
     let sweep = sweep::measure(s, &rigid_scene)?;
+    progress("M1-M2: the refined rigid map against a uniform sample, the critical speed");
+    let refine = refine::measure(s, &rigid_scene)?;
     let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
     let shipped_speedup = fig2_literal_extrapolated_s / shipped.wall_s;
@@ -750,6 +757,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         rigid_full,
         build,
         sweep,
+        refine,
         paper_nodes,
         paper_dt_s,
         scene_end_s,

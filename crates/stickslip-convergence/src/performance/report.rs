@@ -449,6 +449,18 @@ mod tests {
                 ],
                 regimes: vec![("sliding".into(), 200)],
             },
+            refine: super::super::refine::RefineBench {
+                uniform_points: 66049,
+                refined_points: 5000,
+                sample_points: 4225,
+                shared: 600,
+                inferred: 3625,
+                critical_speed: 0.25,
+                bracket_rel: 9e-4,
+                boundary_runs: 15,
+                boundary_regimes: ("stick_slip".into(), "partial".into()),
+                ..Default::default()
+            },
             total_s: 97.0,
             machine: "2 logical CPUs".into(),
         };
@@ -459,6 +471,9 @@ mod tests {
         assert!(md.contains("a series row every 10 steps"), "{md}");
         assert!(md.contains("| adaptive | 5e-5 (default) |"), "{md}");
         assert!(md.contains("gives 314 µs at N = 2000"), "{md}");
+        // M1: 5000 / 66049 points; M2: 15 runs to 9e-4.
+        assert!(md.contains("| 5000 points = 7.6 %"), "{md}");
+        assert!(md.contains("| 15 runs ("), "{md}");
         // P6: 0.12 s / 0.15 s; per evaluation (0.9·0.12/1820)/(0.9·0.15/3374).
         assert!(
             md.contains("| 0.800× (0.120 s against 0.150 s); per step evaluation 1.48×"),

@@ -21,7 +21,7 @@ pub(super) fn seconds(ws: &[f64]) -> String {
     ws.iter().map(|w| sig(*w, 3)).collect::<Vec<_>>().join(", ")
 }
 
-/// The rows P1–P6 of the targets table.
+/// The rows P1–P6 and M1–M2 of the targets table.
 pub(super) fn targets_table(m: &mut String, p: &Performance) {
     let sh = &p.shipped;
     let _ = writeln!(
@@ -129,6 +129,51 @@ pub(super) fn targets_table(m: &mut String, p: &Performance) {
         sig(100.0 * overhead, 2),
         sig(sw.efficiency(), 3),
         verdict(overhead <= OVERHEAD_GOAL && sw.efficiency() >= EFFICIENCY_GOAL)
+    );
+    let rf = &p.refine;
+    let _ = writeln!(
+        m,
+        "| M1 the rigid speed × temperature map refined to the resolution of a {side} × {side} \
+         grid ({} levels) | ≤ {} % of that grid's points, the same regime at every point both \
+         have | {} points = {} % ({} s); against a {} × {} uniform sample: {} shared points \
+         ({} differ), {} inside refined cells ({} differ) | {} |",
+        super::refine::M1_LEVELS,
+        tick(100.0 * super::refine::M1_FRACTION_GOAL),
+        rf.refined_points,
+        sig(100.0 * rf.fraction(), 2),
+        sig(rf.refined_wall_s, 3),
+        (rf.sample_points as f64).sqrt().round(),
+        (rf.sample_points as f64).sqrt().round(),
+        rf.shared,
+        rf.shared_differ,
+        rf.inferred,
+        rf.inferred_differ,
+        verdict(
+            rf.fraction() <= super::refine::M1_FRACTION_GOAL
+                && rf.shared > 0
+                && rf.shared_differ == 0
+                && rf.inferred_differ == 0
+                && rf.off_grid == 0
+        ),
+        side = (rf.uniform_points as f64).sqrt().round(),
+    );
+    let _ = writeln!(
+        m,
+        "| M2 `boundary`: the rigid drive's critical speed at A0 = {} Pa to {} relative | ≤ {} \
+         runs | {} runs ({} s): V_c = {} m/s, bracket {} relative, {} below, {} above | {} |",
+        tick(super::refine::M2_A0_PA),
+        tick(super::refine::M2_RTOL),
+        super::refine::M2_RUNS_GOAL,
+        rf.boundary_runs,
+        sig(rf.boundary_wall_s, 3),
+        sig(rf.critical_speed, 4),
+        sig(rf.bracket_rel, 2),
+        rf.boundary_regimes.0,
+        rf.boundary_regimes.1,
+        verdict(
+            rf.boundary_runs <= super::refine::M2_RUNS_GOAL
+                && rf.bracket_rel <= super::refine::M2_RTOL
+        )
     );
     let (fo, so) = (&p.first_order, &p.fig2_accurate_runs[0]);
     let ratio = fo.wall_s / so.wall_s;
