@@ -86,20 +86,9 @@ pub fn uniform_window(map: &Map, file: &std::path::Path) -> Result<String, Strin
         sweep.scene_path.display().to_string().into(),
     );
     let window: Vec<Option<(usize, usize)>> = UNIFORM_WINDOW.iter().map(|w| Some(*w)).collect();
-    let values = agreement::subgrid_values(sweep, 1, &window);
-    let axes: Vec<toml::Value> = sweep
-        .axes
-        .iter()
-        .zip(values)
-        .map(|(a, v)| {
-            let mut t = toml::Table::new();
-            t.insert("key".into(), a.key.clone().into());
-            t.insert(
-                "values".into(),
-                toml::Value::Array(v.into_iter().map(toml::Value::Float).collect()),
-            );
-            toml::Value::Table(t)
-        })
+    let axes: Vec<toml::Value> = agreement::subgrid_axes(sweep, 1, &window)
+        .into_iter()
+        .map(toml::Value::Table)
         .collect();
     table.insert("axis".into(), toml::Value::Array(axes));
     toml::to_string(&table).map_err(|e| e.to_string())

@@ -113,6 +113,14 @@ pub fn section(map: &Map) -> Result<Section, String> {
         pts.sort_by(|x, y| map.axis(x, V).total_cmp(&map.axis(y, V)));
         pts
     };
+    // The resolved scene of a row's first point.
+    let scene_of_row = |e: f64| -> Result<ResolvedScene, String> {
+        let first = rows
+            .iter()
+            .find(|r| map.axis(r, E) == e)
+            .ok_or("an ε₊ row without points")?;
+        map.json.sweep.scene(first.point).map_err(|x| x.to_string())
+    };
     let mut checks = Vec::new();
 
     // Slow drive: stick–slip in every row.
@@ -136,15 +144,7 @@ pub fn section(map: &Map) -> Result<Section, String> {
     // The advance per cycle at the slowest speeds against X*, and the fold's 2/3 law.
     let mut advance = Vec::new();
     for &e in &strains {
-        let first = rows
-            .iter()
-            .find(|r| map.axis(r, E) == e)
-            .ok_or("an ε₊ row without points")?;
-        let scene = map
-            .json
-            .sweep
-            .scene(first.point)
-            .map_err(|x| x.to_string())?;
+        let scene = scene_of_row(e)?;
         let (x_star, phi_star) = quasi_static_advance(&scene);
         let h0 = scene.config.contact.film_thickness_m;
         let lags: Vec<(f64, f64)> = row_of(e)
@@ -258,15 +258,7 @@ pub fn section(map: &Map) -> Result<Section, String> {
     let mut crit = Vec::new();
     for &e in &strains {
         let row = row_of(e);
-        let first = rows
-            .iter()
-            .find(|r| map.axis(r, E) == e)
-            .ok_or("an ε₊ row without points")?;
-        let scene = map
-            .json
-            .sweep
-            .scene(first.point)
-            .map_err(|x| x.to_string())?;
+        let scene = scene_of_row(e)?;
         let found = critical_speed(&scene, v_lo, v_hi)?;
         // The map's bracket: the last stick_slip speed and the speed after it.
         let last_ss = row

@@ -184,21 +184,7 @@ pub fn measure(s: &BenchSettings, rigid_scene: &Path) -> Result<RefineBench, Str
         .as_ref()
         .ok_or("the refined sweep has no [refine]")?;
     // The uniform sample: every M1_SAMPLE_STRIDE-th finest value, listed exactly.
-    let values = agreement::subgrid_values(sweep, M1_SAMPLE_STRIDE, &[]);
-    let sample_axes: Vec<toml::Table> = sweep
-        .axes
-        .iter()
-        .zip(values)
-        .map(|(a, v)| {
-            let mut t = toml::Table::new();
-            t.insert("key".into(), a.key.clone().into());
-            t.insert(
-                "values".into(),
-                toml::Value::Array(v.into_iter().map(toml::Value::Float).collect()),
-            );
-            t
-        })
-        .collect();
+    let sample_axes = agreement::subgrid_axes(sweep, M1_SAMPLE_STRIDE, &[]);
     let sample_file = dir.join("sample.toml");
     std::fs::write(
         &sample_file,

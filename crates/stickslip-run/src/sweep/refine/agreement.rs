@@ -117,3 +117,27 @@ pub fn subgrid_values(
         })
         .collect()
 }
+
+/// The `[[axis]]` tables of a uniform sweep over [`subgrid_values`]: each refined axis's key
+/// with its values listed, for a sweep file whose points lie exactly on the finest grid.
+#[must_use]
+pub fn subgrid_axes(
+    sweep: &Sweep,
+    stride: usize,
+    window: &[Option<(usize, usize)>],
+) -> Vec<toml::Table> {
+    sweep
+        .axes
+        .iter()
+        .zip(subgrid_values(sweep, stride, window))
+        .map(|(a, v)| {
+            let mut t = toml::Table::new();
+            t.insert("key".into(), a.key.clone().into());
+            t.insert(
+                "values".into(),
+                toml::Value::Array(v.into_iter().map(toml::Value::Float).collect()),
+            );
+            t
+        })
+        .collect()
+}
