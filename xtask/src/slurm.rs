@@ -166,6 +166,35 @@ fn slurm_conf(dir: &Path, host: &str) -> String {
     )
 }
 
+/// Runs `sweep` locally into `local` and checks that `out`'s map.csv equals it in every column
+/// but wall_s; `what` names `out`'s map in the error. Returns map.csv's line count.
+fn same_as_local(
+    bin: &Path,
+    sweep: &Path,
+    out: &Path,
+    local: &Path,
+    what: &str,
+) -> Result<usize, String> {
+    let ran = run(Command::new(bin).args([
+        "sweep",
+        "run",
+        sweep.to_str().unwrap_or(""),
+        "--out",
+        local.to_str().unwrap_or(""),
+        "--quiet",
+    ]))?;
+    print!("{ran}");
+    let (a, b) = (without_wall(out)?, without_wall(local)?);
+    if a != b {
+        return Err(format!(
+            "{what} differs from the local one (beyond wall_s): {} against {} rows",
+            a.len(),
+            b.len()
+        ));
+    }
+    Ok(a.len())
+}
+
 /// Map rows without the wall-clock column.
 fn without_wall(dir: &Path) -> Result<Vec<String>, String> {
     let table = MapTable::read(dir).map_err(|e| e.to_string())?;
@@ -267,28 +296,17 @@ fn check(root: &Path, daemons: &mut Daemons) -> Result<(), String> {
         &["sweep", "merge", out.to_str().unwrap_or("")],
     ))?;
     print!("{merged}");
-    let local = dir.join("out").join("local");
-    let ran = run(Command::new(&bin).args([
-        "sweep",
-        "run",
-        sweep.to_str().unwrap_or(SWEEP),
-        "--out",
-        local.to_str().unwrap_or(""),
-        "--quiet",
-    ]))?;
-    print!("{ran}");
-    let (a, b) = (without_wall(&out)?, without_wall(&local)?);
-    if a != b {
-        return Err(format!(
-            "the Slurm map.csv differs from the local one (beyond wall_s): {} against {} rows",
-            a.len(),
-            b.len()
-        ));
-    }
+    let lines = same_as_local(
+        &bin,
+        &sweep,
+        &out,
+        &dir.join("out").join("local"),
+        "the Slurm map.csv",
+    )?;
     println!(
         "slurm-check: map.csv from {TASKS} concurrent Slurm tasks equals the local run's in \
          every column but wall_s ({} points)",
-        a.len() - 1
+        lines - 1
     );
     check_refined(root, &dir, &bin, &slurm)
 }
@@ -356,25 +374,13 @@ fn check_refined(
             out.display()
         ));
     }
-    let local = dir.join("out").join("refined-local");
-    let ran = run(Command::new(bin).args([
-        "sweep",
-        "run",
-        sweep.to_str().unwrap_or(REFINED),
-        "--out",
-        local.to_str().unwrap_or(""),
-        "--quiet",
-    ]))?;
-    print!("{ran}");
-    let (a, b) = (without_wall(&out)?, without_wall(&local)?);
-    if a != b {
-        return Err(format!(
-            "the refined sweep's Slurm map.csv differs from the local one (beyond wall_s): {} \
-             against {} rows",
-            a.len(),
-            b.len()
-        ));
-    }
+    same_as_local(
+        bin,
+        &sweep,
+        &out,
+        &dir.join("out").join("refined-local"),
+        "the refined sweep's Slurm map.csv",
+    )?;
     let table = MapTable::read(&out).map_err(|e| e.to_string())?;
     let refined = table.rows.iter().filter(|r| r.level > 0).count();
     if refined == 0 {
