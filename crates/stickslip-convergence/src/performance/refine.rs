@@ -13,8 +13,6 @@ use super::BenchSettings;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
-use stickslip_report::binary;
-use stickslip_report::fmt::first_line;
 use stickslip_run::Scene;
 use stickslip_run::sweep::map::MapJson;
 use stickslip_run::sweep::refine::agreement;
@@ -45,6 +43,8 @@ const SET: [(&str, &str); 4] = [
 /// What M1 and M2 measured.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct RefineBench {
+    /// Levels of refinement run.
+    pub levels: u32,
     /// Points of the finest (uniform) grid.
     pub uniform_points: usize,
     /// Points the refined map ran.
@@ -131,26 +131,7 @@ fn range_axis(key: &str, from: f64, to: f64, count: usize, scale: &str) -> toml:
 
 /// Runs `file` with `stickslip sweep run --jobs 2` into `out` (afresh) and reads its map.
 fn run_sweep(s: &BenchSettings, file: &Path, out: &Path) -> Result<(MapJson, f64), String> {
-    let _ = std::fs::remove_dir_all(out);
-    let args: Vec<String> = vec![
-        "sweep".into(),
-        "run".into(),
-        file.display().to_string(),
-        "--out".into(),
-        out.display().to_string(),
-        "--jobs".into(),
-        "2".into(),
-        "--force".into(),
-    ];
-    let inv = binary::invoke(&s.binary, &args, &[])?;
-    if !inv.ok() {
-        return Err(format!(
-            "stickslip sweep run {} failed (exit {:?}): {}",
-            file.display(),
-            inv.code,
-            first_line(&inv.stderr)
-        ));
-    }
+    let inv = super::sweep::run_sweep(s, file, out, 2)?;
     let json = MapJson::read(out).map_err(|e| format!("{}: {e}", out.display()))?;
     Ok((json, inv.wall_s))
 }
@@ -218,6 +199,7 @@ pub fn measure(s: &BenchSettings, rigid_scene: &Path) -> Result<RefineBench, Str
     .map_err(|e| e.to_string())?;
     let boundary_wall_s = start.elapsed().as_secs_f64();
     Ok(RefineBench {
+        levels,
         uniform_points: sweep.points,
         refined_points: refined.table.rows.len(),
         refined_wall_s,

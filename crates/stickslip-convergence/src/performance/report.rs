@@ -450,6 +450,7 @@ mod tests {
                 regimes: vec![("sliding".into(), 200)],
             },
             refine: super::super::refine::RefineBench {
+                levels: 4,
                 uniform_points: 66049,
                 refined_points: 5000,
                 sample_points: 4225,

@@ -114,6 +114,40 @@ fn sweep_toml(scene: &Path, side: usize, nodes: usize) -> String {
     )
 }
 
+/// `stickslip sweep run FILE --out OUT --jobs J --force` afresh (OUT removed first), as a user
+/// runs it; an error unless it exits 0.
+///
+/// # Errors
+/// The process could not start or failed.
+pub(super) fn run_sweep(
+    s: &BenchSettings,
+    file: &Path,
+    out: &Path,
+    jobs: usize,
+) -> Result<binary::Invocation, String> {
+    let args: Vec<String> = vec![
+        "sweep".into(),
+        "run".into(),
+        file.display().to_string(),
+        "--out".into(),
+        out.display().to_string(),
+        "--jobs".into(),
+        jobs.to_string(),
+        "--force".into(),
+    ];
+    let _ = std::fs::remove_dir_all(out);
+    let inv = binary::invoke(&s.binary, &args, &[])?;
+    if !inv.ok() {
+        return Err(format!(
+            "stickslip sweep run {} --jobs {jobs} failed (exit {:?}): {}",
+            file.display(),
+            inv.code,
+            first_line(&inv.stderr)
+        ));
+    }
+    Ok(inv)
+}
+
 /// Runs the sweep with 1 and 2 jobs.
 ///
 /// # Errors
@@ -130,25 +164,7 @@ pub fn measure(s: &BenchSettings, rigid_scene: &Path) -> Result<SweepBench, Stri
     let mut regimes = Vec::new();
     for jobs in [1_usize, 2] {
         let out = dir.join(format!("jobs{jobs}"));
-        let args: Vec<String> = vec![
-            "sweep".into(),
-            "run".into(),
-            file.display().to_string(),
-            "--out".into(),
-            out.display().to_string(),
-            "--jobs".into(),
-            jobs.to_string(),
-            "--force".into(),
-        ];
-        let _ = std::fs::remove_dir_all(&out);
-        let inv = binary::invoke(&s.binary, &args, &[])?;
-        if !inv.ok() {
-            return Err(format!(
-                "stickslip sweep run --jobs {jobs} failed (exit {:?}): {}",
-                inv.code,
-                first_line(&inv.stderr)
-            ));
-        }
+        let inv = run_sweep(s, &file, &out, jobs)?;
         let (mut sum_run_s, mut sum_point_wall_s, mut not_ok) = (0.0, 0.0, 0);
         for p in 0..points {
             let r = PointRecord::read(&out, p)

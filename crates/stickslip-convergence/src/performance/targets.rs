@@ -137,7 +137,7 @@ pub(super) fn targets_table(m: &mut String, p: &Performance) {
          grid ({} levels) | ≤ {} % of that grid's points, the same regime at every point both \
          have | {} points = {} % ({} s); against a {} × {} uniform sample: {} shared points \
          ({} differ), {} inside refined cells ({} differ) | {} |",
-        super::refine::M1_LEVELS,
+        rf.levels,
         tick(100.0 * super::refine::M1_FRACTION_GOAL),
         rf.refined_points,
         sig(100.0 * rf.fraction(), 2),
