@@ -218,3 +218,37 @@ def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
     ).check()
     assert refused["verdict"] == "refused"
     assert any(w["severity"] == "refusal" for w in refused["warnings"])
+
+
+def test_first_order_film_from_dict_equals_its_scene_file(fig2_path: Path) -> None:
+    """The first-order film's keys through Scene.from_dict: eps_melt resolves to the b3 the
+    scene file gives, a run is the CLI scene's, check() reports the thresholds, and giving both
+    keys (or a melting strain below eps_c) is a SceneError naming the key."""
+    fo_file = stickslip.Scene.load(SCENES / "fig2_first_order.toml", SMALL)
+    d = stickslip.Scene.load(fig2_path).to_dict(resolved=False)
+    d["lubricant"]["eps_melt"] = fo_file.to_dict(resolved=False)["lubricant"]["eps_melt"]
+    d["name"] = "fig2_first_order"
+    fo_dict = stickslip.Scene.from_dict(d).with_overrides(SMALL)
+    b3 = fo_file.to_dict()["lubricant"]["cubic"]
+    assert b3 > 0 and fo_dict.to_dict()["lubricant"]["cubic"] == b3
+    # The same b3 given as lubricant.cubic is the same film.
+    by_cubic = stickslip.Scene.load(fig2_path, {**SMALL, "lubricant.cubic": b3})
+    assert by_cubic.to_dict()["lubricant"] == fo_dict.to_dict()["lubricant"]
+    a, b = stickslip.run(fo_file), stickslip.run(fo_dict)
+    np.testing.assert_array_equal(a.series["F"], b.series["F"])
+    assert a.summary == b.summary
+    derived = dict(fo_dict.check()["derived"])
+    assert derived["eps_melt"] == pytest.approx(2.2516660498395, rel=1e-12)
+    assert derived["hysteresis_width"] > 0 and derived["tau_melt"] > 0
+    # b3 = 0 is the paper's film, bit for bit.
+    zero = stickslip.run(stickslip.Scene.load(fig2_path, {**SMALL, "lubricant.cubic": 0.0}))
+    paper = stickslip.run(stickslip.Scene.load(fig2_path, SMALL))
+    np.testing.assert_array_equal(zero.series["F"], paper.series["F"])
+    for bad, key in (
+        ({"lubricant.cubic": 1e6, "lubricant.eps_melt": 2.0}, "lubricant.eps_melt"),
+        ({"lubricant.eps_melt": 1.5}, "lubricant.eps_melt"),
+        ({"lubricant.cubic": -1.0}, "lubricant.cubic"),
+    ):
+        with pytest.raises(stickslip.SceneError) as err:
+            stickslip.Scene.load(fig2_path, bad)
+        assert err.value.key == key, (bad, err.value.key)
