@@ -34,11 +34,18 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
             f.eps_melt,
             f.phi_melt
         );
-        say!(
-            "eps_solidify = {} (eps- = eps_c: a liquid film re-solidifies, phi jumps to b3/b = {})",
-            f.eps_solidify,
-            f.phi_solidify
-        );
+        if f.eps_solidify > 0.0 {
+            say!(
+                "eps_solidify = {} (eps- = eps_c: a liquid film re-solidifies, phi jumps to b3/b = {})",
+                f.eps_solidify,
+                f.phi_solidify
+            );
+        } else {
+            say!(
+                "eps_solidify = 0 (A <= 0: the liquid is stable at every strain, a melted film never \
+                 re-solidifies without noise)"
+            );
+        }
         say!(
             "hysteresis_width = {} (eps+^2 - eps-^2; b3^2/(4ab) = {} while A > 0, at any \
              temperature)",
