@@ -93,6 +93,16 @@ impl Map {
         row.values.get(i).map_or("", String::as_str)
     }
 
+    /// The file name of the sweep's base scene (for the report's prose).
+    #[must_use]
+    pub fn scene_file(&self) -> String {
+        self.json
+            .sweep
+            .scene_path
+            .file_name()
+            .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+    }
+
     /// The sorted distinct numeric values of axis `key`.
     #[must_use]
     pub fn values(&self, key: &str) -> Vec<f64> {
@@ -215,12 +225,16 @@ pub fn run(opts: &Options) -> Result<bool, String> {
     let maps_dir = opts.root.join("maps");
     let out = opts.root.join("target").join("maps");
     let reports = opts.root.join("reports");
-    let rigid_map = run_map(
-        &maps_dir.join("rigid.toml"),
-        &out.join("rigid"),
-        opts.jobs,
-        opts.resume,
-    )?;
+    // maps/NAME.toml into target/maps/NAME.
+    let showcase = |name: &str| {
+        run_map(
+            &maps_dir.join(format!("{name}.toml")),
+            &out.join(name),
+            opts.jobs,
+            opts.resume,
+        )
+    };
+    let rigid_map = showcase("rigid")?;
     let window = out.join("rigid_uniform_window");
     std::fs::create_dir_all(&window).map_err(|e| format!("{}: {e}", window.display()))?;
     let window_file = window.join("sweep.toml");
@@ -228,36 +242,11 @@ pub fn run(opts: &Options) -> Result<bool, String> {
     std::fs::write(&window_file, window_toml)
         .map_err(|e| format!("{}: {e}", window_file.display()))?;
     let uniform_map = run_map(&window_file, &window.join("sweep"), opts.jobs, opts.resume)?;
-    let spring_map = run_map(
-        &maps_dir.join("spring.toml"),
-        &out.join("spring"),
-        opts.jobs,
-        opts.resume,
-    )?;
-    let model_map = run_map(
-        &maps_dir.join("model.toml"),
-        &out.join("model"),
-        opts.jobs,
-        opts.resume,
-    )?;
-    let model_fo_map = run_map(
-        &maps_dir.join("model_first_order.toml"),
-        &out.join("model_first_order"),
-        opts.jobs,
-        opts.resume,
-    )?;
-    let rigid_fo_map = run_map(
-        &maps_dir.join("rigid_first_order.toml"),
-        &out.join("rigid_first_order"),
-        opts.jobs,
-        opts.resume,
-    )?;
-    let steady_map = run_map(
-        &maps_dir.join("rigid_steady.toml"),
-        &out.join("rigid_steady"),
-        opts.jobs,
-        opts.resume,
-    )?;
+    let spring_map = showcase("spring")?;
+    let model_map = showcase("model")?;
+    let model_fo_map = showcase("model_first_order")?;
+    let rigid_fo_map = showcase("rigid_first_order")?;
+    let steady_map = showcase("rigid_steady")?;
     let sections = vec![
         rigid::section(&rigid_map, &uniform_map)?,
         spring::section(&spring_map)?,

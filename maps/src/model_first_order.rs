@@ -203,12 +203,7 @@ pub fn section(first: &Map, second: &Map) -> Result<Section, String> {
          regime difference; it failed, 10 against 11, because both maps' soft corners count, \
          and the substrate share at which the regimes part is what the paper's remark is \
          about.)",
-        first
-            .json
-            .sweep
-            .scene_path
-            .file_name()
-            .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+        first.scene_file(),
         sig(l.melting_strain(a0), 4),
         sig(l.critical_strain(a0), 4),
         scene.config.contact.nodes,

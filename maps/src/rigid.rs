@@ -385,11 +385,7 @@ pub fn section(map: &Map, uniform: &Map) -> Result<Section, String> {
          substrate's share growing ∝ A0) with ratios {} … {}. Without the substrate's share the \
          ratios drift from {} to {} with A0: the coarse map (before its refinement) hid that \
          drift within its interpolation between speeds a factor 1.7 apart.",
-        map.json
-            .sweep
-            .scene_path
-            .file_name()
-            .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+        map.scene_file(),
         scene.config.contact.nodes,
         scene.max_events.unwrap_or(0),
         scene.max_open_event_s.map_or("–".into(), |t| sig(t, 2)),

@@ -345,11 +345,7 @@ pub fn section(map: &Map) -> Result<Section, String> {
          {BOUNDARY_RTOL}).\n\n\
          | ε₊ | φ* | X* [µm] | X*/(ε₊·h0) | lag at V0 = {} m/s | end of stick–slip [m/s] | runs |\n\
          |---|---|---|---|---|---|---|\n{table}",
-        map.json
-            .sweep
-            .scene_path
-            .file_name()
-            .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+        map.scene_file(),
         scene.max_events.unwrap_or(0),
         scene.max_open_event_s.map_or("–".into(), |t| sig(t, 2)),
         sig(strains[0], 3),

@@ -94,11 +94,7 @@ pub fn section(map: &Map) -> Result<Section, String> {
          at time.end. Each of {} speeds ({} … {} m/s, log) runs in a window of {} s and of {} \
          s; map.csv's `steady` column says whether the steady cycle was reached.\n\n\
          | V0 [m/s] | regime, {} s | regime, {} s |\n|---|---|---|\n{table}",
-        map.json
-            .sweep
-            .scene_path
-            .file_name()
-            .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+        map.scene_file(),
         scene.config.contact.nodes,
         scene.steady.cycles,
         sig(scene.steady.rtol, 2),
