@@ -128,13 +128,19 @@ pub struct NumericsConfig {
     pub operator: Option<crate::mdr::OperatorForm>,
 }
 
+impl NumericsConfig {
+    /// The defaults: the coupling solved to 1e-10 (fixed steps; adaptive steps derive theirs
+    /// from the tolerance), runaway at 10·τmax, the operator form chosen by the scheme.
+    pub const DEFAULT: Self = Self {
+        coupling_tol: 1e-10,
+        runaway_stress_factor: 10.0,
+        operator: None,
+    };
+}
+
 impl Default for NumericsConfig {
     fn default() -> Self {
-        Self {
-            coupling_tol: 1e-10,
-            runaway_stress_factor: 10.0,
-            operator: None,
-        }
+        Self::DEFAULT
     }
 }
 
@@ -164,66 +170,31 @@ pub struct SimConfig {
     pub events: EventConfig,
 }
 
-fn positive(key: &str, v: f64) -> Result<(), ConfigError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(ConfigError::new(key, v, "finite and > 0"))
-    }
-}
+pub mod bounds;
 
-/// Allowed contact radius and film thickness, m.
-pub const LENGTH_RANGE_M: (f64, f64) = (1e-15, 1e15);
-/// Allowed effective modulus, Pa.
-pub const MODULUS_RANGE_PA: (f64, f64) = (1e-15, 1e20);
-
-fn in_range(key: &str, v: f64, (lo, hi): (f64, f64), unit: &str) -> Result<(), ConfigError> {
-    if v.is_finite() && (lo..=hi).contains(&v) {
-        Ok(())
-    } else {
-        Err(ConfigError::new(
-            key,
-            v,
-            &format!("finite and within [{lo:e}, {hi:e}] {unit}"),
-        ))
-    }
-}
-
-/// Upper bound on N: the dense operators take 8·N² bytes each.
-pub const MAX_NODES: usize = 20_000;
+pub use bounds::{LENGTH_RANGE_M, MAX_NODES, MODULUS_RANGE_PA};
 
 impl SimConfig {
-    /// Checks every value; the first problem is returned.
+    /// Checks every value; the first problem is returned. Single-key ranges are the
+    /// [`bounds`]' (the run library's key registry uses the same ones); the rules between keys
+    /// are checked here.
     ///
     /// # Errors
     /// A [`ConfigError`] naming the scene key, value and allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
         let l = &self.lubricant;
-        positive("lubricant.tau_max", l.tau_max_pa)?;
-        positive("lubricant.eps_max", l.eps_max)?;
-        positive("lubricant.a", l.a_pa)?;
-        positive("lubricant.gamma", l.gamma_per_pa_s)?;
-        // The upper bound keeps b₃² finite (the moduli's bound).
-        if !(l.cubic_pa >= 0.0 && l.cubic_pa <= MODULUS_RANGE_PA.1) {
-            return Err(ConfigError::new(
-                "lubricant.cubic",
-                l.cubic_pa,
-                &format!("finite, >= 0 and <= {:e} Pa", MODULUS_RANGE_PA.1),
-            ));
-        }
-        if !(self.melt_threshold.is_finite() && self.melt_threshold > 0.0) {
-            return Err(ConfigError::new(
-                "lubricant.melt_threshold",
-                self.melt_threshold,
-                "finite and > 0",
-            ));
-        }
+        bounds::TAU_MAX.check(l.tau_max_pa)?;
+        bounds::EPS_MAX.check(l.eps_max)?;
+        bounds::A.check(l.a_pa)?;
+        bounds::GAMMA.check(l.gamma_per_pa_s)?;
+        bounds::CUBIC.check(l.cubic_pa)?;
+        bounds::MELT_THRESHOLD.check(self.melt_threshold)?;
         match self.noise {
             NoiseKind::Off => {}
             NoiseKind::Floor { floor } => {
                 if !(floor.is_finite() && floor >= 0.0 && floor < self.melt_threshold) {
                     return Err(ConfigError::new(
-                        "lubricant.noise.floor",
+                        bounds::NOISE_FLOOR.path,
                         floor,
                         "finite, >= 0 and below lubricant.melt_threshold",
                     ));
@@ -232,42 +203,25 @@ impl SimConfig {
             NoiseKind::Gaussian {
                 sigma_per_sqrt_s, ..
             } => {
-                if !(sigma_per_sqrt_s.is_finite() && sigma_per_sqrt_s >= 0.0) {
-                    return Err(ConfigError::new(
-                        "lubricant.noise.sigma",
-                        sigma_per_sqrt_s,
-                        "finite and >= 0",
-                    ));
-                }
+                bounds::NOISE_SIGMA.check(sigma_per_sqrt_s)?;
             }
         }
         match self.temperature {
             Temperature::Constant { a_coeff_pa } => {
-                if !a_coeff_pa.is_finite() {
-                    return Err(ConfigError::new("temperature.A0", a_coeff_pa, "finite"));
-                }
+                bounds::TEMPERATURE_A0.check(a_coeff_pa)?;
             }
             Temperature::Relaxation { a0_pa, t_relax_s } => {
-                if !a0_pa.is_finite() {
-                    return Err(ConfigError::new("temperature.A0", a0_pa, "finite"));
-                }
-                positive("temperature.t_relax", t_relax_s)?;
+                bounds::TEMPERATURE_A0.check(a0_pa)?;
+                bounds::T_RELAX.check(t_relax_s)?;
             }
         }
         let c = &self.contact;
-        // Far beyond any physical contact, yet inside the range where products such as
-        // a0²·G*/h0 neither overflow nor underflow.
-        in_range("contact.radius", c.radius_m, LENGTH_RANGE_M, "m")?;
-        in_range(
-            "contact.film_thickness",
-            c.film_thickness_m,
-            LENGTH_RANGE_M,
-            "m",
-        )?;
-        in_range("contact.g_eff", c.g_eff_pa, MODULUS_RANGE_PA, "Pa")?;
+        bounds::RADIUS.check(c.radius_m)?;
+        bounds::FILM_THICKNESS.check(c.film_thickness_m)?;
+        bounds::G_EFF.check(c.g_eff_pa)?;
         if self.time.scheme == Scheme::Literal && c.model == ContactModel::Radial && c.nodes < 2 {
             return Err(ConfigError::new(
-                "contact.nodes",
+                bounds::NODES.path,
                 c.nodes,
                 &format!(
                     "2 ..= {MAX_NODES} with time.scheme = \"literal\" (its sums skip the node \
@@ -277,53 +231,35 @@ impl SimConfig {
         }
         if c.nodes == 0 || c.nodes > MAX_NODES {
             return Err(ConfigError::new(
-                "contact.nodes",
+                bounds::NODES.path,
                 c.nodes,
                 &format!("1 ..= {MAX_NODES}"),
             ));
         }
         match self.drive {
             Drive::Spring(s) => {
-                positive("drive.stiffness", s.stiffness_n_per_m)?;
-                positive("drive.mass", s.mass_kg)?;
-                if !s.velocity_m_per_s.is_finite() {
-                    return Err(ConfigError::new(
-                        "drive.velocity",
-                        s.velocity_m_per_s,
-                        "finite",
-                    ));
-                }
+                bounds::STIFFNESS.check(s.stiffness_n_per_m)?;
+                bounds::MASS.check(s.mass_kg)?;
+                bounds::VELOCITY.check(s.velocity_m_per_s)?;
             }
             Drive::Rigid(r) => {
-                if !r.velocity_m_per_s.is_finite() {
-                    return Err(ConfigError::new(
-                        "drive.velocity",
-                        r.velocity_m_per_s,
-                        "finite",
-                    ));
-                }
+                bounds::VELOCITY.check(r.velocity_m_per_s)?;
             }
         }
         let t = &self.time;
-        positive("time.end", t.end_s)?;
+        bounds::END.check(t.end_s)?;
         if !(t.dt_s.is_finite() && t.dt_s > 0.0 && t.dt_s <= t.end_s) {
             return Err(ConfigError::new(
-                "time.dt",
+                bounds::DT.path,
                 t.dt_s,
                 &format!("finite, > 0 and <= time.end = {:e}", t.end_s),
             ));
         }
         if let Some(a) = &t.adaptive {
-            if !(a.tolerance.is_finite() && a.tolerance > 0.0 && a.tolerance < 1.0) {
-                return Err(ConfigError::new(
-                    "time.tolerance",
-                    a.tolerance,
-                    "finite, > 0 and < 1",
-                ));
-            }
+            bounds::TOLERANCE.check(a.tolerance)?;
             if !(a.dt_max_s.is_finite() && a.dt_max_s > 0.0 && a.dt_max_s <= t.end_s) {
                 return Err(ConfigError::new(
-                    "time.dt_max",
+                    bounds::DT_MAX.path,
                     a.dt_max_s,
                     &format!("finite, > 0 and <= time.end = {:e} s", t.end_s),
                 ));
@@ -331,7 +267,7 @@ impl SimConfig {
             if !(a.dt_min_s.is_finite() && a.dt_min_s > 0.0 && a.dt_min_s <= t.dt_s.min(a.dt_max_s))
             {
                 return Err(ConfigError::new(
-                    "time.dt_min",
+                    bounds::DT_MIN.path,
                     a.dt_min_s,
                     &format!(
                         "finite, > 0 and <= min(time.dt, time.dt_max) = {:e} s",
@@ -356,35 +292,11 @@ impl SimConfig {
             }
         }
         let e = &self.events;
-        if !(e.merge_gap_s.is_finite() && e.merge_gap_s >= 0.0) {
-            return Err(ConfigError::new(
-                "output.event_merge_gap",
-                e.merge_gap_s,
-                "finite and >= 0 s",
-            ));
-        }
-        if !(e.recovery_factor.is_finite() && e.recovery_factor > 1.0) {
-            return Err(ConfigError::new(
-                "output.event_recovery",
-                e.recovery_factor,
-                "finite and > 1 (a multiple of lubricant.melt_threshold)",
-            ));
-        }
+        bounds::EVENT_MERGE_GAP.check(e.merge_gap_s)?;
+        bounds::EVENT_RECOVERY.check(e.recovery_factor)?;
         let n = &self.numerics;
-        if !(n.coupling_tol.is_finite() && n.coupling_tol > 0.0 && n.coupling_tol < 1.0) {
-            return Err(ConfigError::new(
-                "numerics.coupling_tol",
-                n.coupling_tol,
-                "finite, > 0 and < 1",
-            ));
-        }
-        if !(n.runaway_stress_factor.is_finite() && n.runaway_stress_factor > 1.0) {
-            return Err(ConfigError::new(
-                "numerics.runaway_stress_factor",
-                n.runaway_stress_factor,
-                "finite and > 1",
-            ));
-        }
+        bounds::COUPLING_TOL.check(n.coupling_tol)?;
+        bounds::RUNAWAY_STRESS_FACTOR.check(n.runaway_stress_factor)?;
         Ok(())
     }
 

@@ -9,10 +9,16 @@
 use serde::{Deserialize, Serialize};
 use stickslip_core::sim::events::MeltingEvent;
 
-/// Default number of cycles that must repeat.
-pub const DEFAULT_CYCLES: u64 = 3;
-/// Default relative tolerance of the repetition.
-pub const DEFAULT_RTOL: f64 = 1e-3;
+/// Default number of cycles that must repeat (`time.steady_cycles`'s registry default).
+pub const DEFAULT_CYCLES: u64 = match crate::keys::time::STEADY_CYCLES.fixed_default() {
+    Some(n) => n.unsigned_abs(),
+    None => panic!("time.steady_cycles has a fixed default"),
+};
+/// Default relative tolerance of the repetition (`time.steady_rtol`'s registry default).
+pub const DEFAULT_RTOL: f64 = match crate::keys::time::STEADY_RTOL.fixed_default() {
+    Some(v) => v,
+    None => panic!("time.steady_rtol has a fixed default"),
+};
 
 /// When a run counts as steady, and whether it stops there.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -1,7 +1,7 @@
 //! The key table agrees with the scene file's serde structs, with the resolved defaults and
 //! with the engine's own checks.
 
-use stickslip_run::keys::{DefaultValue, KEYS, Range, ValueType};
+use stickslip_run::keys::{self, DefaultValue, KEYS, Range, ValueType};
 use stickslip_run::scene::{Scene, SceneError};
 
 fn minimal() -> toml::Table {
@@ -140,44 +140,176 @@ operator = "auto"
     assert_eq!(paths, table, "scene file fields vs key table");
 }
 
+/// Scenes that between them take every default: the minimal one, and variants that switch
+/// on the keys that only exist beside another choice.
+fn variants() -> Vec<(&'static str, toml::Table)> {
+    let with = |sets: &[(&str, toml::Value)]| {
+        let mut t = minimal();
+        for (path, v) in sets {
+            insert(&mut t, path, v.clone());
+        }
+        t
+    };
+    vec![
+        ("minimal", minimal()),
+        (
+            "gaussian",
+            with(&[("lubricant.noise.kind", "gaussian".into())]),
+        ),
+        ("literal", with(&[("time.scheme", "literal".into())])),
+        (
+            "relaxation",
+            with(&[
+                ("temperature.law", "relaxation".into()),
+                ("temperature.A0", 1e6.into()),
+                ("temperature.t_relax", 1e-3.into()),
+            ]),
+        ),
+        (
+            "capped",
+            with(&[
+                ("time.end", 2e-3.into()),
+                ("time.dt", 1e-6.into()),
+                ("time.dt_max", 5e-7.into()),
+                ("time.tolerance", 1e-3.into()),
+            ]),
+        ),
+    ]
+}
+
 #[test]
-fn documented_defaults_are_the_resolved_values() {
-    let resolved = Scene::resolve_table(minimal(), &[] as &[&str])
-        .unwrap()
-        .to_table();
-    let mut checked = 0;
-    for key in KEYS {
-        let DefaultValue::Value(text) = key.default else {
-            continue;
-        };
-        let text = text.split(" (").next().unwrap();
-        let Some(actual) = get(&resolved, key.path) else {
-            // A default of a kind not chosen by the minimal scene (e.g. gaussian sigma).
-            continue;
-        };
-        let expected: toml::Value = format!("v = {text}")
-            .parse::<toml::Table>()
-            .ok()
-            .and_then(|mut t| t.remove("v"))
-            .unwrap_or_else(|| toml::Value::String(text.to_string()));
-        let same = match (&expected, actual) {
-            (toml::Value::Integer(i), toml::Value::Float(f)) => *i as f64 == *f,
-            (toml::Value::Float(e), toml::Value::Integer(i)) => *e == *i as f64,
-            (e, a) => e == a,
-        };
-        assert!(
-            same,
-            "{}: documented default {expected}, resolved {actual}",
-            key.path
-        );
-        checked += 1;
+fn every_default_resolves_as_the_registry_states_it() {
+    let mut fixed = 0;
+    let mut derived = std::collections::BTreeSet::new();
+    for (label, source) in variants() {
+        let resolved = Scene::resolve_table(source.clone(), &[] as &[&str])
+            .unwrap_or_else(|e| panic!("{label}: {e}"));
+        let table = resolved.to_table();
+        for key in keys::all() {
+            let info = key.info();
+            if get(&source, info.path).is_some() {
+                continue;
+            }
+            let (Some(expected), Some(actual)) =
+                (key.default_in(&resolved.resolved), get(&table, info.path))
+            else {
+                continue;
+            };
+            assert_eq!(
+                &expected, actual,
+                "{label}: {} resolved to {actual}, its registry default is {expected}",
+                info.path
+            );
+            match info.default {
+                DefaultValue::Derived(_) => {
+                    derived.insert(info.path);
+                }
+                _ => fixed += 1,
+            }
+        }
     }
-    assert!(checked >= 15, "only {checked} defaults checked");
+    assert!(fixed >= 60, "only {fixed} fixed defaults checked");
+    let every_derived: std::collections::BTreeSet<_> = KEYS
+        .iter()
+        .filter(|k| matches!(k.default, DefaultValue::Derived(_)))
+        .map(|k| k.path)
+        .collect();
+    assert_eq!(derived, every_derived, "derived defaults not exercised");
+}
+
+#[test]
+fn derived_defaults_are_what_the_reference_says() {
+    // (key, its default as the reference words it, per variant the value that wording gives,
+    // computed here by hand from the variants' keys).
+    type Case = (&'static str, &'static str, Vec<(&'static str, toml::Value)>);
+    let cases: Vec<Case> = vec![
+        (
+            "temperature.A0",
+            "1.5·tau_max/eps_max (law = \"constant\")",
+            // tau_max = 1e6, eps_max = 1.
+            vec![("minimal", toml::Value::Float(1.5e6))],
+        ),
+        (
+            "time.stepping",
+            "adaptive for the accurate scheme without gaussian noise, else fixed",
+            vec![
+                ("minimal", toml::Value::String("adaptive".into())),
+                ("gaussian", toml::Value::String("fixed".into())),
+                ("literal", toml::Value::String("fixed".into())),
+            ],
+        ),
+        (
+            "time.dt_max",
+            "time.end (no cap)",
+            vec![
+                ("minimal", toml::Value::Float(1e-3)),
+                ("relaxation", toml::Value::Float(1e-3)),
+            ],
+        ),
+        (
+            "time.dt_min",
+            "1e-6·min(time.dt, time.dt_max)",
+            vec![
+                // dt = 1e-8 (its default) < dt_max = 1e-3.
+                ("minimal", toml::Value::Float(1e-6 * 1e-8)),
+                // dt = 1e-6 > dt_max = 5e-7.
+                ("capped", toml::Value::Float(1e-6 * 5e-7)),
+            ],
+        ),
+        (
+            "numerics.coupling_tol",
+            "time.tolerance / 100 (adaptive), 1e-10 (fixed)",
+            vec![
+                ("minimal", toml::Value::Float(5e-5 / 100.0)),
+                ("capped", toml::Value::Float(1e-3 / 100.0)),
+                ("gaussian", toml::Value::Float(1e-10)),
+            ],
+        ),
+        (
+            "output.profile_times",
+            "[time.end]",
+            vec![
+                (
+                    "minimal",
+                    toml::Value::Array(vec![toml::Value::Float(1e-3)]),
+                ),
+                ("capped", toml::Value::Array(vec![toml::Value::Float(2e-3)])),
+            ],
+        ),
+    ];
+    let scenes: std::collections::HashMap<_, _> = variants().into_iter().collect();
+    for (path, doc, values) in &cases {
+        let info = keys::find(path).unwrap();
+        assert_eq!(info.default, DefaultValue::Derived(doc), "{path}'s wording");
+        for (label, expected) in values {
+            let resolved = Scene::resolve_table(scenes[label].clone(), &[] as &[&str])
+                .unwrap()
+                .to_table();
+            let actual = get(&resolved, path).unwrap();
+            let same = match (expected, actual) {
+                (toml::Value::Float(e), toml::Value::Float(a)) => (e - a).abs() <= 1e-15 * e.abs(),
+                (e, a) => e == a,
+            };
+            assert!(
+                same,
+                "{path} in {label}: {actual}, the reference says {expected}"
+            );
+        }
+    }
+    let documented = KEYS
+        .iter()
+        .filter(|k| matches!(k.default, DefaultValue::Derived(_)))
+        .count();
+    assert_eq!(
+        documented,
+        cases.len(),
+        "a derived default without a case here"
+    );
 }
 
 #[test]
 fn choice_words_are_the_accepted_words() {
-    for key in KEYS {
+    for key in KEYS.iter() {
         let ValueType::Choice(words) = key.value else {
             continue;
         };
@@ -209,7 +341,7 @@ fn choice_words_are_the_accepted_words() {
 #[test]
 fn values_outside_a_keys_own_range_are_rejected_naming_the_key() {
     let mut checked = 0;
-    for key in KEYS {
+    for key in KEYS.iter() {
         let bad = match key.range {
             Range::Positive => Some(-1.0),
             Range::NonNegative => Some(-1.0),

@@ -16,7 +16,7 @@ fn docs_reference_is_current() {
         committed == generated,
         "docs/reference.md is stale: run `cargo run --release -- keys --markdown > docs/reference.md`"
     );
-    for key in stickslip_run::keys::KEYS {
+    for key in stickslip_run::keys::KEYS.iter() {
         assert!(
             generated.contains(&format!("`{}`", key.path)),
             "{}",

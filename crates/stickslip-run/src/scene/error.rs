@@ -127,6 +127,15 @@ impl SceneError {
     }
 }
 
+impl From<crate::keys::KeyError> for SceneError {
+    fn from(e: crate::keys::KeyError) -> Self {
+        match e {
+            crate::keys::KeyError::Missing { path, allowed } => Self::missing(path, allowed),
+            crate::keys::KeyError::Invalid(e) => e.into(),
+        }
+    }
+}
+
 impl From<ConfigError> for SceneError {
     /// Keeps key and range; float values are re-rendered with [`human`] so all messages spell
     /// values alike (`contact.nodes` is the engine's only integer key).
@@ -143,18 +152,8 @@ impl From<ConfigError> for SceneError {
     }
 }
 
-/// A float for messages, spelled as it could be written in a scene: plain decimals for
-/// 1e-3 ≤ |x| < 1e4 and for 0 (`0.5`, `500`, `0`), else shortest scientific (`2e-5`, `1e9`),
-/// and `nan`, `inf`, `-inf`.
-pub(crate) fn human(f: f64) -> String {
-    if !f.is_finite() {
-        format_float(f)
-    } else if f == 0.0 || (1e-3..1e4).contains(&f.abs()) {
-        format!("{f}")
-    } else {
-        format!("{f:e}")
-    }
-}
+/// A float for messages, spelled as it could be written in a scene (the engine's wording).
+pub(crate) use stickslip_core::config::bounds::human;
 
 /// Longest value text quoted in a message.
 const MAX_VALUE_CHARS: usize = 80;
@@ -345,12 +344,9 @@ pub(crate) fn from_de_error(root: &toml::Table, e: &toml::de::Error) -> SceneErr
     }
     let value = lookup(root, &path_keys).map_or_else(|| "?".to_string(), show_value);
     if message.starts_with("unknown variant `") {
-        // A misspelt word: the allowed words are the key table's.
+        // A misspelt word: the allowed words are the key registry's.
         let key = path.clone();
-        let words = crate::keys::KEYS
-            .iter()
-            .find(|k| k.path == key)
-            .map_or_else(|| shorten(message), crate::keys::Key::allowed);
+        let words = crate::keys::find(&key).map_or_else(|| shorten(message), |k| k.allowed());
         return SceneError::Invalid {
             key: shorten(&key),
             value,

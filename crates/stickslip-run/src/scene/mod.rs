@@ -8,11 +8,11 @@
 //! 3. the table is deserialized into [`Scene`] (unknown keys, wrong types and misspelt words
 //!    are rejected, [`error`]);
 //! 4. required keys, defaults and rules between keys are resolved, single-key ranges checked
-//!    against the key table [`crate::keys`] ([`resolve`]);
+//!    against the key registry [`crate::keys`] ([`resolve`]);
 //! 5. [`SimConfig::validate`] and the scene-level checks (output times and radii, step count,
 //!    no non-finite number anywhere) run.
 //!
-//! The defaults are the key table's; the `DEFAULT_*` constants are the values it documents.
+//! The defaults, ranges and words are the key registry's ([`crate::keys`]).
 
 pub mod error;
 pub mod file;
@@ -30,36 +30,12 @@ pub use resolve::resolve;
 use serde::{Deserialize, Serialize};
 use stickslip_core::config::{Derived, SimConfig};
 
-/// Default `lubricant.melt_threshold`.
-pub const DEFAULT_MELT_THRESHOLD: f64 = 0.01;
-/// Default `lubricant.noise.floor` (kind `"floor"`): deterministic, draws no random numbers.
-pub const DEFAULT_NOISE_FLOOR: f64 = 1e-6;
-/// Default `lubricant.noise.sigma` (kind `"gaussian"`), s^-1/2.
-pub const DEFAULT_NOISE_SIGMA_PER_SQRT_S: f64 = 1.0;
-/// Default `lubricant.noise.seed` (kind `"gaussian"`).
-pub const DEFAULT_NOISE_SEED: i64 = 1;
-/// Default `contact.nodes`.
-pub const DEFAULT_NODES: i64 = 2000;
-/// Default `time.dt`, s.
-pub const DEFAULT_DT_S: f64 = 1e-8;
-/// Default `time.tolerance` (adaptive stepping): the allowed local error per step, relative
-/// to scales that follow the state. fig2 at N = 200 against a same-N converged reference:
-/// onsets within 2 ns, f_peak within 7.3e-5 relative (1e-4 gives 3 ns and 1.8e-4).
-pub const DEFAULT_TOLERANCE: f64 = 5e-5;
-/// Default `time.dt_max` as a fraction of `time.end`: 1, no cap. The error control alone
-/// sets the accuracy, so the accuracy of an interval does not depend on the run's length.
-pub const DEFAULT_DT_MAX_FRACTION: f64 = 1.0;
-/// Default `numerics.coupling_tol` with adaptive steps is `time.tolerance` divided by this:
-/// the coupling is solved just below the step's own error, not to 1e-10.
-pub const TOLERANCE_PER_COUPLING_TOL: f64 = 100.0;
-/// Default `time.dt_min` as a fraction of min(`time.dt`, `time.dt_max`).
-pub const DEFAULT_DT_MIN_FRACTION: f64 = 1e-6;
-/// Default `output.event_merge_gap`, s: off (events are delimited by the film's recovery).
-pub const DEFAULT_EVENT_MERGE_GAP_S: f64 = 0.0;
-/// Default `output.event_recovery` (a multiple of the melting threshold).
-pub const DEFAULT_EVENT_RECOVERY: f64 = 2.0;
-/// Default `output.series_interval`, s.
-pub const DEFAULT_SERIES_INTERVAL_S: f64 = 1e-7;
+/// Default `time.tolerance` (adaptive stepping), from the registry: fig2 at N = 200 against a
+/// same-N converged reference gives onsets within 2 ns, f_peak within 7.3e-5 relative.
+pub const DEFAULT_TOLERANCE: f64 = match crate::keys::time::TOLERANCE.fixed_default() {
+    Some(v) => v,
+    None => panic!("time.tolerance has a fixed default"),
+};
 pub use crate::keys::MAX_STEPS;
 
 /// What the driver records, besides the simulation itself.
@@ -223,6 +199,19 @@ impl ResolvedScene {
     /// As [`Scene::resolve_table`].
     pub fn with_overrides<S: AsRef<str>>(&self, overrides: &[S]) -> Result<Self, SceneError> {
         Scene::resolve_table(self.source.clone(), overrides)
+    }
+
+    /// The same scene with typed `settings` applied to it as written (see
+    /// [`crate::keys::Key::set`]; derived defaults follow the new values).
+    ///
+    /// # Errors
+    /// As [`Scene::resolve_table`].
+    pub fn with_settings(&self, settings: &[crate::keys::Setting]) -> Result<Self, SceneError> {
+        let mut table = self.source.clone();
+        for s in settings {
+            s.apply(&mut table);
+        }
+        Scene::resolve_table(table, &[] as &[&str])
     }
 
     /// Warnings for values outside their key's usual range (likely unit slips).

@@ -1,36 +1,26 @@
 //! Step 4 of scene resolution: required keys, defaults, rules between keys, and the single-key
-//! ranges of the key table, turning a deserialized [`Scene`] into a [`ResolvedScene`].
+//! ranges of the key registry, turning a deserialized [`Scene`] into a [`ResolvedScene`].
+//!
+//! Each key's default and range come from its registry entry ([`keys::Key::resolve`]); a
+//! derived default reads the keys it depends on from the scene as resolved so far, so the
+//! sections are resolved in the order their defaults need (the lubricant before the
+//! temperature, the time before the numerics and the output).
 
 use super::error::{self, SceneError};
 use super::file::{DriveKind, NoiseKindName, OperatorChoice, Stepping, TemperatureLaw};
 use super::{
-    ContactSection, DEFAULT_DT_MAX_FRACTION, DEFAULT_DT_MIN_FRACTION, DEFAULT_DT_S,
-    DEFAULT_EVENT_MERGE_GAP_S, DEFAULT_EVENT_RECOVERY, DEFAULT_MELT_THRESHOLD, DEFAULT_NODES,
-    DEFAULT_NOISE_FLOOR, DEFAULT_NOISE_SEED, DEFAULT_NOISE_SIGMA_PER_SQRT_S,
-    DEFAULT_SERIES_INTERVAL_S, DEFAULT_TOLERANCE, DriveSection, LubricantSection, MAX_STEPS,
-    NoiseSection, NumericsSection, OutputSection, OutputSettings, ResolvedScene, Scene,
-    TemperatureSection, TimeSection, step_count,
+    ContactSection, DriveSection, LubricantSection, MAX_STEPS, NoiseSection, NumericsSection,
+    OutputSection, OutputSettings, ResolvedScene, Scene, TemperatureSection, TimeSection,
+    step_count,
 };
-use crate::keys;
+use crate::keys::{self, contact, drive, lubricant, noise, numerics, output, temperature, time};
 use stickslip_core::config::{
-    AdaptiveConfig, ContactConfig, ContactModel, Derived, EventConfig, NumericsConfig, Scheme,
-    SimConfig, Substrate, TimeConfig,
+    AdaptiveConfig, ContactConfig, Derived, EventConfig, NumericsConfig, SimConfig, TimeConfig,
 };
 use stickslip_core::drive::{Drive, Integrator, RigidDrive, SpringDrive};
 use stickslip_core::landau::{LandauParams, Temperature};
 use stickslip_core::mdr::OperatorForm;
 use stickslip_core::noise::NoiseKind;
-
-/// The key's value, or a [`SceneError::MissingKey`] with the table's allowed range.
-fn required(v: Option<f64>, key: &str) -> Result<f64, SceneError> {
-    v.ok_or_else(|| SceneError::missing(key, keys::key(key).allowed()))
-        .and_then(|v| keys::check(key, v))
-}
-
-/// The key's value checked against the table, or `default`.
-fn or_default(v: Option<f64>, key: &str, default: f64) -> Result<f64, SceneError> {
-    keys::check(key, v.unwrap_or(default))
-}
 
 /// A value that the other keys exclude.
 fn contradiction(
@@ -51,39 +41,30 @@ fn contradiction(
 }
 
 /// The word of a choice key as written in a scene.
-fn word<T: serde::Serialize>(v: T) -> String {
-    match toml::Value::try_from(v) {
-        Ok(toml::Value::String(s)) => s,
-        _ => String::new(),
-    }
+fn word<T: keys::KeyValue>(v: T) -> String {
+    v.show()
+}
+
+/// An empty scene to resolve defaults against: a key whose default derives from nothing.
+fn nothing() -> Scene {
+    Scene::default()
 }
 
 /// Resolves the lubricant's noise section into the engine's kind and its filled-in section.
 fn resolve_noise(n: &NoiseSection) -> Result<(NoiseKind, NoiseSection), SceneError> {
-    let kind = n.kind.unwrap_or(NoiseKindName::Floor);
+    let kind = noise::KIND.value(n.kind, &nothing())?;
     let other = format!("lubricant.noise.kind = {:?}", word(kind));
     let seed_as_f64 = n.seed.map(|s| s as f64);
     match kind {
         NoiseKindName::Gaussian => {
             contradiction(
-                "lubricant.noise.floor",
+                noise::FLOOR.path,
                 n.floor,
                 &other,
                 "floor only with kind = \"floor\"",
             )?;
-            let sigma = or_default(
-                n.sigma,
-                "lubricant.noise.sigma",
-                DEFAULT_NOISE_SIGMA_PER_SQRT_S,
-            )?;
-            let seed = n.seed.unwrap_or(DEFAULT_NOISE_SEED);
-            if seed < 0 {
-                return Err(SceneError::invalid(
-                    "lubricant.noise.seed",
-                    seed,
-                    keys::key("lubricant.noise.seed").allowed(),
-                ));
-            }
+            let sigma = noise::SIGMA.value(n.sigma, &nothing())?;
+            let seed = noise::SEED.value(n.seed, &nothing())?;
             Ok((
                 NoiseKind::Gaussian {
                     sigma_per_sqrt_s: sigma,
@@ -99,9 +80,10 @@ fn resolve_noise(n: &NoiseSection) -> Result<(NoiseKind, NoiseSection), SceneErr
         }
         NoiseKindName::Floor => {
             let allowed = "sigma and seed only with kind = \"gaussian\"";
-            contradiction("lubricant.noise.sigma", n.sigma, &other, allowed)?;
-            contradiction("lubricant.noise.seed", seed_as_f64, &other, allowed)?;
-            let floor = n.floor.unwrap_or(DEFAULT_NOISE_FLOOR);
+            contradiction(noise::SIGMA.path, n.sigma, &other, allowed)?;
+            contradiction(noise::SEED.path, seed_as_f64, &other, allowed)?;
+            // Checked against the melting threshold with the engine's configuration.
+            let floor = n.floor.or(noise::FLOOR.fixed_default()).unwrap_or(f64::NAN);
             Ok((
                 NoiseKind::Floor { floor },
                 NoiseSection {
@@ -113,9 +95,9 @@ fn resolve_noise(n: &NoiseSection) -> Result<(NoiseKind, NoiseSection), SceneErr
         }
         NoiseKindName::Off => {
             let allowed = "no sigma, floor or seed with kind = \"off\"";
-            contradiction("lubricant.noise.sigma", n.sigma, &other, allowed)?;
-            contradiction("lubricant.noise.floor", n.floor, &other, allowed)?;
-            contradiction("lubricant.noise.seed", seed_as_f64, &other, allowed)?;
+            contradiction(noise::SIGMA.path, n.sigma, &other, allowed)?;
+            contradiction(noise::FLOOR.path, n.floor, &other, allowed)?;
+            contradiction(noise::SEED.path, seed_as_f64, &other, allowed)?;
             Ok((
                 NoiseKind::Off,
                 NoiseSection {
@@ -127,20 +109,22 @@ fn resolve_noise(n: &NoiseSection) -> Result<(NoiseKind, NoiseSection), SceneErr
     }
 }
 
+/// `so_far`: the scene as resolved up to the temperature (the lubricant's keys, from which
+/// A's default derives).
 fn resolve_temperature(
     t: &TemperatureSection,
-    lubricant: &LandauParams,
+    so_far: &Scene,
 ) -> Result<(Temperature, TemperatureSection), SceneError> {
-    let law = t.law.unwrap_or(TemperatureLaw::Constant);
+    let law = temperature::LAW.value(t.law, &nothing())?;
     match law {
         TemperatureLaw::Constant => {
             contradiction(
-                "temperature.t_relax",
+                temperature::T_RELAX.path,
                 t.t_relax,
                 "temperature.law = \"constant\"",
                 "t_relax only with law = \"relaxation\"",
             )?;
-            let a = or_default(t.a0, "temperature.A0", lubricant.a_coeff_default_pa())?;
+            let a = temperature::A0.value(t.a0, so_far)?;
             Ok((
                 Temperature::Constant { a_coeff_pa: a },
                 TemperatureSection {
@@ -153,18 +137,18 @@ fn resolve_temperature(
         TemperatureLaw::Relaxation => {
             let a0 = t.a0.ok_or_else(|| {
                 SceneError::missing(
-                    "temperature.A0",
+                    temperature::A0.path,
                     "a finite number of Pa (required when temperature.law = \"relaxation\")",
                 )
             })?;
-            let a0 = keys::check("temperature.A0", a0)?;
+            let a0 = temperature::A0.check(a0)?;
             let t_relax = t.t_relax.ok_or_else(|| {
                 SceneError::missing(
-                    "temperature.t_relax",
+                    temperature::T_RELAX.path,
                     "finite and > 0 s (required when temperature.law = \"relaxation\")",
                 )
             })?;
-            let t_relax = keys::check("temperature.t_relax", t_relax)?;
+            let t_relax = temperature::T_RELAX.check(t_relax)?;
             Ok((
                 Temperature::Relaxation {
                     a0_pa: a0,
@@ -191,7 +175,7 @@ fn resolve_cubic(
 ) -> Result<LandauParams, SceneError> {
     if let (Some(cubic), Some(eps_melt)) = (l.cubic, l.eps_melt) {
         return Err(SceneError::Contradictory {
-            key: "lubricant.eps_melt".to_string(),
+            key: lubricant::EPS_MELT.path.to_string(),
             value: error::human(eps_melt),
             other: format!("lubricant.cubic = {}", error::human(cubic)),
             allowed: "either lubricant.cubic (b3) or lubricant.eps_melt (the melting strain it \
@@ -200,7 +184,6 @@ fn resolve_cubic(
         });
     }
     let cubic = match (l.cubic, l.eps_melt) {
-        (Some(cubic), _) => keys::check("lubricant.cubic", cubic)?,
         (None, Some(eps_melt)) => {
             let a0 = temperature.a_coeff_pa(0.0);
             let eps_c = lubricant.critical_strain(a0);
@@ -208,7 +191,7 @@ fn resolve_cubic(
                 .cubic_for_melting_strain(eps_melt, a0)
                 .ok_or_else(|| {
                     SceneError::invalid(
-                        "lubricant.eps_melt",
+                        lubricant::EPS_MELT.path,
                         error::human(eps_melt),
                         format!(
                             "finite and > eps_c = {} (√(A0·b)/a at the initial temperature, \
@@ -219,7 +202,7 @@ fn resolve_cubic(
                     )
                 })?
         }
-        (None, None) => 0.0,
+        (cubic, _) => lubricant::CUBIC.value(cubic, &nothing())?,
     };
     // -0 is 0: the second-order film.
     Ok(LandauParams {
@@ -230,11 +213,12 @@ fn resolve_cubic(
 
 /// G* from g_eff or from g1, nu1, g2, nu2 by Eq. 9: G* = ((2−ν1)/(4G1) + (2−ν2)/(4G2))^−1.
 fn resolve_modulus(c: &ContactSection) -> Result<f64, SceneError> {
+    let keys = [contact::G1, contact::NU1, contact::G2, contact::NU2];
     let pair = [
-        ("contact.g1", c.g1),
-        ("contact.nu1", c.nu1),
-        ("contact.g2", c.g2),
-        ("contact.nu2", c.nu2),
+        (keys[0].path, c.g1),
+        (keys[1].path, c.nu1),
+        (keys[2].path, c.g2),
+        (keys[3].path, c.nu2),
     ];
     if let Some(g) = c.g_eff {
         if let Some((key, Some(v))) = pair.iter().find(|(_, v)| v.is_some()) {
@@ -245,11 +229,11 @@ fn resolve_modulus(c: &ContactSection) -> Result<f64, SceneError> {
                 allowed: "either g_eff or all of g1, nu1, g2, nu2 (Eq. 9), not both".to_string(),
             });
         }
-        return keys::check("contact.g_eff", g);
+        return Ok(contact::G_EFF.check(g)?);
     }
     if pair.iter().all(|(_, v)| v.is_none()) {
         return Err(SceneError::missing(
-            "contact.g_eff",
+            contact::G_EFF.path,
             "finite and > 0 Pa (or all of contact.g1, nu1, g2, nu2 by Eq. 9)",
         ));
     }
@@ -259,18 +243,18 @@ fn resolve_modulus(c: &ContactSection) -> Result<f64, SceneError> {
             "all of contact.g1, nu1, g2, nu2 together (Eq. 9), or contact.g_eff alone",
         ));
     }
-    let [g1, nu1, g2, nu2] = pair.map(|(key, v)| keys::check(key, v.unwrap_or(f64::NAN)));
-    let (g1, nu1, g2, nu2) = (g1?, nu1?, g2?, nu2?);
-    keys::check(
-        "contact.g_eff",
-        1.0 / ((2.0 - nu1) / (4.0 * g1) + (2.0 - nu2) / (4.0 * g2)),
-    )
+    let mut values = [0.0; 4];
+    for ((key, v), out) in keys.iter().zip(pair).zip(&mut values) {
+        *out = key.check(v.1.unwrap_or(f64::NAN))?;
+    }
+    let [g1, nu1, g2, nu2] = values;
+    Ok(contact::G_EFF.check(1.0 / ((2.0 - nu1) / (4.0 * g1) + (2.0 - nu2) / (4.0 * g2)))?)
 }
 
 fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), SceneError> {
-    let kind = d.kind.unwrap_or(DriveKind::Spring);
-    let velocity = required(d.velocity, "drive.velocity")?;
-    let integrator = d.integrator.unwrap_or(Integrator::Split);
+    let kind = drive::KIND.value(d.kind, &nothing())?;
+    let velocity = drive::VELOCITY.value(d.velocity, &nothing())?;
+    let integrator = drive::INTEGRATOR.value(d.integrator, &nothing())?;
     let mut section = DriveSection {
         kind: Some(kind),
         stiffness: None,
@@ -280,19 +264,20 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
     };
     let drive = match kind {
         DriveKind::Spring => {
-            let needed = |v: Option<f64>, key: &str, unit: &str| {
+            let needed = |v: Option<f64>, key: keys::Key<f64>| {
                 v.ok_or_else(|| {
                     SceneError::missing(
-                        key,
+                        key.path,
                         format!(
-                            "finite and > 0 {unit}; {key} is required when drive.kind = \"spring\""
+                            "finite and > 0 {}; {} is required when drive.kind = \"spring\"",
+                            key.unit, key.path
                         ),
                     )
                 })
-                .and_then(|v| keys::check(key, v))
+                .and_then(|v| Ok(key.check(v)?))
             };
-            let stiffness = needed(d.stiffness, "drive.stiffness", "N/m")?;
-            let mass = needed(d.mass, "drive.mass", "kg")?;
+            let stiffness = needed(d.stiffness, drive::STIFFNESS)?;
+            let mass = needed(d.mass, drive::MASS)?;
             section.stiffness = Some(stiffness);
             section.mass = Some(mass);
             Drive::Spring(SpringDrive {
@@ -304,8 +289,8 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
         DriveKind::Rigid => {
             let allowed = "no stiffness or mass with the rigid drive (X = V0·t)";
             let other = "drive.kind = \"rigid\"";
-            contradiction("drive.stiffness", d.stiffness, other, allowed)?;
-            contradiction("drive.mass", d.mass, other, allowed)?;
+            contradiction(drive::STIFFNESS.path, d.stiffness, other, allowed)?;
+            contradiction(drive::MASS.path, d.mass, other, allowed)?;
             Drive::Rigid(RigidDrive {
                 velocity_m_per_s: velocity,
             })
@@ -314,88 +299,75 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
     Ok((drive, integrator, section))
 }
 
-/// Stepping, adaptive control and the filled-in `[time]` section.
 /// The stop rules of `[time]` besides the end: `max_events`, `max_open_event` (s), and the
 /// steady-cycle rule (`until`, `steady_cycles`, `steady_rtol`).
 type Stops = (Option<u64>, Option<f64>, crate::steady::SteadyRule);
 
+/// Stepping, adaptive control, the stop rules and the filled-in `[time]` section. `so_far`:
+/// the scene as resolved before the time (the noise's kind decides the default stepping).
 fn resolve_time(
     t: &TimeSection,
-    noise: &NoiseKind,
+    so_far: &Scene,
 ) -> Result<(TimeConfig, Stops, TimeSection), SceneError> {
-    let end = required(t.end, "time.end")?;
-    let dt = t.dt.unwrap_or(DEFAULT_DT_S);
+    let end = time::END.value(t.end, &nothing())?;
+    let dt = t.dt.or(time::DT.fixed_default()).unwrap_or(f64::NAN);
     if !(dt.is_finite() && dt > 0.0 && dt <= end) {
         return Err(SceneError::invalid(
-            "time.dt",
+            time::DT.path,
             error::human(dt),
             format!("finite, > 0 and <= time.end = {end:e} s"),
         ));
     }
-    let scheme = t.scheme.unwrap_or(Scheme::Accurate);
-    let gaussian = matches!(noise, NoiseKind::Gaussian { .. });
-    let stepping = t
-        .stepping
-        .unwrap_or(if scheme == Scheme::Accurate && !gaussian {
-            Stepping::Adaptive
-        } else {
-            Stepping::Fixed
-        });
+    let scheme = time::SCHEME.value(t.scheme, &nothing())?;
+    // The section as resolved so far, for the derived defaults that follow.
+    let mut section = TimeSection {
+        end: Some(end),
+        dt: Some(dt),
+        scheme: Some(scheme),
+        ..TimeSection::default()
+    };
+    let with = |section: &TimeSection| Scene {
+        time: Some(section.clone()),
+        ..so_far.clone()
+    };
+    let stepping = time::STEPPING.value(t.stepping, &with(&section))?;
+    section.stepping = Some(stepping);
     let adaptive = if stepping == Stepping::Adaptive {
-        let dt_max = or_default(t.dt_max, "time.dt_max", DEFAULT_DT_MAX_FRACTION * end)?;
+        section.tolerance = Some(time::TOLERANCE.value(t.tolerance, &nothing())?);
+        section.dt_max = Some(time::DT_MAX.value(t.dt_max, &with(&section))?);
+        section.dt_min = Some(time::DT_MIN.value(t.dt_min, &with(&section))?);
         Some(AdaptiveConfig {
-            tolerance: or_default(t.tolerance, "time.tolerance", DEFAULT_TOLERANCE)?,
-            dt_max_s: dt_max,
-            dt_min_s: or_default(
-                t.dt_min,
-                "time.dt_min",
-                DEFAULT_DT_MIN_FRACTION * dt.min(dt_max),
-            )?,
+            tolerance: section.tolerance.unwrap_or(f64::NAN),
+            dt_max_s: section.dt_max.unwrap_or(f64::NAN),
+            dt_min_s: section.dt_min.unwrap_or(f64::NAN),
         })
     } else {
         let other = "time.stepping = \"fixed\"";
         let allowed = "only with time.stepping = \"adaptive\"";
-        contradiction("time.tolerance", t.tolerance, other, allowed)?;
-        contradiction("time.dt_max", t.dt_max, other, allowed)?;
-        contradiction("time.dt_min", t.dt_min, other, allowed)?;
+        contradiction(time::TOLERANCE.path, t.tolerance, other, allowed)?;
+        contradiction(time::DT_MAX.path, t.dt_max, other, allowed)?;
+        contradiction(time::DT_MIN.path, t.dt_min, other, allowed)?;
         None
     };
-    let max_events = match t.max_events {
-        None => None,
-        Some(n) => Some(keys::check("time.max_events", n as f64).map(|_| n.unsigned_abs())?),
-    };
-    let max_open_event = t
-        .max_open_event
-        .map(|v| keys::check("time.max_open_event", v))
-        .transpose()?;
-    let until = t.until.unwrap_or(super::file::Until::End);
-    let steady_cycles = match t.steady_cycles {
-        None => crate::steady::DEFAULT_CYCLES,
-        Some(n) => keys::check("time.steady_cycles", n as f64).map(|_| n.unsigned_abs())?,
-    };
-    let steady_rtol = or_default(
-        t.steady_rtol,
-        "time.steady_rtol",
-        crate::steady::DEFAULT_RTOL,
-    )?;
+    let max_events = time::MAX_EVENTS
+        .resolve(t.max_events, &nothing())?
+        .map(i64::unsigned_abs);
+    let max_open_event = time::MAX_OPEN_EVENT.resolve(t.max_open_event, &nothing())?;
+    let until = time::UNTIL.value(t.until, &nothing())?;
+    let steady_cycles = time::STEADY_CYCLES.value(t.steady_cycles, &nothing())?;
+    let steady_rtol = time::STEADY_RTOL.value(t.steady_rtol, &nothing())?;
     let steady = crate::steady::SteadyRule {
         stop: until == super::file::Until::Periodic,
-        cycles: steady_cycles,
+        cycles: steady_cycles.unsigned_abs(),
         rtol: steady_rtol,
     };
     let section = TimeSection {
-        end: Some(end),
-        dt: Some(dt),
-        scheme: Some(scheme),
-        stepping: Some(stepping),
-        tolerance: adaptive.map(|a| a.tolerance),
-        dt_max: adaptive.map(|a| a.dt_max_s),
-        dt_min: adaptive.map(|a| a.dt_min_s),
         max_events: t.max_events,
         max_open_event,
         until: Some(until),
-        steady_cycles: Some(steady_cycles as i64),
+        steady_cycles: Some(steady_cycles),
         steady_rtol: Some(steady_rtol),
+        ..section
     };
     let config = TimeConfig {
         end_s: end,
@@ -406,24 +378,17 @@ fn resolve_time(
     Ok((config, (max_events, max_open_event, steady), section))
 }
 
-/// `adaptive_tolerance`: `time.tolerance` when stepping is adaptive (the coupling solve's
-/// default tolerance follows it).
+/// `so_far`: the scene as resolved up to the numerics (with the time, from which the coupling
+/// solve's default tolerance derives).
 fn resolve_numerics(
     nm: &NumericsSection,
-    adaptive_tolerance: Option<f64>,
+    so_far: &Scene,
 ) -> Result<(NumericsConfig, NumericsSection), SceneError> {
-    let defaults = NumericsConfig::default();
-    let coupling_default = adaptive_tolerance.map_or(defaults.coupling_tol, |tol| {
-        tol / super::TOLERANCE_PER_COUPLING_TOL
-    });
-    let operator = nm.operator.unwrap_or(OperatorChoice::Auto);
+    let operator = numerics::OPERATOR.value(nm.operator, &nothing())?;
     let numerics = NumericsConfig {
-        coupling_tol: or_default(nm.coupling_tol, "numerics.coupling_tol", coupling_default)?,
-        runaway_stress_factor: or_default(
-            nm.runaway_stress_factor,
-            "numerics.runaway_stress_factor",
-            defaults.runaway_stress_factor,
-        )?,
+        coupling_tol: numerics::COUPLING_TOL.value(nm.coupling_tol, so_far)?,
+        runaway_stress_factor: numerics::RUNAWAY_STRESS_FACTOR
+            .value(nm.runaway_stress_factor, &nothing())?,
         operator: match operator {
             OperatorChoice::Fast => Some(OperatorForm::Fast),
             OperatorChoice::Dense => Some(OperatorForm::Dense),
@@ -438,51 +403,41 @@ fn resolve_numerics(
     Ok((numerics, section))
 }
 
-/// Output settings, event rules and the filled-in `[output]` section.
+/// Output settings, event rules and the filled-in `[output]` section. `so_far`: the scene as
+/// resolved up to the output (with the time and the contact).
 fn resolve_output(
     o: &OutputSection,
+    so_far: &Scene,
     end: f64,
     radius: f64,
 ) -> Result<(OutputSettings, EventConfig, OutputSection), SceneError> {
-    let profile_times = o.profile_times.clone().unwrap_or_else(|| vec![end]);
+    let profile_times = output::PROFILE_TIMES.value(o.profile_times.clone(), so_far)?;
     if let Some(bad) = profile_times
         .iter()
         .find(|&&p| !(p.is_finite() && (0.0..=end).contains(&p)))
     {
         return Err(SceneError::invalid(
-            "output.profile_times",
+            output::PROFILE_TIMES.path,
             error::human(*bad),
             format!("each within [0, time.end = {end:e}] s"),
         ));
     }
-    let probe_radii = o.probe_radii.clone().unwrap_or_default();
+    let probe_radii = output::PROBE_RADII.value(o.probe_radii.clone(), so_far)?;
     if let Some(bad) = probe_radii
         .iter()
         .find(|&&r| !(r.is_finite() && r >= 0.0 && r < radius))
     {
         return Err(SceneError::invalid(
-            "output.probe_radii",
+            output::PROBE_RADII.path,
             error::human(*bad),
             format!("each within [0, contact.radius = {radius:e}) m"),
         ));
     }
     let events = EventConfig {
-        merge_gap_s: or_default(
-            o.event_merge_gap,
-            "output.event_merge_gap",
-            DEFAULT_EVENT_MERGE_GAP_S,
-        )?,
-        recovery_factor: or_default(
-            o.event_recovery,
-            "output.event_recovery",
-            DEFAULT_EVENT_RECOVERY,
-        )?,
+        merge_gap_s: output::EVENT_MERGE_GAP.value(o.event_merge_gap, so_far)?,
+        recovery_factor: output::EVENT_RECOVERY.value(o.event_recovery, so_far)?,
     };
-    let series_interval = or_default(
-        o.series_interval,
-        "output.series_interval",
-        DEFAULT_SERIES_INTERVAL_S,
-    )?;
+    let series_interval = output::SERIES_INTERVAL.value(o.series_interval, so_far)?;
     let section = OutputSection {
         profile_times: Some(profile_times.clone()),
         probe_radii: Some(probe_radii.clone()),
@@ -506,10 +461,10 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
     let name = scene
         .name
         .clone()
-        .ok_or_else(|| SceneError::missing("name", "a non-empty string"))?;
+        .ok_or_else(|| SceneError::missing(keys::NAME.path, "a non-empty string"))?;
     if name.trim().is_empty() {
         return Err(SceneError::invalid(
-            "name",
+            keys::NAME.path,
             format!("{:?}", error::shorten(&name)),
             "a non-empty string",
         ));
@@ -517,48 +472,83 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
 
     let l = scene.lubricant.clone().unwrap_or_default();
     let lubricant = LandauParams {
-        tau_max_pa: required(l.tau_max, "lubricant.tau_max")?,
-        eps_max: required(l.eps_max, "lubricant.eps_max")?,
-        a_pa: required(l.a, "lubricant.a")?,
-        gamma_per_pa_s: required(l.gamma, "lubricant.gamma")?,
+        tau_max_pa: lubricant::TAU_MAX.value(l.tau_max, &nothing())?,
+        eps_max: lubricant::EPS_MAX.value(l.eps_max, &nothing())?,
+        a_pa: lubricant::A.value(l.a, &nothing())?,
+        gamma_per_pa_s: lubricant::GAMMA.value(l.gamma, &nothing())?,
         cubic_pa: 0.0,
     };
-    let melt_threshold = or_default(
-        l.melt_threshold,
-        "lubricant.melt_threshold",
-        DEFAULT_MELT_THRESHOLD,
-    )?;
+    let melt_threshold = lubricant::MELT_THRESHOLD.value(l.melt_threshold, &nothing())?;
     let (noise, noise_section) = resolve_noise(&l.noise.clone().unwrap_or_default())?;
+    // The scene as resolved so far, for the derived defaults of the sections that follow.
+    let mut so_far = Scene {
+        name: Some(name.clone()),
+        lubricant: Some(LubricantSection {
+            tau_max: Some(lubricant.tau_max_pa),
+            eps_max: Some(lubricant.eps_max),
+            a: Some(lubricant.a_pa),
+            gamma: Some(lubricant.gamma_per_pa_s),
+            melt_threshold: Some(melt_threshold),
+            cubic: None,
+            eps_melt: None,
+            noise: Some(noise_section),
+        }),
+        ..Scene::default()
+    };
     let (temperature, temperature_section) =
-        resolve_temperature(&scene.temperature.clone().unwrap_or_default(), &lubricant)?;
+        resolve_temperature(&scene.temperature.clone().unwrap_or_default(), &so_far)?;
     let lubricant = resolve_cubic(&l, lubricant, &temperature)?;
+    if let Some(section) = so_far.lubricant.as_mut() {
+        // b₃ as resolved, whichever key gave it; absent for the second-order film, so that
+        // its resolved scene (and run.json) is what it was before the key existed.
+        section.cubic = (lubricant.cubic_pa > 0.0).then_some(lubricant.cubic_pa);
+    }
+    so_far.temperature = Some(temperature_section);
 
     let c = scene.contact.clone().unwrap_or_default();
-    let radius = required(c.radius, "contact.radius")?;
-    let film_thickness = required(c.film_thickness, "contact.film_thickness")?;
+    let radius = contact::RADIUS.value(c.radius, &nothing())?;
+    let film_thickness = contact::FILM_THICKNESS.value(c.film_thickness, &nothing())?;
     let g_eff = resolve_modulus(&c)?;
-    let nodes = c.nodes.unwrap_or(DEFAULT_NODES);
-    keys::check("contact.nodes", nodes as f64).map_err(|_| {
+    let nodes = contact::NODES.value(c.nodes, &nothing()).map_err(|_| {
+        let nodes = c.nodes.unwrap_or_default();
         SceneError::invalid(
-            "contact.nodes",
+            contact::NODES.path,
             nodes,
-            keys::key("contact.nodes").range.describe("nodes", ""),
+            contact::NODES.range.describe("nodes", ""),
         )
     })?;
-    let model = c.model.unwrap_or(ContactModel::Radial);
-    let substrate = c.substrate.unwrap_or(Substrate::Elastic);
+    let model = contact::MODEL.value(c.model, &nothing())?;
+    let substrate = contact::SUBSTRATE.value(c.substrate, &nothing())?;
+    so_far.contact = Some(ContactSection {
+        radius: Some(radius),
+        film_thickness: Some(film_thickness),
+        g_eff: c.g_eff.or(if c.g1.is_some() { None } else { Some(g_eff) }),
+        g1: c.g1,
+        nu1: c.nu1,
+        g2: c.g2,
+        nu2: c.nu2,
+        nodes: Some(nodes),
+        model: Some(model),
+        substrate: Some(substrate),
+    });
 
     let (drive, integrator, drive_section) =
         resolve_drive(&scene.drive.clone().unwrap_or_default())?;
+    so_far.drive = Some(drive_section);
     let (time, (max_events, max_open_event_s, steady), time_section) =
-        resolve_time(&scene.time.clone().unwrap_or_default(), &noise)?;
-    let (numerics, numerics_section) = resolve_numerics(
-        &scene.numerics.clone().unwrap_or_default(),
-        time.adaptive.map(|a| a.tolerance),
-    )?;
+        resolve_time(&scene.time.clone().unwrap_or_default(), &so_far)?;
+    so_far.time = Some(time_section);
+    let (numerics, numerics_section) =
+        resolve_numerics(&scene.numerics.clone().unwrap_or_default(), &so_far)?;
+    so_far.numerics = Some(numerics_section);
     let end = time.end_s;
-    let (output, events, output_section) =
-        resolve_output(&scene.output.clone().unwrap_or_default(), end, radius)?;
+    let (output, events, output_section) = resolve_output(
+        &scene.output.clone().unwrap_or_default(),
+        &so_far,
+        end,
+        radius,
+    )?;
+    so_far.output = Some(output_section);
 
     let config = SimConfig {
         lubricant,
@@ -582,7 +572,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
     config.validate()?;
     if end / time.dt_s > MAX_STEPS {
         return Err(SceneError::invalid(
-            "time.dt",
+            time::DT.path,
             error::human(time.dt_s),
             format!(
                 "finite, > 0 and >= time.end / {MAX_STEPS:e} = {:e} s (at most {MAX_STEPS:e} steps)",
@@ -591,38 +581,6 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         ));
     }
 
-    let resolved = Scene {
-        name: Some(name.clone()),
-        lubricant: Some(LubricantSection {
-            tau_max: Some(lubricant.tau_max_pa),
-            eps_max: Some(lubricant.eps_max),
-            a: Some(lubricant.a_pa),
-            gamma: Some(lubricant.gamma_per_pa_s),
-            melt_threshold: Some(melt_threshold),
-            // b₃ as resolved, whichever key gave it; absent for the second-order film, so that
-            // its resolved scene (and run.json) is what it was before the key existed.
-            cubic: (lubricant.cubic_pa > 0.0).then_some(lubricant.cubic_pa),
-            eps_melt: None,
-            noise: Some(noise_section),
-        }),
-        temperature: Some(temperature_section),
-        contact: Some(ContactSection {
-            radius: Some(radius),
-            film_thickness: Some(film_thickness),
-            g_eff: c.g_eff.or(if c.g1.is_some() { None } else { Some(g_eff) }),
-            g1: c.g1,
-            nu1: c.nu1,
-            g2: c.g2,
-            nu2: c.nu2,
-            nodes: Some(nodes),
-            model: Some(model),
-            substrate: Some(substrate),
-        }),
-        drive: Some(drive_section),
-        time: Some(time_section),
-        output: Some(output_section),
-        numerics: Some(numerics_section),
-    };
     let derived = Derived::of(&config);
     Ok(ResolvedScene {
         name,
@@ -632,7 +590,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         max_events,
         max_open_event_s,
         steady,
-        resolved,
+        resolved: so_far,
         source: toml::Table::new(),
         derived,
     })

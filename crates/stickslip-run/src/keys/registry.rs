@@ -1,0 +1,508 @@
+//! The entries of the registry, one per scene key, declared with the scene file's sections:
+//! [`section!`] makes of each section's entries the serde struct of the section (a field per
+//! key, documented from the entry) and a module of typed [`Key`] constants, so a key is defined
+//! once. Entries whose range the engine checks take path, unit and range from the engine's
+//! [`bounds`] (a compile-time check keeps the paths equal).
+//!
+//! The scene file as written is [`Scene`]: every key optional, unknown keys rejected
+//! (`deny_unknown_fields`); which keys are required, their defaults and ranges are decided when
+//! a scene is resolved (`crate::scene`), and the resolved scene is this same structure with
+//! every default filled in, so it can be written to `run.json` and read back as a scene.
+
+use super::words::{
+    ContactModel, DriveKind, Integrator, NoiseKindName, OperatorChoice, Scheme, Stepping,
+    Substrate, TemperatureLaw, Until,
+};
+use super::{AnyKey, Key, KeyDefault, Range};
+use serde::{Deserialize, Serialize};
+use stickslip_core::config::{NumericsConfig, bounds};
+
+/// Byte-wise equality of two strings, usable in constants.
+const fn same_path(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+impl<T: 'static> Key<T> {
+    /// An entry with nothing but its path, meaning and version; the rest follows.
+    const fn blank(path: &'static str, meaning: &'static str, since: &'static str) -> Self {
+        Self {
+            path,
+            unit: "–",
+            default: KeyDefault::Required,
+            range: Range::Finite,
+            rule: "",
+            usual: None,
+            meaning,
+            since,
+        }
+    }
+
+    /// As [`Key::blank`], with the unit and range of the engine's bound for the key.
+    const fn bounded(
+        b: bounds::Bound,
+        path: &'static str,
+        meaning: &'static str,
+        since: &'static str,
+    ) -> Self {
+        assert!(same_path(b.path, path), "an engine bound of another key");
+        Self {
+            unit: b.unit,
+            range: b.range,
+            ..Self::blank(path, meaning, since)
+        }
+    }
+}
+
+impl<T: Copy + 'static> Key<T> {
+    /// The default value of a key with a fixed default (`None` for derived, required and off
+    /// defaults), usable in constants.
+    #[must_use]
+    pub const fn fixed_default(&self) -> Option<T> {
+        match &self.default {
+            KeyDefault::Value(v) => Some(**v),
+            _ => None,
+        }
+    }
+}
+
+/// A section of the scene file: its serde struct and a module of its keys (see the module
+/// docs). Each entry: `CONST field "name" [@ bound]: Type = "meaning" { other fields of Key }`.
+macro_rules! section {
+    (
+        $(#[$sdoc:meta])*
+        $Struct:ident in $module:ident, $section:literal {
+            $(
+                $CONST:ident $field:ident $name:literal $(@ $bound:path)? : $ty:ty = $meaning:literal
+                    { $($k:ident : $v:expr),* $(,)? }
+            )*
+        }
+        $( sections { $( $(#[$subdoc:meta])* $sub:ident : $SubTy:ty ),* $(,)? } )?
+    ) => {
+        $(#[$sdoc])*
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[derive(std::default::Default)]
+        #[serde(deny_unknown_fields)]
+        pub struct $Struct {
+            $(
+                #[doc = concat!("`", $section, ".", $name, "`: ", $meaning, " (unit, default and range: [`", stringify!($module), "::", stringify!($CONST), "`]).")]
+                #[serde(rename = $name, skip_serializing_if = "Option::is_none")]
+                pub $field: Option<$ty>,
+            )*
+            $($(
+                $(#[$subdoc])*
+                #[serde(skip_serializing_if = "Option::is_none")]
+                pub $sub: Option<$SubTy>,
+            )*)?
+        }
+
+        #[doc = concat!("The keys of `[", $section, "]`.")]
+        pub mod $module {
+            #[allow(unused_imports)]
+            use super::*;
+            $(
+                #[doc = concat!("`", $section, ".", $name, "`: ", $meaning)]
+                pub const $CONST: Key<$ty> = Key {
+                    $($k: $v,)*
+                    ..section!(@base ($section, $name, $meaning) $($bound)?)
+                };
+            )*
+            /// Every key of the section, in the reference's order.
+            pub const ALL: &[&dyn AnyKey] = &[$(&$CONST),*];
+        }
+    };
+    (@base ($section:literal, $name:literal, $meaning:literal)) => {
+        Key::blank(concat!($section, ".", $name), $meaning, "0.1.0")
+    };
+    (@base ($section:literal, $name:literal, $meaning:literal) $bound:path) => {
+        Key::bounded($bound, concat!($section, ".", $name), $meaning, "0.1.0")
+    };
+}
+
+use KeyDefault::{Derived, Off, Value};
+
+/// `name`: the scene's name.
+pub const NAME: Key<String> = Key {
+    range: Range::NonEmpty,
+    ..Key::blank("name", "name of the scene (messages, run.json)", "0.1.0")
+};
+
+/// The top-level keys.
+const TOP: &[&dyn AnyKey] = &[&NAME];
+
+/// A whole scene file as written (keys: docs/reference.md). All quantities SI.
+#[derive(Debug, Clone, std::default::Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// [`NAME`] (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// `[lubricant]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lubricant: Option<LubricantSection>,
+    /// `[temperature]` (optional).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<TemperatureSection>,
+    /// `[contact]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSection>,
+    /// `[drive]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive: Option<DriveSection>,
+    /// `[time]` (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeSection>,
+    /// `[output]` (optional).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub output: Option<OutputSection>,
+    /// `[numerics]` (optional).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub numerics: Option<NumericsSection>,
+}
+
+section! {
+    /// `[lubricant]`: the Landau film (Eq. 1–8).
+    LubricantSection in lubricant, "lubricant" {
+        TAU_MAX tau_max "tau_max" @ bounds::TAU_MAX: f64 =
+            "τmax: largest shear stress of the stationary stress–strain curve (Eq. 6)"
+            { usual: Some((1e3, 1e10)) }
+        EPS_MAX eps_max "eps_max" @ bounds::EPS_MAX: f64 =
+            "εmax: strain at which the stationary stress peaks (Eq. 6)"
+            { usual: Some((1e-3, 1e2)) }
+        A a "a" @ bounds::A: f64 =
+            "a: coupling of order parameter and strain in the free energy (Eq. 1)"
+            { usual: Some((1e2, 1e12)) }
+        GAMMA gamma "gamma" @ bounds::GAMMA: f64 =
+            "γ: kinetic coefficient of the film (Eq. 8)"
+            { usual: Some((1e-6, 1e6)) }
+        MELT_THRESHOLD melt_threshold "melt_threshold" @ bounds::MELT_THRESHOLD: f64 =
+            "φ below which a node counts as melted; u0 is held at 0 there"
+            { default: Value(&0.01), usual: Some((1e-6, 0.5)) }
+        CUBIC cubic "cubic" @ bounds::CUBIC: f64 =
+            "b3: cubic term −(b3/3)·φ³ of a first-order film's free energy; 0 is the paper's second-order film"
+            { default: Value(&0.0), rule: "not with lubricant.eps_melt", usual: Some((1e2, 1e12)) }
+        EPS_MELT eps_melt "eps_melt": f64 =
+            "ε₊: melting strain of a first-order film instead of b3; b3 = 2·√(a·b·(ε₊² − εc²)) with εc at the initial temperature, converted once (the resolved scene gives b3 as lubricant.cubic)"
+            {
+                default: Off("none (use lubricant.cubic)"),
+                range: Range::ByRule,
+                rule: "finite and > eps_c = √(A0·b)/a at the initial temperature (0 when A0 <= 0); not with lubricant.cubic",
+                usual: Some((1e-3, 1e2)),
+            }
+    }
+    sections {
+        /// `[lubricant.noise]` (optional; default: the floor).
+        noise: NoiseSection,
+    }
+}
+
+section! {
+    /// `[lubricant.noise]`: thermal noise ξ(t) or its deterministic floor.
+    NoiseSection in noise, "lubricant.noise" {
+        KIND kind "kind": NoiseKindName =
+            "thermal noise ξ(t) of Eq. 8: gaussian, a deterministic floor φ >= floor, or none"
+            { default: Value(&NoiseKindName::Floor), range: Range::Word }
+        SIGMA sigma "sigma" @ bounds::NOISE_SIGMA: f64 =
+            "noise amplitude: ξ ~ N(0, σ²·Δt) per node and step"
+            { default: Value(&1.0), rule: "only with kind = \"gaussian\"" }
+        FLOOR floor "floor" @ bounds::NOISE_FLOOR: f64 =
+            "deterministic floor of φ (no random numbers, bit-reproducible runs)"
+            {
+                default: Value(&1e-6),
+                rule: "finite, >= 0 and below lubricant.melt_threshold; only with kind = \"floor\"",
+            }
+        SEED seed "seed": i64 =
+            "seed of the per-node ChaCha8 noise streams"
+            {
+                default: Value(&1),
+                range: Range::Integers(0, i64::MAX),
+                rule: "only with kind = \"gaussian\"",
+            }
+    }
+}
+
+section! {
+    /// `[temperature]`: the law of A(t) (Eq. 17, 18).
+    TemperatureSection in temperature, "temperature" {
+        LAW law "law": TemperatureLaw =
+            "A constant, or A(t) = A0·exp(−t/t_relax) (Eq. 18)"
+            { default: Value(&TemperatureLaw::Constant), range: Range::Word }
+        A0 a0 "A0" @ bounds::TEMPERATURE_A0: f64 =
+            "A (constant) or A0 (relaxation): the temperature coefficient; A <= 0 melts the film (a first-order film may start as a metastable solid)"
+            {
+                default: Derived {
+                    doc: "1.5·tau_max/eps_max (law = \"constant\")",
+                    of: |s| {
+                        let l = s.lubricant.as_ref()?;
+                        Some(1.5 * l.tau_max? / l.eps_max?)
+                    },
+                },
+                rule: "required with law = \"relaxation\"",
+                usual: Some((1e2, 1e10)),
+            }
+        T_RELAX t_relax "t_relax" @ bounds::T_RELAX: f64 =
+            "t̃: relaxation time of A(t) (Eq. 18)"
+            {
+                default: Off("required with law = \"relaxation\""),
+                rule: "only with law = \"relaxation\"",
+            }
+    }
+}
+
+section! {
+    /// `[contact]`: stamp geometry and elasticity (Eq. 9–16).
+    ContactSection in contact, "contact" {
+        RADIUS radius "radius" @ bounds::RADIUS: f64 =
+            "a0: radius of the flat-ended stamp"
+            { usual: Some((1e-9, 1e-2)) }
+        FILM_THICKNESS film_thickness "film_thickness" @ bounds::FILM_THICKNESS: f64 =
+            "h0: lubricant film thickness"
+            { usual: Some((1e-10, 1e-5)) }
+        G_EFF g_eff "g_eff" @ bounds::G_EFF: f64 =
+            "G*: effective shear modulus of the contact (Eq. 9)"
+            { rule: "either g_eff or all of g1, nu1, g2, nu2", usual: Some((1e5, 1e12)) }
+        G1 g1 "g1": f64 =
+            "G1: shear modulus of the stamp (Eq. 9)"
+            {
+                unit: "Pa",
+                default: Off("none (use g_eff)"),
+                range: Range::Positive,
+                rule: "with nu1, g2, nu2 instead of g_eff",
+                usual: Some((1e5, 1e12)),
+            }
+        NU1 nu1 "nu1": f64 =
+            "ν1: Poisson ratio of the stamp (Eq. 9)"
+            {
+                default: Off("none (use g_eff)"),
+                range: Range::OpenClosed(-1.0, 0.5),
+                rule: "with g1, g2, nu2 instead of g_eff",
+            }
+        G2 g2 "g2": f64 =
+            "G2: shear modulus of the substrate (Eq. 9)"
+            {
+                unit: "Pa",
+                default: Off("none (use g_eff)"),
+                range: Range::Positive,
+                rule: "with g1, nu1, nu2 instead of g_eff",
+                usual: Some((1e5, 1e12)),
+            }
+        NU2 nu2 "nu2": f64 =
+            "ν2: Poisson ratio of the substrate (Eq. 9)"
+            {
+                default: Off("none (use g_eff)"),
+                range: Range::OpenClosed(-1.0, 0.5),
+                rule: "with g1, nu1, g2 instead of g_eff",
+            }
+        NODES nodes "nodes" @ bounds::NODES: i64 =
+            "N: radial nodes r_i = i·a0/N (1 for the homogeneous model)"
+            { default: Value(&2000), rule: ">= 2 with time.scheme = \"literal\"" }
+        MODEL model "model": ContactModel =
+            "radial MDR contact, or one homogeneous node (flat punch, uniform stress)"
+            { default: Value(&ContactModel::Radial), range: Range::Word }
+        SUBSTRATE substrate "substrate": Substrate =
+            "elastic substrate (MDR, Eq. 13–15) or rigid (u3D = 0, no operator applied)"
+            { default: Value(&Substrate::Elastic), range: Range::Word }
+    }
+}
+
+section! {
+    /// `[drive]`: how the stamp is pulled (Eq. 10).
+    DriveSection in drive, "drive" {
+        KIND kind "kind": DriveKind =
+            "stamp pulled through a spring (Eq. 10) or by a rigid coupler X = V0·t"
+            { default: Value(&DriveKind::Spring), range: Range::Word }
+        STIFFNESS stiffness "stiffness" @ bounds::STIFFNESS: f64 =
+            "K: spring stiffness"
+            {
+                default: Off("required with kind = \"spring\""),
+                rule: "only with kind = \"spring\"",
+                usual: Some((1e-3, 1e9)),
+            }
+        MASS mass "mass" @ bounds::MASS: f64 =
+            "m: stamp mass"
+            {
+                default: Off("required with kind = \"spring\""),
+                rule: "only with kind = \"spring\"",
+                usual: Some((1e-9, 1e3)),
+            }
+        VELOCITY velocity "velocity" @ bounds::VELOCITY: f64 =
+            "V0: velocity of the spring's free end (or of the rigid coupler)"
+            { usual: Some((1e-9, 1e2)) }
+        INTEGRATOR integrator "integrator": Integrator =
+            "integrator of the spring drive: split (the spring's motion exact, the friction force as Verlet half kicks; symplectic), velocity Verlet, or RK4 (friction held over the step)"
+            { default: Value(&Integrator::Split), range: Range::Word }
+    }
+}
+
+/// Whether the scene as resolved so far steps adaptively (the derived `time.stepping`, or
+/// the one given).
+fn adaptive(s: &Scene) -> Option<bool> {
+    Some(s.time.as_ref()?.stepping? == Stepping::Adaptive)
+}
+
+section! {
+    /// `[time]`: interval, step and scheme.
+    TimeSection in time, "time" {
+        END end "end" @ bounds::END: f64 =
+            "end of the simulated interval"
+            { usual: Some((1e-12, 10.0)) }
+        DT dt "dt" @ bounds::DT: f64 =
+            "time step: the fixed step, or the first step tried when adaptive"
+            {
+                default: Value(&1e-8),
+                rule: "finite, > 0 and <= time.end (and >= time.end / 1e12: at most 1e12 steps)",
+            }
+        SCHEME scheme "scheme": Scheme =
+            "accurate (product integration, exact Landau step, coupling solved) or the paper's literal scheme"
+            { default: Value(&Scheme::Accurate), range: Range::Word }
+        STEPPING stepping "stepping": Stepping =
+            "error-controlled steps (local error estimated from each step, PI controller) or fixed steps of time.dt"
+            {
+                default: Derived {
+                    doc: "adaptive for the accurate scheme without gaussian noise, else fixed",
+                    of: |s| {
+                        let scheme = s.time.as_ref()?.scheme?;
+                        let kind = s.lubricant.as_ref()?.noise.as_ref()?.kind?;
+                        Some(if scheme == Scheme::Accurate && kind != NoiseKindName::Gaussian {
+                            Stepping::Adaptive
+                        } else {
+                            Stepping::Fixed
+                        })
+                    },
+                },
+                range: Range::Word,
+                rule: "\"fixed\" with the literal scheme or gaussian noise",
+            }
+        TOLERANCE tolerance "tolerance" @ bounds::TOLERANCE: f64 =
+            "allowed local error per step, relative to scales that follow the state: φ to max(φ, melt threshold), the strain to εc(t) (ε₊(t) for a first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0)"
+            { default: Value(&5e-5), rule: "only with stepping = \"adaptive\"" }
+        DT_MAX dt_max "dt_max" @ bounds::DT_MAX: f64 =
+            "longest adaptive step (not needed for accuracy: the error control sets the step)"
+            {
+                default: Derived {
+                    doc: "time.end (no cap)",
+                    of: |s| s.time.as_ref()?.end,
+                },
+                rule: "<= time.end; only with stepping = \"adaptive\"",
+            }
+        DT_MIN dt_min "dt_min" @ bounds::DT_MIN: f64 =
+            "shortest adaptive step, accepted whatever its error (counted as forced)"
+            {
+                default: Derived {
+                    doc: "1e-6·min(time.dt, time.dt_max)",
+                    of: |s| {
+                        let t = s.time.as_ref()?;
+                        Some(1e-6 * t.dt?.min(t.dt_max?))
+                    },
+                },
+                rule: "<= min(time.dt, time.dt_max); only with stepping = \"adaptive\"",
+            }
+        MAX_EVENTS max_events "max_events": i64 =
+            "stop once this many melting events have ended (the film recovered); time.end still bounds the run"
+            { default: Off("none (run to time.end)"), range: Range::Integers(1, i64::MAX) }
+        MAX_OPEN_EVENT max_open_event "max_open_event": f64 =
+            "stop once an event has stayed open this long (the film has not recovered; a sweep point's regime is clear)"
+            { unit: "s", default: Off("none (run to time.end)"), range: Range::Positive }
+        UNTIL until "until": Until =
+            "end: run to time.end; periodic: stop at the end of the event after which the last time.steady_cycles cycles repeat (period, stamp advance and peak force within time.steady_rtol), or at time.end; run.json's summary says `steady` either way"
+            { default: Value(&Until::End), range: Range::Word }
+        STEADY_CYCLES steady_cycles "steady_cycles": i64 =
+            "cycles (onset to onset) that must repeat for a run to count as steady"
+            { default: Value(&3), range: Range::Integers(1, 1000) }
+        STEADY_RTOL steady_rtol "steady_rtol": f64 =
+            "relative tolerance of that repetition (each of the cycles against the last one)"
+            { default: Value(&1e-3), range: Range::Open(0.0, 1.0) }
+    }
+}
+
+section! {
+    /// `[output]`: what is recorded.
+    OutputSection in output, "output" {
+        PROFILE_TIMES profile_times "profile_times": Vec<f64> =
+            "times at which φ, ε, τ, u0, u3D are written against r (profiles.csv)"
+            {
+                unit: "s",
+                default: Derived {
+                    doc: "[time.end]",
+                    of: |s| Some(vec![s.time.as_ref()?.end?]),
+                },
+                range: Range::ByRule,
+                rule: "each within [0, time.end]",
+            }
+        PROBE_RADII probe_radii "probe_radii": Vec<f64> =
+            "radii at which φ(t) and the last melting time are written (probes.csv)"
+            {
+                unit: "m",
+                default: Value(&Vec::new()),
+                range: Range::ByRule,
+                rule: "each within [0, contact.radius)",
+            }
+        EVENT_MERGE_GAP event_merge_gap "event_merge_gap" @ bounds::EVENT_MERGE_GAP: f64 =
+            "a melting that begins less than this after the previous event ended continues it (0 = never)"
+            { default: Value(&0.0) }
+        EVENT_RECOVERY event_recovery "event_recovery" @ bounds::EVENT_RECOVERY: f64 =
+            "an event ends when every node is back above this multiple of melt_threshold (capped at halfway to √(A/a))"
+            { default: Value(&2.0) }
+        SERIES_INTERVAL series_interval "series_interval": f64 =
+            "interval between rows of series.csv and probes.csv (rows at the first step at or after each mark)"
+            { unit: "s", default: Value(&1e-7), range: Range::Positive }
+    }
+}
+
+/// `numerics.coupling_tol` with adaptive steps is `time.tolerance` divided by this: the
+/// coupling is solved just below the step's own error.
+pub const TOLERANCE_PER_COUPLING_TOL: f64 = 100.0;
+
+section! {
+    /// `[numerics]`: numerical controls.
+    NumericsSection in numerics, "numerics" {
+        COUPLING_TOL coupling_tol "coupling_tol" @ bounds::COUPLING_TOL: f64 =
+            "relative residual to which the accurate scheme solves the elastic coupling"
+            {
+                default: Derived {
+                    doc: "time.tolerance / 100 (adaptive), 1e-10 (fixed)",
+                    of: |s| {
+                        Some(if adaptive(s)? {
+                            s.time.as_ref()?.tolerance? / TOLERANCE_PER_COUPLING_TOL
+                        } else {
+                            NumericsConfig::DEFAULT.coupling_tol
+                        })
+                    },
+                },
+            }
+        RUNAWAY_STRESS_FACTOR runaway_stress_factor "runaway_stress_factor" @ bounds::RUNAWAY_STRESS_FACTOR: f64 =
+            "a step fails when |τ| exceeds this multiple of tau_max (for a first-order film: of its stationary curve's peak, when larger)"
+            { default: Value(&NumericsConfig::DEFAULT.runaway_stress_factor) }
+        OPERATOR operator "operator": OperatorChoice =
+            "MDR transforms: fast (hierarchical low-rank, O(N)), dense (O(N²)); auto = fast for accurate, dense for literal"
+            { default: Value(&OperatorChoice::Auto), range: Range::Word }
+    }
+}
+
+/// The sections' keys, in the reference's order.
+pub(super) const SECTIONS: &[&[&dyn AnyKey]] = &[
+    TOP,
+    lubricant::ALL,
+    noise::ALL,
+    temperature::ALL,
+    contact::ALL,
+    drive::ALL,
+    time::ALL,
+    output::ALL,
+    numerics::ALL,
+];
+
+/// Largest number of nodes (the dense operators take 8·N² bytes each).
+pub const MAX_NODES: i64 = stickslip_core::config::MAX_NODES as i64;
+/// Largest number of steps a scene may ask for (time.end / time.dt).
+pub const MAX_STEPS: f64 = 1e12;
