@@ -37,12 +37,14 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::time::{Duration, Instant};
-use stickslip_benches::scene;
+use stickslip_benches::{Setting, scene};
 use stickslip_core::grid::Grid;
 use stickslip_core::mdr::{MdrOperators, Quadrature};
 use stickslip_core::sim::SimState;
 use stickslip_core::sim::coupling::{CouplingReport, CouplingSolver, CouplingTolerance};
 use stickslip_run::driver::{Control, Driver, DriverState, Limit, NullSink};
+use stickslip_run::keys::words::{Stepping, Substrate};
+use stickslip_run::keys::{contact, output, time};
 
 /// Node counts benched.
 const SIZES: [usize; 7] = [125, 250, 500, 1000, 2000, 4000, 8000];
@@ -75,15 +77,14 @@ struct Warmed {
 
 impl Warmed {
     /// fig2 with `contact.nodes = n` and `extra` overrides, warmed (see the module doc).
-    fn new(n: usize, extra: &[&str]) -> Self {
-        let nodes = format!("contact.nodes={n}");
+    fn new(n: usize, extra: &[Setting]) -> Self {
         let mut sets = vec![
-            nodes.as_str(),
-            "time.dt=1e-7",
-            "time.end=1",
-            "time.stepping=fixed",
-            "output.series_interval=1",
-            "output.profile_times=[1]",
+            contact::NODES.set(n as i64),
+            time::DT.set(1e-7),
+            time::END.set(1.0),
+            time::STEPPING.set(Stepping::Fixed),
+            output::SERIES_INTERVAL.set(1.0),
+            output::PROFILE_TIMES.set(vec![1.0]),
         ];
         sets.extend_from_slice(extra);
         let scene = scene("fig2", &sets);
@@ -168,10 +169,10 @@ fn step(c: &mut Criterion) {
     for n in SIZES {
         group.throughput(Throughput::Elements(n as u64));
         for (name, extra) in [
-            ("elastic", &[][..]),
-            ("rigid", &["contact.substrate=rigid"][..]),
+            ("elastic", vec![]),
+            ("rigid", vec![contact::SUBSTRATE.set(Substrate::Rigid)]),
         ] {
-            let mut warmed = Warmed::new(n, extra);
+            let mut warmed = Warmed::new(n, &extra);
             // Also checks that the window stays in the stick phase.
             let (iterations, accepted) = warmed.window_iterations();
             if extra.is_empty() {

@@ -7,10 +7,12 @@
 //! output.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use stickslip_benches::scene;
+use stickslip_benches::{Setting, scene};
+use stickslip_run::keys::words::Scheme;
+use stickslip_run::keys::{contact, time};
 use stickslip_run::{Control, NullSink};
 
-fn run(sets: &[&str]) -> usize {
+fn run(sets: &[Setting]) -> usize {
     let scene = scene("fig2", sets);
     stickslip_run::run(&scene, &mut NullSink, &mut Control::default())
         .expect("valid scene")
@@ -22,10 +24,10 @@ fn fig2(c: &mut Criterion) {
     let mut group = c.benchmark_group("fig2_n200");
     group.sample_size(10);
     group.bench_function("accurate_adaptive", |b| {
-        b.iter(|| run(&["contact.nodes=200"]))
+        b.iter(|| run(&[contact::NODES.set(200)]))
     });
     group.bench_function("literal_dt1e-8", |b| {
-        b.iter(|| run(&["contact.nodes=200", "time.scheme=literal"]))
+        b.iter(|| run(&[contact::NODES.set(200), time::SCHEME.set(Scheme::Literal)]))
     });
     group.finish();
 }

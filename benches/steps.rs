@@ -5,24 +5,23 @@
 //! step is one iteration of the driver with nothing recorded.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use stickslip_benches::scene;
+use stickslip_benches::{Setting, scene};
 use stickslip_run::driver::{Control, Driver, Limit, NullSink};
+use stickslip_run::keys::words::{ContactModel, NoiseKindName, Scheme, Stepping, Substrate};
+use stickslip_run::keys::{contact, noise, output, time};
 
 /// fig2 with fixed steps of 20 ns over a long interval (so the bench never reaches the end),
 /// no rows recorded, advanced into its first stick phase (t = 0.3 ms) so the step measured is
 /// a typical one rather than the trivial first.
-fn warmed(extra: &[&str]) -> Driver {
+fn warmed(extra: &[Setting]) -> Driver {
     let mut sets = vec![
-        "time.dt=2e-8",
-        "time.end=1",
-        "time.stepping=fixed",
-        "output.series_interval=1",
-        "output.profile_times=[1]",
+        time::DT.set(2e-8),
+        time::END.set(1.0),
+        time::STEPPING.set(Stepping::Fixed),
+        output::SERIES_INTERVAL.set(1.0),
+        output::PROFILE_TIMES.set(vec![1.0]),
     ];
     sets.extend_from_slice(extra);
-    if extra.contains(&"time.scheme=literal") {
-        sets.retain(|s| *s != "time.stepping=fixed");
-    }
     let scene = scene("fig2", &sets);
     let mut driver = Driver::start(&scene, &mut NullSink).expect("valid scene");
     driver
@@ -40,24 +39,29 @@ fn step(driver: &mut Driver) {
 
 fn effects(c: &mut Criterion) {
     let mut group = c.benchmark_group("step_effects_n200");
-    let variants: [(&str, &[&str]); 7] = [
-        ("accurate_elastic_floor", &[]),
-        ("accurate_rigid_substrate", &["contact.substrate=rigid"]),
-        ("accurate_noise_off", &["lubricant.noise.kind=off"]),
+    let literal = time::SCHEME.set(Scheme::Literal);
+    let rigid = contact::SUBSTRATE.set(Substrate::Rigid);
+    let variants: [(&str, Vec<Setting>); 7] = [
+        ("accurate_elastic_floor", vec![]),
+        ("accurate_rigid_substrate", vec![rigid.clone()]),
+        (
+            "accurate_noise_off",
+            vec![noise::KIND.set(NoiseKindName::Off)],
+        ),
         (
             "accurate_noise_gaussian",
-            &["lubricant.noise.kind=gaussian"],
+            vec![noise::KIND.set(NoiseKindName::Gaussian)],
         ),
-        ("accurate_homogeneous", &["contact.model=homogeneous"]),
-        ("literal_elastic_floor", &["time.scheme=literal"]),
         (
-            "literal_rigid_substrate",
-            &["time.scheme=literal", "contact.substrate=rigid"],
+            "accurate_homogeneous",
+            vec![contact::MODEL.set(ContactModel::Homogeneous)],
         ),
+        ("literal_elastic_floor", vec![literal.clone()]),
+        ("literal_rigid_substrate", vec![literal, rigid]),
     ];
     for (name, sets) in variants {
-        let mut all = vec!["contact.nodes=200"];
-        all.extend_from_slice(sets);
+        let mut all = vec![contact::NODES.set(200)];
+        all.extend(sets);
         let mut driver = warmed(&all);
         group.bench_function(name, |b| b.iter(|| step(&mut driver)));
     }
@@ -67,13 +71,16 @@ fn effects(c: &mut Criterion) {
 fn per_n(c: &mut Criterion) {
     let mut group = c.benchmark_group("step_per_n");
     group.sample_size(20);
-    for scheme in ["literal", "accurate"] {
+    for scheme in [Scheme::Literal, Scheme::Accurate] {
         for n in [125usize, 250, 500, 1000, 2000] {
-            let nodes = format!("contact.nodes={n}");
-            let scheme_set = format!("time.scheme={scheme}");
-            let mut driver = warmed(&[&nodes, &scheme_set]);
+            let mut driver = warmed(&[contact::NODES.set(n as i64), time::SCHEME.set(scheme)]);
             group.throughput(Throughput::Elements(n as u64));
-            group.bench_with_input(BenchmarkId::new(scheme, n), &n, |b, _| {
+            let label = if scheme == Scheme::Literal {
+                "literal"
+            } else {
+                "accurate"
+            };
+            group.bench_with_input(BenchmarkId::new(label, n), &n, |b, _| {
                 b.iter(|| step(&mut driver))
             });
         }

@@ -9,7 +9,7 @@ use crate::events_rule::{self, RuleRow};
 use crate::facts::{Facts, word};
 use crate::figures::Figure;
 use crate::reduced::Features;
-use crate::runner::{NODES, OLD_MERGE_GAP, RunResult};
+use crate::runner::{NODES, RunResult, old_merge_gap};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -352,10 +352,11 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
          min(k·threshold, ½(threshold + √(A/a))), k = `output.event_recovery` (fig2's run.json: \
          k = {}, `event_merge_gap` = {} s). Before, a melting less than `event_merge_gap` = \
          1e-5 s after the contact was last fully solid continued the event. Each paper scene \
-         below ran with the default settings and again with `--set {OLD_MERGE_GAP}` (the old \
+         below ran with the default settings and again with `--set {}` (the old \
          default value):\n",
         fmt::trim(k),
-        fmt::trim(gap)
+        fmt::trim(gap),
+        old_merge_gap()
     );
     let _ = writeln!(
         s,

@@ -9,6 +9,7 @@ use std::collections::{BTreeMap, VecDeque};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use stickslip_report::binary::{Invocation, run_scene};
+use stickslip_run::keys::{contact, output, temperature, time, words::Scheme};
 use stickslip_run::schema::SchemaError;
 use stickslip_run::schema::run_info::FailureRecord;
 use stickslip_run::{ResolvedScene, RunOutput, RunStatus, Scene, SceneError};
@@ -17,9 +18,14 @@ pub use crate::sizes::NODES;
 
 /// The old default of `output.event_merge_gap`, s: the event-rule comparison runs every paper
 /// scene with it beside the default settings.
-pub const OLD_MERGE_GAP: &str = "output.event_merge_gap=1e-5";
+pub const OLD_MERGE_GAP_S: f64 = 1e-5;
 
-/// Suffix of the runs with [`OLD_MERGE_GAP`].
+/// [`OLD_MERGE_GAP_S`] as the `--set` argument.
+pub fn old_merge_gap() -> String {
+    output::EVENT_MERGE_GAP.set(OLD_MERGE_GAP_S).to_string()
+}
+
+/// Suffix of the runs with [`OLD_MERGE_GAP_S`].
 pub const OLD_GAP_SUFFIX: &str = "_gap1e-5";
 
 /// Runs scenes with one `stickslip` binary, outputs under one directory.
@@ -199,7 +205,7 @@ impl RunSpec {
 
     /// The full `--set` list.
     pub fn overrides(&self) -> Vec<String> {
-        let mut v = vec![format!("contact.nodes={}", self.nodes)];
+        let mut v = vec![contact::NODES.set(self.nodes as i64).to_string()];
         v.extend(self.sets.iter().cloned());
         v
     }
@@ -209,8 +215,8 @@ impl RunSpec {
     fn with_old_gap(&self) -> Self {
         let mut s = self.clone();
         s.name = format!("{}{OLD_GAP_SUFFIX}", self.name);
-        s.sets.push(OLD_MERGE_GAP.into());
-        s.purpose = format!("event rule: `{}` with {OLD_MERGE_GAP}", self.name);
+        s.sets.push(old_merge_gap());
+        s.purpose = format!("event rule: `{}` with {}", self.name, old_merge_gap());
         s.after = self
             .after
             .as_ref()
@@ -239,15 +245,14 @@ pub fn fig3_overrides(fig2: &RunOutput) -> Vec<String> {
         times.extend((0..5).map(|j| e.t_onset_s + j as f64 * step));
     }
     times.sort_by(f64::total_cmp);
-    let list: Vec<String> = times.iter().map(|t| format!("{t:e}")).collect();
     vec![
-        "output.series_interval=1e-8".into(),
-        format!("output.profile_times=[{}]", list.join(",")),
+        output::SERIES_INTERVAL.set(1e-8).to_string(),
+        output::PROFILE_TIMES.set(times).to_string(),
     ]
 }
 
 /// The runs of the event-rule comparison, with the default event settings; each has a partner
-/// run with [`OLD_MERGE_GAP`] ([`old_gap_partner`]).
+/// run with [`OLD_MERGE_GAP_S`] ([`old_gap_partner`]).
 pub const EVENT_RULE_RUNS: [&str; 8] = [
     "fig2",
     "fig2_literal_default",
@@ -259,7 +264,7 @@ pub const EVENT_RULE_RUNS: [&str; 8] = [
     "rigid_fast",
 ];
 
-/// The run that repeats `name` with [`OLD_MERGE_GAP`]: `fig2_literal` for the literal scheme
+/// The run that repeats `name` with [`OLD_MERGE_GAP_S`]: `fig2_literal` for the literal scheme
 /// (which the report uses with that gap anyway), else `<name>_gap1e-5`.
 pub fn old_gap_partner(name: &str) -> String {
     if name == "fig2_literal_default" {
@@ -275,18 +280,24 @@ pub fn specs() -> Vec<RunSpec> {
         "fig2_literal",
         "fig2",
         &format!(
-            "the paper's algorithm (C4 finding), with {OLD_MERGE_GAP} so that its axis \
+            "the paper's algorithm (C4 finding), with {} so that its axis \
              precursor and the edge front that follows form one event: literal and accurate \
-             onsets then compare front by front"
+             onsets then compare front by front",
+            old_merge_gap()
         ),
     );
-    literal.sets = vec!["time.scheme=literal".into(), OLD_MERGE_GAP.into()];
+    literal.sets = vec![
+        time::SCHEME.set(Scheme::Literal).to_string(),
+        old_merge_gap(),
+    ];
     let mut literal_default = RunSpec::new(
         "fig2_literal_default",
         "fig2",
         "the paper's algorithm with the default event settings (axis precursors as events)",
     );
-    literal_default.sets.push("time.scheme=literal".into());
+    literal_default
+        .sets
+        .push(time::SCHEME.set(Scheme::Literal).to_string());
     let mut n100 = RunSpec::new("fig2_n100", "fig2", "resolution evidence");
     n100.nodes = 100;
     let mut n50 = RunSpec::new("fig2_n50", "fig2", "resolution evidence");
@@ -299,7 +310,7 @@ pub fn specs() -> Vec<RunSpec> {
     reduced.nodes = crate::sizes::REDUCED_NODES;
     reduced.sets = crate::sizes::reduced_overrides()
         .into_iter()
-        .filter(|s| !s.starts_with("contact.nodes="))
+        .filter(|s| !s.starts_with(&format!("{}=", contact::NODES.path)))
         .collect();
     let mut fig3 = RunSpec::new("fig3", "fig3", "Fig. 2b,d snapshots, Fig. 3; C4, C5");
     fig3.after = Some(("fig2".into(), fig3_overrides));
@@ -329,7 +340,7 @@ pub fn specs() -> Vec<RunSpec> {
             "hysteresis",
             &format!("C11: the first-order film's melting strain at A0 = {a0:e} Pa"),
         );
-        h.sets.push(format!("temperature.A0={a0:e}"));
+        h.sets.push(temperature::A0.set(a0).to_string());
         all.push(h);
     }
     let partners: Vec<RunSpec> = EVENT_RULE_RUNS

@@ -20,17 +20,22 @@ pub const REDUCED_END_S: f64 = 1.0e-3;
 /// [`REDUCED_NODES`], fixed steps Δt = [`REDUCED_DT_S`], end = [`REDUCED_END_S`], rows every
 /// 1e-7 s.
 pub fn reduced_overrides() -> Vec<String> {
-    vec![
-        format!("contact.nodes={REDUCED_NODES}"),
-        format!("time.dt={REDUCED_DT_S:e}"),
-        format!("time.end={REDUCED_END_S:e}"),
-        "time.scheme=accurate".into(),
-        "time.stepping=fixed".into(),
-        "lubricant.noise.kind=floor".into(),
-        "lubricant.noise.floor=1e-6".into(),
-        format!("output.profile_times=[{REDUCED_END_S:e}]"),
-        "output.series_interval=1e-7".into(),
+    use stickslip_run::keys::words::{NoiseKindName, Scheme, Stepping};
+    use stickslip_run::keys::{contact, noise, output, time};
+    [
+        contact::NODES.set(REDUCED_NODES as i64),
+        time::DT.set(REDUCED_DT_S),
+        time::END.set(REDUCED_END_S),
+        time::SCHEME.set(Scheme::Accurate),
+        time::STEPPING.set(Stepping::Fixed),
+        noise::KIND.set(NoiseKindName::Floor),
+        noise::FLOOR.set(1e-6),
+        output::PROFILE_TIMES.set(vec![REDUCED_END_S]),
+        output::SERIES_INTERVAL.set(1e-7),
     ]
+    .iter()
+    .map(ToString::to_string)
+    .collect()
 }
 
 /// The temperatures of claim C11's `hysteresis` runs, A0 in Pa: fig2's 1.5e6 Pa and a third

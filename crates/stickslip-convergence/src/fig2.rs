@@ -11,6 +11,8 @@ use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use stickslip_core::config::Scheme;
 use stickslip_run::driver::{Control, Driver, Limit, NullSink};
+use stickslip_run::keys::words::{NoiseKindName, Stepping};
+use stickslip_run::keys::{contact, noise, output, time};
 use stickslip_run::{ResolvedScene, Scene, StopReason};
 
 /// Gap within which a new melting continues the previous event, s.
@@ -88,32 +90,29 @@ impl RunSpec {
     #[must_use]
     #[track_caller]
     pub fn scene(&self) -> ResolvedScene {
-        let scheme = match self.scheme {
-            Scheme::Accurate => "accurate",
-            Scheme::Literal => "literal",
-        };
         let mut sets = vec![
-            format!("time.scheme={scheme}"),
-            format!("contact.nodes={}", self.nodes),
-            format!("time.dt={:e}", self.dt_s),
-            format!("time.end={:e}", self.end_s),
-            format!("output.profile_times=[{:e}]", self.end_s),
-            format!("output.event_merge_gap={MERGE_GAP_S:e}"),
+            time::SCHEME.set(self.scheme),
+            contact::NODES.set(self.nodes as i64),
+            time::DT.set(self.dt_s),
+            time::END.set(self.end_s),
+            output::PROFILE_TIMES.set(vec![self.end_s]),
+            output::EVENT_MERGE_GAP.set(MERGE_GAP_S),
             // Nothing but the observer records: one row at the end.
-            format!("output.series_interval={:e}", self.end_s),
+            output::SERIES_INTERVAL.set(self.end_s),
         ];
         match self.tolerance {
             Some(tol) => {
-                sets.push("time.stepping=adaptive".to_string());
-                sets.push(format!("time.tolerance={tol:e}"));
+                sets.push(time::STEPPING.set(Stepping::Adaptive));
+                sets.push(time::TOLERANCE.set(tol));
             }
-            None => sets.push("time.stepping=fixed".to_string()),
+            None => sets.push(time::STEPPING.set(Stepping::Fixed)),
         }
         if let Some((sigma, seed)) = self.noise {
-            sets.push("lubricant.noise.kind=gaussian".to_string());
-            sets.push(format!("lubricant.noise.sigma={sigma:e}"));
-            sets.push(format!("lubricant.noise.seed={seed}"));
+            sets.push(noise::KIND.set(NoiseKindName::Gaussian));
+            sets.push(noise::SIGMA.set(sigma));
+            sets.push(noise::SEED.set(seed as i64));
         }
+        let sets: Vec<String> = sets.iter().map(ToString::to_string).collect();
         Scene::from_toml_str(FIG2_SCENE, &sets).unwrap_or_else(|e| panic!("fig2 run {self:?}: {e}"))
     }
 }

@@ -6,6 +6,7 @@ use super::{
     Attempt, Bench, Case, Check, Health, check, derived, event_count, health, outcome, sets, with,
 };
 use stickslip_report::fmt::{self, opt, sig};
+use stickslip_run::keys::{temperature, time, words::Scheme};
 
 /// Case 4: A = 0 and A < 0 from the start, and A(t) → 0 by fast heating.
 #[derive(Debug, Clone)]
@@ -20,12 +21,12 @@ pub struct Melting {
 
 /// Runs case 4.
 pub fn melting(b: &Bench) -> Melting {
-    let lit = sets(&["time.scheme=literal"]);
+    let lit = sets(&[time::SCHEME.set(Scheme::Literal)]);
     Melting {
         from_start: [0.0, -1e5]
             .iter()
             .map(|&a0| {
-                let s = vec![format!("temperature.A0={a0:e}")];
+                let s = sets(&[temperature::A0.set(a0)]);
                 (
                     a0,
                     b.run(

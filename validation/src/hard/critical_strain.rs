@@ -6,6 +6,7 @@ use super::{Attempt, Bench, Case, Check, Health, check, derived, health, outcome
 use crate::facts::Facts;
 use std::f64::consts::PI;
 use stickslip_report::fmt::sig;
+use stickslip_run::keys::{temperature, time, words::Scheme};
 
 /// A0 of near_critical.toml, Pa: with b = a = 1e6 Pa, εc = √(A·b)/a = 2 exactly.
 pub const NEAR_CRITICAL_A0_PA: f64 = 4e6;
@@ -44,14 +45,14 @@ pub fn near_critical(b: &Bench) -> NearCritical {
                 let s = if factor == 1.0 {
                     Vec::new()
                 } else {
-                    vec![format!("temperature.A0={:e}", NEAR_CRITICAL_A0_PA * factor)]
+                    sets(&[temperature::A0.set(NEAR_CRITICAL_A0_PA * factor)])
                 };
                 CriticalVariant {
                     factor,
                     literal: b.run(
                         &format!("near_critical_literal_{i}"),
                         "near_critical",
-                        &with(&s, &sets(&["time.scheme=literal"])),
+                        &with(&s, &sets(&[time::SCHEME.set(Scheme::Literal)])),
                     ),
                     accurate: b.run(&format!("near_critical_accurate_{i}"), "near_critical", &s),
                 }

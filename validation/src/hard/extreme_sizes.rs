@@ -8,6 +8,7 @@ use super::{
     sets, with,
 };
 use stickslip_report::fmt::{opt, sig};
+use stickslip_run::keys::{contact, drive, lubricant, output, time, words::Scheme};
 
 /// One consistent rescaling of edge_scaling.toml.
 #[derive(Debug, Clone)]
@@ -55,20 +56,20 @@ pub const SCALINGS: [(&str, f64, f64); 6] = [
 
 /// The `--set` list rescaling edge_scaling.toml by lengths × s and stresses × p.
 pub fn scaling_sets(s: f64, p: f64) -> Vec<String> {
-    vec![
-        format!("contact.radius={:e}", 2e-5 * s),
-        format!("contact.film_thickness={:e}", 1e-7 * s),
-        format!("drive.velocity={:e}", s),
-        format!("lubricant.tau_max={:e}", 1e6 * p),
-        format!("lubricant.a={:e}", 1e6 * p),
-        format!("contact.g_eff={:e}", 1e9 * p),
-        format!("lubricant.gamma={:e}", 10.0 / p),
-    ]
+    sets(&[
+        contact::RADIUS.set(2e-5 * s),
+        contact::FILM_THICKNESS.set(1e-7 * s),
+        drive::VELOCITY.set(s),
+        lubricant::TAU_MAX.set(1e6 * p),
+        lubricant::A.set(1e6 * p),
+        contact::G_EFF.set(1e9 * p),
+        lubricant::GAMMA.set(10.0 / p),
+    ])
 }
 
 /// Runs case 6; `with_big_n` adds the N = 8000 run (0.5 GB).
 pub fn edge_scaling(b: &Bench, with_big_n: bool) -> EdgeScaling {
-    let lit = sets(&["time.scheme=literal"]);
+    let lit = sets(&[time::SCHEME.set(Scheme::Literal)]);
     let scaled = SCALINGS
         .iter()
         .enumerate()
@@ -90,7 +91,7 @@ pub fn edge_scaling(b: &Bench, with_big_n: bool) -> EdgeScaling {
     let small_n = [1usize, 2, 3]
         .iter()
         .map(|&n| {
-            let s = vec![format!("contact.nodes={n}")];
+            let s = sets(&[contact::NODES.set(n as i64)]);
             (
                 n,
                 b.run(
@@ -107,9 +108,9 @@ pub fn edge_scaling(b: &Bench, with_big_n: bool) -> EdgeScaling {
             "edge_n8000_accurate",
             "edge_scaling",
             &sets(&[
-                "contact.nodes=8000",
-                "time.end=2e-8",
-                "output.profile_times=[2e-8]",
+                contact::NODES.set(8000),
+                time::END.set(2e-8),
+                output::PROFILE_TIMES.set(vec![2e-8]),
             ]),
         )
     });

@@ -11,6 +11,10 @@ use super::{
 use crate::facts::Facts;
 use stickslip_core::preflight::Preflight;
 use stickslip_report::fmt::{list, opt, sig};
+use stickslip_run::keys::{
+    time,
+    words::{Scheme, Stepping},
+};
 
 /// Δt of case 9's large-step runs, s.
 pub const FOLD_DT_S: f64 = 1e-6;
@@ -42,7 +46,7 @@ pub struct FirstOrderFold {
 
 /// Runs case 9.
 pub fn first_order_fold(b: &Bench) -> FirstOrderFold {
-    let lit = sets(&["time.scheme=literal"]);
+    let lit = sets(&[time::SCHEME.set(Scheme::Literal)]);
     FirstOrderFold {
         preflight: b.preflight("first_order_fold", &lit),
         literal: b.run("first_order_fold_literal", "first_order_fold", &lit),
@@ -50,20 +54,20 @@ pub fn first_order_fold(b: &Bench) -> FirstOrderFold {
             "first_order_fold_literal_small",
             "first_order_fold",
             &sets(&[
-                "time.scheme=literal",
-                &format!("time.dt={FOLD_LITERAL_SMALL_DT_S:e}"),
+                time::SCHEME.set(Scheme::Literal),
+                time::DT.set(FOLD_LITERAL_SMALL_DT_S),
             ]),
         ),
         accurate: b.run("first_order_fold_accurate", "first_order_fold", &[]),
         reference: b.run(
             "first_order_fold_reference",
             "first_order_fold",
-            &sets(&[&format!("time.dt={FOLD_REFERENCE_DT_S:e}")]),
+            &sets(&[time::DT.set(FOLD_REFERENCE_DT_S)]),
         ),
         adaptive: b.run(
             "first_order_fold_adaptive",
             "first_order_fold",
-            &sets(&["time.stepping=adaptive"]),
+            &sets(&[time::STEPPING.set(Stepping::Adaptive)]),
         ),
     }
 }

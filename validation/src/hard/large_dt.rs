@@ -9,6 +9,10 @@ use super::{
 use stickslip_core::preflight::Preflight;
 use stickslip_report::fmt::{opt, sig};
 use stickslip_report::stats::mean;
+use stickslip_run::keys::{
+    output, time,
+    words::{Scheme, Stepping},
+};
 
 /// Case 3: Δt = 1e-6 s against a Δt = 1e-8 s reference at the same N.
 #[derive(Debug, Clone)]
@@ -27,7 +31,7 @@ pub struct LargeDt {
 
 /// Runs case 3.
 pub fn large_dt(b: &Bench) -> LargeDt {
-    let lit = sets(&["time.scheme=literal"]);
+    let lit = sets(&[time::SCHEME.set(Scheme::Literal)]);
     LargeDt {
         preflight: b.preflight("large_dt", &lit),
         literal: b.run("large_dt_literal", "large_dt", &lit),
@@ -35,12 +39,12 @@ pub fn large_dt(b: &Bench) -> LargeDt {
         reference: b.run(
             "large_dt_reference",
             "large_dt",
-            &sets(&["time.dt=1e-8", "output.series_interval=1e-7"]),
+            &sets(&[time::DT.set(1e-8), output::SERIES_INTERVAL.set(1e-7)]),
         ),
         adaptive: b.run(
             "large_dt_adaptive",
             "large_dt",
-            &sets(&["time.stepping=adaptive"]),
+            &sets(&[time::STEPPING.set(Stepping::Adaptive)]),
         ),
     }
 }

@@ -50,6 +50,7 @@ use std::path::{Path, PathBuf};
 use stickslip_core::preflight::Preflight;
 use stickslip_report::binary::invoke;
 use stickslip_report::fmt::{self, first_line, sig};
+use stickslip_run::keys::Setting;
 use stickslip_run::{ResolvedScene, Scene, SceneError};
 
 /// Runs hard-case scenes with one `stickslip` binary, writing outputs under one directory.
@@ -338,8 +339,8 @@ pub fn assert_checks(case: &dyn Case) {
 }
 
 /// `--set` list from string slices.
-pub fn sets(v: &[&str]) -> Vec<String> {
-    v.iter().map(|s| (*s).to_string()).collect()
+pub fn sets(v: &[Setting]) -> Vec<String> {
+    v.iter().map(ToString::to_string).collect()
 }
 
 /// `base` followed by `extra`.

@@ -7,6 +7,7 @@ use super::{
     health_text, literal_loud_text, outcome, sets, with,
 };
 use stickslip_report::fmt::{self, sig};
+use stickslip_run::keys::{noise, time, words::Scheme};
 
 /// Case 7: σ = 0 with φ reaching exactly 0, and very large σ.
 #[derive(Debug, Clone)]
@@ -26,19 +27,20 @@ pub const LARGE_SIGMAS: [f64; 2] = [1e4, 1e6];
 
 /// Runs case 7.
 pub fn noise_extremes(b: &Bench) -> NoiseExtremes {
-    let lit = sets(&["time.scheme=literal"]);
+    let lit = sets(&[time::SCHEME.set(Scheme::Literal)]);
     NoiseExtremes {
         zero_accurate: b.run("noise_zero_accurate", "noise_zero", &[]),
         unit_accurate: b.run(
             "noise_unit_accurate",
             "noise_zero",
-            &sets(&["lubricant.noise.sigma=1"]),
+            // As text: the report quotes this `--set` as written ("=1", not the typed "=1e0").
+            &["lubricant.noise.sigma=1".to_string()],
         ),
         zero_literal: b.run("noise_zero_literal", "noise_zero", &lit),
         large: LARGE_SIGMAS
             .iter()
             .map(|&sigma| {
-                let s = vec![format!("lubricant.noise.sigma={sigma:e}")];
+                let s = sets(&[noise::SIGMA.set(sigma)]);
                 (
                     sigma,
                     b.run(

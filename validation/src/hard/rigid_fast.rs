@@ -10,6 +10,7 @@ use super::{
 use crate::facts::Facts;
 use stickslip_report::fmt::sig;
 use stickslip_report::stats::{cv, diffs, mean};
+use stickslip_run::keys::{contact, output, time, words::Scheme};
 
 /// Case 8: rigid drive at V0 = 1 m/s, event delimitation.
 #[derive(Debug, Clone)]
@@ -33,7 +34,7 @@ pub fn rigid_fast(b: &Bench) -> RigidFast {
                     b.run(
                         &format!("rigid_fast_accurate_n{n}"),
                         "rigid_fast_events",
-                        &[format!("contact.nodes={n}")],
+                        &sets(&[contact::NODES.set(n as i64)]),
                     ),
                 )
             })
@@ -41,12 +42,12 @@ pub fn rigid_fast(b: &Bench) -> RigidFast {
         literal: b.run(
             "rigid_fast_literal",
             "rigid_fast_events",
-            &sets(&["time.scheme=literal"]),
+            &sets(&[time::SCHEME.set(Scheme::Literal)]),
         ),
         old_gap: b.run(
             "rigid_fast_old_gap",
             "rigid_fast_events",
-            &sets(&["output.event_merge_gap=1e-5"]),
+            &sets(&[output::EVENT_MERGE_GAP.set(1e-5)]),
         ),
     }
 }

@@ -9,6 +9,7 @@ use super::{
 use stickslip_core::preflight::Preflight;
 use stickslip_report::fmt::{opt, sig};
 use stickslip_report::stats::interp;
+use stickslip_run::keys::{contact, time, words::Scheme};
 
 /// Case 1: ρ > 1 from a soft substrate (or a thin film).
 #[derive(Debug, Clone)]
@@ -30,7 +31,7 @@ pub const SOFT_F_TIME_S: f64 = 7e-4;
 
 /// Runs case 1.
 pub fn soft_substrate(b: &Bench) -> SoftSubstrate {
-    let literal_sets = sets(&["time.scheme=literal"]);
+    let literal_sets = sets(&[time::SCHEME.set(Scheme::Literal)]);
     SoftSubstrate {
         literal: b.run("soft_literal", "soft_substrate", &literal_sets),
         thin_film_literal: b.run(
@@ -38,7 +39,7 @@ pub fn soft_substrate(b: &Bench) -> SoftSubstrate {
             "soft_substrate",
             &with(
                 &literal_sets,
-                &sets(&["contact.g_eff=1e9", "contact.film_thickness=1e-8"]),
+                &sets(&[contact::G_EFF.set(1e9), contact::FILM_THICKNESS.set(1e-8)]),
             ),
         ),
         preflight: b.preflight("soft_substrate", &literal_sets),
@@ -50,7 +51,7 @@ pub fn soft_substrate(b: &Bench) -> SoftSubstrate {
                     b.run(
                         &format!("soft_accurate_n{n}"),
                         "soft_substrate",
-                        &[format!("contact.nodes={n}")],
+                        &sets(&[contact::NODES.set(n as i64)]),
                     ),
                 )
             })

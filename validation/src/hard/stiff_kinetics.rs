@@ -11,6 +11,7 @@ use crate::facts::Facts;
 use stickslip_core::preflight::Preflight;
 use stickslip_report::fmt::{opt, sig};
 use stickslip_report::stats::{diffs, mean};
+use stickslip_run::keys::{lubricant, time, words::Scheme};
 
 /// Case 2 at one γ.
 #[derive(Debug, Clone)]
@@ -41,8 +42,8 @@ pub fn stiff_kinetics(b: &Bench) -> StiffKinetics {
         runs: STIFF_GAMMAS
             .iter()
             .map(|&g| {
-                let gs = vec![format!("lubricant.gamma={g:e}")];
-                let lit = with(&gs, &sets(&["time.scheme=literal"]));
+                let gs = sets(&[lubricant::GAMMA.set(g)]);
+                let lit = with(&gs, &sets(&[time::SCHEME.set(Scheme::Literal)]));
                 StiffRun {
                     gamma: g,
                     preflight: b.preflight("stiff_kinetics", &lit),

@@ -47,6 +47,8 @@ use stickslip_core::mdr::OperatorForm;
 use stickslip_report::binary;
 use stickslip_report::fmt::first_line;
 use stickslip_report::stats::{log_log_slope, median};
+use stickslip_run::keys::words::{OperatorChoice, Scheme, Stepping, Substrate};
+use stickslip_run::keys::{contact, numerics, time};
 use stickslip_run::schema::run_info::RunInfo;
 use stickslip_run::{RunStatus, Scene};
 
@@ -480,15 +482,13 @@ pub struct Performance {
     pub machine: String,
 }
 
-fn set(k: &str, v: impl std::fmt::Display) -> String {
-    format!("{k}={v}")
-}
-
 /// A window of `window_s` of the scene: end and the profile there.
 fn window(window_s: f64) -> [String; 2] {
     [
-        set("time.end", format!("{window_s:e}")),
-        format!("output.profile_times=[{window_s:e}]"),
+        stickslip_run::keys::time::END.set(window_s).to_string(),
+        stickslip_run::keys::output::PROFILE_TIMES
+            .set(vec![window_s])
+            .to_string(),
     ]
 }
 
@@ -502,9 +502,9 @@ pub fn same_n_reference(s: &BenchSettings, nodes: usize) -> Result<SameNReferenc
     let mut walls = Vec::new();
     for dt in s.reference_dts_s {
         let sets = vec![
-            set("contact.nodes", nodes),
-            set("time.stepping", "fixed"),
-            set("time.dt", format!("{dt:e}")),
+            contact::NODES.set(nodes as i64).to_string(),
+            time::STEPPING.set(Stepping::Fixed).to_string(),
+            time::DT.set(dt).to_string(),
         ];
         let m = run_cli(s, &format!("reference_{nodes}"), &sets, 2)?;
         walls.push(m.wall_s);
@@ -546,7 +546,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     progress(&format!(
         "T1: fig2 accurate, default settings, N = {T1_NODES}"
     ));
-    let t1_sets = vec![set("contact.nodes", T1_NODES)];
+    let t1_sets = vec![contact::NODES.set(T1_NODES as i64).to_string()];
     let t1_two = timed(s, "t1", &t1_sets, 2, s.repeats, r)?;
     let t1_one = timed(s, "t1", &t1_sets, 1, s.repeats, r)?;
 
@@ -559,10 +559,11 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let fo = Scene::from_path(&fo_path, &[] as &[String])
         .map_err(|e| format!("{}: {e}", fo_path.display()))?;
     let mut p6_sets = t1_sets.clone();
-    p6_sets.push(set(
-        "lubricant.cubic",
-        format!("{:e}", fo.config.lubricant.cubic_pa),
-    ));
+    p6_sets.push(
+        stickslip_run::keys::lubricant::CUBIC
+            .set(fo.config.lubricant.cubic_pa)
+            .to_string(),
+    );
     let first_order = timed(s, "p6", &p6_sets, 2, s.repeats, &[])?;
 
     // P1: fig2 as shipped, and its reference at the same N.
@@ -570,9 +571,9 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     progress(&format!(
         "P1: fig2 as shipped (N = {shipped_nodes}) and its reference"
     ));
-    let shipped_sets = vec![set("contact.nodes", shipped_nodes)];
+    let shipped_sets = vec![contact::NODES.set(shipped_nodes as i64).to_string()];
     let mut shipped_reference_settings = shipped_sets.clone();
-    shipped_reference_settings.push(set("time.tolerance", format!("{P1_REFERENCE_TOLERANCE:e}")));
+    shipped_reference_settings.push(time::TOLERANCE.set(P1_REFERENCE_TOLERANCE).to_string());
     let shipped_reference = run_cli(s, "p1_reference", &shipped_reference_settings, 2)?;
     let shipped = timed(
         s,
@@ -585,7 +586,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
 
     progress("P1 profile: rigid substrate, and the approach to the first onset");
     let mut rigid_shipped_sets = shipped_sets.clone();
-    rigid_shipped_sets.push(set("contact.substrate", "rigid"));
+    rigid_shipped_sets.push(contact::SUBSTRATE.set(Substrate::Rigid).to_string());
     let shipped_rigid = timed(s, "p1_rigid", &rigid_shipped_sets, 2, s.repeats.min(3), &[])?;
     let ev = &shipped_reference.events;
     if ev.onsets_s.len() < 2 {
@@ -605,9 +606,9 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let literal_window_s = if s.quick { 5e-6 } else { 3.4e-5 };
     progress(&format!("literal N = {paper_nodes} window"));
     let mut lit_sets = vec![
-        set("contact.nodes", paper_nodes),
-        set("time.scheme", "literal"),
-        set("time.dt", format!("{paper_dt_s:e}")),
+        contact::NODES.set(paper_nodes as i64).to_string(),
+        time::SCHEME.set(Scheme::Literal).to_string(),
+        time::DT.set(paper_dt_s).to_string(),
     ];
     lit_sets.extend(window(literal_window_s));
     let literal_window_run = timed(s, "literal", &lit_sets, 2, 1, &[])?;
@@ -620,16 +621,16 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         "T2: N = {paper_nodes}, fixed dt = {paper_dt_s:e} s"
     ));
     let full_sets = vec![
-        set("contact.nodes", paper_nodes),
-        set("time.stepping", "fixed"),
-        set("time.dt", format!("{paper_dt_s:e}")),
+        contact::NODES.set(paper_nodes as i64).to_string(),
+        time::STEPPING.set(Stepping::Fixed).to_string(),
+        time::DT.set(paper_dt_s).to_string(),
     ];
     let full_resolution_window_s = if s.quick { 2e-6 } else { 2.6e-5 };
     let mut t2_window_sets = full_sets.clone();
     t2_window_sets.extend(window(full_resolution_window_s));
     let t2_window = timed(s, "t2_window", &t2_window_sets, 2, s.repeats, &[])?;
     let mut rigid_sets = t2_window_sets.clone();
-    rigid_sets.push(set("contact.substrate", "rigid"));
+    rigid_sets.push(contact::SUBSTRATE.set(Substrate::Rigid).to_string());
     let t2_rigid = timed(s, "t2_rigid", &rigid_sets, 2, s.repeats, &[])?;
     let t2_profile_rigid_us_per_step = t2_rigid.us_per_step();
     let t2_profile_elastic_us_per_step = t2_window.us_per_step();
@@ -652,7 +653,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let rigid_full = if full_resolution_measured {
         progress("P2: full run, rigid substrate");
         let mut sets = full_sets.clone();
-        sets.push(set("contact.substrate", "rigid"));
+        sets.push(contact::SUBSTRATE.set(Substrate::Rigid).to_string());
         Some(timed(s, "p2_rigid_full", &sets, 2, 1, &[])?)
     } else {
         None
@@ -661,16 +662,19 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     // T3.
     let mut cost_per_step = Vec::new();
     for &n in &s.sweep_nodes {
-        for operator in ["fast", "dense"] {
-            if operator == "dense" && n > DENSE_MAX_NODES {
+        for (operator, choice) in [
+            ("fast", OperatorChoice::Fast),
+            ("dense", OperatorChoice::Dense),
+        ] {
+            if choice == OperatorChoice::Dense && n > DENSE_MAX_NODES {
                 continue;
             }
             progress(&format!("T3: N = {n}, {operator}"));
             let mut sets = vec![
-                set("contact.nodes", n),
-                set("time.stepping", "fixed"),
-                set("time.dt", format!("{paper_dt_s:e}")),
-                set("numerics.operator", operator),
+                contact::NODES.set(n as i64).to_string(),
+                time::STEPPING.set(Stepping::Fixed).to_string(),
+                time::DT.set(paper_dt_s).to_string(),
+                numerics::OPERATOR.set(choice).to_string(),
             ];
             sets.extend(window(s.sweep_steps as f64 * paper_dt_s));
             let t = timed(s, &format!("t3_{n}_{operator}"), &sets, 2, s.repeats, &[])?;
@@ -703,8 +707,8 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     for &tol in tolerances {
         progress(&format!("T4: adaptive tol {tol:e}"));
         let sets = vec![
-            set("contact.nodes", T4_NODES),
-            set("time.tolerance", format!("{tol:e}")),
+            contact::NODES.set(T4_NODES as i64).to_string(),
+            time::TOLERANCE.set(tol).to_string(),
         ];
         let t = timed(s, "t4", &sets, 2, s.repeats, r4)?;
         work_precision.push(WpPoint {
@@ -724,9 +728,9 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     for &dt in dts {
         progress(&format!("T4: fixed dt {dt:e}"));
         let sets = vec![
-            set("contact.nodes", T4_NODES),
-            set("time.stepping", "fixed"),
-            set("time.dt", format!("{dt:e}")),
+            contact::NODES.set(T4_NODES as i64).to_string(),
+            time::STEPPING.set(Stepping::Fixed).to_string(),
+            time::DT.set(dt).to_string(),
         ];
         let t = timed(s, "t4", &sets, 2, s.repeats, r4)?;
         work_precision.push(WpPoint {

@@ -14,6 +14,7 @@ use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
 use stickslip_run::Scene;
+use stickslip_run::keys::{Setting, contact, time};
 use stickslip_run::sweep::map::MapJson;
 use stickslip_run::sweep::refine::agreement;
 
@@ -33,12 +34,14 @@ pub const M2_RTOL: f64 = 1e-3;
 pub const M2_A0_PA: f64 = 1e6;
 
 /// The sweep settings shared by M1's sweeps and M2's scene (maps/rigid.toml's `[set]`).
-const SET: [(&str, &str); 4] = [
-    ("contact.nodes", "50"),
-    ("time.end", "2e-3"),
-    ("time.max_events", "6"),
-    ("time.max_open_event", "2e-5"),
-];
+fn shared_settings() -> [Setting; 4] {
+    [
+        contact::NODES.set(50),
+        time::END.set(2e-3),
+        time::MAX_EVENTS.set(6),
+        time::MAX_OPEN_EVENT.set(2e-5),
+    ]
+}
 
 /// What M1 and M2 measured.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -91,12 +94,8 @@ fn sweep_toml(scene: &Path, name: &str, axes: &[toml::Table], refine: Option<u32
     t.insert("name".into(), name.into());
     t.insert("scene".into(), scene.display().to_string().into());
     let mut set = toml::Table::new();
-    for (k, v) in SET {
-        let value: toml::Value = v
-            .parse::<i64>()
-            .map(toml::Value::Integer)
-            .unwrap_or_else(|_| toml::Value::Float(v.parse().unwrap_or(f64::NAN)));
-        set.insert(k.into(), value);
+    for setting in shared_settings() {
+        set.insert(setting.path.into(), setting.value);
     }
     set.insert(
         "output.profile_times".into(),
@@ -182,8 +181,12 @@ pub fn measure(s: &BenchSettings, rigid_scene: &Path) -> Result<RefineBench, Str
     );
 
     // M2: the critical speed by bisection.
-    let mut sets: Vec<String> = SET.iter().map(|(k, v)| format!("{k}={v}")).collect();
-    sets.push(format!("temperature.A0={M2_A0_PA:e}"));
+    let mut sets: Vec<String> = shared_settings().iter().map(ToString::to_string).collect();
+    sets.push(
+        stickslip_run::keys::temperature::A0
+            .set(M2_A0_PA)
+            .to_string(),
+    );
     let scene = Scene::from_path(rigid_scene, &sets)
         .map_err(|e| format!("{}: {e}", rigid_scene.display()))?;
     let start = Instant::now();
