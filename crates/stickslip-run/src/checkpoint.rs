@@ -179,11 +179,11 @@ pub enum CheckpointError {
 impl CheckpointError {
     /// Exit status of the command line: 0 for a run that finished, 3 for one that failed
     /// numerically, 2 otherwise.
-    pub fn exit_code(&self) -> i32 {
+    pub fn exit(&self) -> crate::exit::Exit {
         match self {
-            Self::Finished { status, .. } if status == "ok" => 0,
-            Self::Finished { .. } => 3,
-            Self::Missing { .. } | Self::Corrupt { .. } => 2,
+            Self::Finished { status, .. } if status == "ok" => crate::exit::Exit::Success,
+            Self::Finished { .. } => crate::exit::Exit::Numerical,
+            Self::Missing { .. } | Self::Corrupt { .. } => crate::exit::Exit::BadInput,
         }
     }
 

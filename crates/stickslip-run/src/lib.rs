@@ -13,10 +13,12 @@
 //! - [`check`]: what `stickslip check` reports (preflight, plausibility, a timed probe);
 //! - [`sweep`]: friction maps, points run in-process on threads, sharded, resumable, merged;
 //! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file;
-//! - [`build_id`]: the build identity of the numerics, which sweep points carry.
+//! - [`build_id`]: the build identity of the numerics, which sweep points carry;
+//! - [`exit`]: the kinds of ending, as the command line's exit statuses.
 //!
-//! Invariant: no command-line or terminal code here (no clap, no progress bars, no exit
-//! codes); the physics comes from `stickslip-core`.
+//! Invariant: no command-line or terminal code here (no clap, no progress bars); errors say
+//! which kind of ending they are as an [`exit::Exit`], the command line turns that into the
+//! process's status; the physics comes from `stickslip-core`.
 
 pub mod atomic;
 pub mod boundary;
@@ -24,6 +26,7 @@ pub mod build_id;
 pub mod check;
 pub mod checkpoint;
 pub mod driver;
+pub mod exit;
 pub mod keys;
 pub mod outcome;
 pub mod scene;

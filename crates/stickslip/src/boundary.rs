@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::process::ExitCode;
 use stickslip_run::boundary::{BoundaryError, Probe, find};
+use stickslip_run::exit::Exit;
 use stickslip_run::scene::Scene;
 use stickslip_run::summary::RegimeThresholds;
 
@@ -26,15 +27,15 @@ pub struct Args<'a> {
 }
 
 /// Runs the search and prints its answer; exit 0, 2 for bad input (including ends of the same
-/// regime), 1 for a failed run, 130 when interrupted.
+/// regime), 3 for a run that failed numerically, 130 when interrupted.
 pub fn main(a: &Args<'_>) -> ExitCode {
     let base = match Scene::from_path(a.scene, a.set) {
         Ok(s) => s,
-        Err(e) => return crate::fail(e, 2),
+        Err(e) => return crate::fail(e, Exit::BadInput),
     };
     let flag = match crate::interrupt_flag() {
         Ok(f) => f,
-        Err(e) => return crate::fail(format!("cannot install the signal handler: {e}"), 1),
+        Err(e) => return crate::fail(format!("cannot install the signal handler: {e}"), Exit::Io),
     };
     let quiet = a.quiet;
     let key = a.key;
@@ -79,9 +80,9 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             );
             ExitCode::SUCCESS
         }
-        Err(e @ BoundaryError::Failed { .. }) => crate::fail(e, 1),
-        Err(e @ BoundaryError::Interrupted { .. }) => crate::fail(e, crate::EXIT_INTERRUPTED),
-        Err(BoundaryError::Start(e)) => crate::fail(e, 2),
-        Err(e) => crate::fail(e, 2),
+        Err(e @ BoundaryError::Failed { .. }) => crate::fail(e, Exit::Numerical),
+        Err(e @ BoundaryError::Interrupted { .. }) => crate::fail(e, Exit::Interrupted),
+        Err(BoundaryError::Start(e)) => crate::fail(e, Exit::BadInput),
+        Err(e) => crate::fail(e, Exit::BadInput),
     }
 }

@@ -4,13 +4,14 @@
 use std::process::ExitCode;
 use stickslip_core::preflight::Severity;
 use stickslip_run::ResolvedScene;
+use stickslip_run::exit::Exit;
 
 /// Prints the check of `scene`; exit 0 (2 if the engine rejects it). A configuration that
 /// `run` would refuse is valid here: the refusal is printed among the warnings.
 pub fn print(scene: &ResolvedScene) -> ExitCode {
     let report = match stickslip_run::check::check(scene) {
         Ok(r) => r,
-        Err(e) => return crate::fail(e, 2),
+        Err(e) => return crate::fail(e, Exit::BadInput),
     };
     let p = &report.preflight;
     let d = &p.derived;

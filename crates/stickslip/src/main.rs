@@ -40,11 +40,9 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use stickslip_core::preflight::{Finding, Severity};
 use stickslip_run::checkpoint::CheckpointError;
+use stickslip_run::exit::Exit;
 use stickslip_run::sink::dir::DEFAULT_CHECKPOINT_EVERY_S;
 use stickslip_run::{DirOptions, RunError, RunOutcome, Scene, StopReason};
-
-/// Exit status of an interrupted run (128 + SIGINT).
-pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// Stick–slip friction of a lubricant film under a flat stamp.
 #[derive(Debug, Parser)]
@@ -90,7 +88,7 @@ enum Command {
     /// Find where the regime changes along one key: both ends are run, then the bracket is
     /// halved (geometric midpoints when both ends are > 0) until it is within --rtol; prints
     /// the value, the regimes on both sides and the runs taken. Exit 2 when both ends have
-    /// the same regime.
+    /// the same regime, 3 when a run fails numerically.
     Boundary {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -147,10 +145,16 @@ fn parse_interval(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Prints `message` as an error and returns `code`.
-pub fn fail(message: impl std::fmt::Display, code: u8) -> ExitCode {
+/// Prints `message` as an error and returns the status of `exit`.
+pub fn fail(message: impl std::fmt::Display, exit: Exit) -> ExitCode {
     eprintln!("error: {message}");
-    ExitCode::from(code)
+    code(exit)
+}
+
+/// The process's exit status for `exit`.
+#[must_use]
+pub fn code(exit: Exit) -> ExitCode {
+    ExitCode::from(exit.code())
 }
 
 /// A flag set by SIGINT and SIGTERM.
@@ -191,7 +195,7 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
                 stickslip_run::checkpoint::path(dir).display(),
                 dir.display()
             );
-            ExitCode::from(EXIT_INTERRUPTED)
+            code(Exit::Interrupted)
         }
         StopReason::Failure | StopReason::Refused => {
             let failure = outcome
@@ -203,7 +207,7 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
                     "{failure} (output up to the failure written to {})",
                     dir.display()
                 ),
-                3,
+                Exit::Numerical,
             )
         }
         StopReason::End | StopReason::MaxEvents | StopReason::OpenEvent | StopReason::Periodic => {
@@ -222,18 +226,17 @@ fn report(name: &str, dir: &Path, outcome: &RunOutcome) -> ExitCode {
 }
 
 fn run_error(e: &RunError) -> ExitCode {
-    let code = u8::try_from(e.exit_code()).unwrap_or(1);
-    fail(e, code)
+    fail(e, e.exit())
 }
 
 fn run(scene: &Path, out: &Path, set: &[String], quiet: bool, options: &DirOptions) -> ExitCode {
     let resolved = match Scene::from_path(scene, set) {
         Ok(r) => r,
-        Err(e) => return fail(e, 2),
+        Err(e) => return fail(e, Exit::BadInput),
     };
     let flag = match interrupt_flag() {
         Ok(f) => f,
-        Err(e) => return fail(format!("cannot install signal handlers: {e}"), 1),
+        Err(e) => return fail(format!("cannot install signal handlers: {e}"), Exit::Io),
     };
     let mut bar = progress::Bar::new(quiet);
     let mut poll = |p: &stickslip_run::driver::Progress| bar.update(p);
@@ -255,7 +258,7 @@ fn run(scene: &Path, out: &Path, set: &[String], quiet: bool, options: &DirOptio
 fn resume(dir: &Path, quiet: bool, checkpoint_every: Option<f64>) -> ExitCode {
     let flag = match interrupt_flag() {
         Ok(f) => f,
-        Err(e) => return fail(format!("cannot install signal handlers: {e}"), 1),
+        Err(e) => return fail(format!("cannot install signal handlers: {e}"), Exit::Io),
     };
     let mut bar = progress::Bar::new(quiet);
     let mut poll = |p: &stickslip_run::driver::Progress| bar.update(p);
@@ -268,7 +271,9 @@ fn resume(dir: &Path, quiet: bool, checkpoint_every: Option<f64>) -> ExitCode {
     bar.finish();
     match result {
         Ok((scene, outcome)) => report(&scene.name, dir, &outcome),
-        Err(RunError::Checkpoint(e @ CheckpointError::Finished { .. })) if e.exit_code() == 0 => {
+        Err(RunError::Checkpoint(e @ CheckpointError::Finished { .. }))
+            if e.exit() == Exit::Success =>
+        {
             say!("{e}");
             ExitCode::SUCCESS
         }
@@ -298,7 +303,7 @@ fn main() -> ExitCode {
         ),
         Command::Check { scene, set } => match Scene::from_path(&scene, &set) {
             Ok(r) => check::print(&r),
-            Err(e) => fail(e, 2),
+            Err(e) => fail(e, Exit::BadInput),
         },
         Command::Boundary {
             scene,

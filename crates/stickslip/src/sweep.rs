@@ -15,16 +15,12 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::sync::atomic::Ordering;
+use stickslip_run::exit::Exit;
 use stickslip_run::sweep::exec::{
     self, Merge, MergeCost, Prepared, SweepOptions, SweepProgress, SweepRunError,
 };
 use stickslip_run::sweep::map::MapJson;
 use stickslip_run::sweep::{Sweep, slurm};
-
-/// Exit status of a complete map with failed or refused points.
-pub const EXIT_FAILED_POINTS: u8 = 4;
-/// Exit status of `merge` while points are missing.
-pub const EXIT_INCOMPLETE: u8 = 5;
 
 /// What to keep of each point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -140,7 +136,7 @@ fn parse_wait(s: &str) -> Result<f64, String> {
 }
 
 fn sweep_error(e: &SweepRunError) -> ExitCode {
-    crate::fail(e, e.exit_code())
+    crate::fail(e, e.exit())
 }
 
 /// "from 4 shard tables", "from 12 records", … of a merge.
@@ -200,9 +196,10 @@ fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
             if bad > 0 {
                 eprintln!(
                     "warning: {bad} points failed or were refused: their rows in map.csv give \
-                     the status and the message (exit {EXIT_FAILED_POINTS})"
+                     the status and the message (exit {})",
+                    Exit::FailedPoints.code()
                 );
-                return ExitCode::from(EXIT_FAILED_POINTS);
+                return crate::code(Exit::FailedPoints);
             }
             ExitCode::SUCCESS
         }
@@ -234,7 +231,7 @@ fn report_merge(dir: &Path, merge: &Merge, after_shard: bool) -> ExitCode {
                          run the missing shards (finished points are skipped), then merge again",
                         dir.display()
                     ),
-                    EXIT_INCOMPLETE,
+                    Exit::Incomplete,
                 )
             }
         }
@@ -301,7 +298,7 @@ fn run(
 ) -> ExitCode {
     let sweep = match Sweep::load(path, allow_large) {
         Ok(s) => s,
-        Err(e) => return crate::fail(e, 2),
+        Err(e) => return crate::fail(e, Exit::BadInput),
     };
     match exec::prepare(&sweep, dir, force) {
         Ok(prepared) => report_prepared(dir, &prepared),
@@ -309,7 +306,7 @@ fn run(
     }
     let flag = match crate::interrupt_flag() {
         Ok(f) => f,
-        Err(e) => return crate::fail(format!("cannot install signal handlers: {e}"), 1),
+        Err(e) => return crate::fail(format!("cannot install signal handlers: {e}"), Exit::Io),
     };
     let jobs = jobs.map_or_else(
         || std::thread::available_parallelism().map_or(1, usize::from),
@@ -349,7 +346,7 @@ fn run(
     }
     if report.interrupted || flag.load(Ordering::Relaxed) {
         eprintln!("interrupted: finished points are kept; rerun the same command to run the rest");
-        return ExitCode::from(crate::EXIT_INTERRUPTED);
+        return crate::code(Exit::Interrupted);
     }
     if let Some(w) = report.waiting {
         // A refined sweep's next level is decided by every shard's results of this one.
@@ -396,7 +393,7 @@ fn submit_slurm(
 ) -> ExitCode {
     let sweep = match Sweep::load(path, allow_large) {
         Ok(s) => s,
-        Err(e) => return crate::fail(e, 2),
+        Err(e) => return crate::fail(e, Exit::BadInput),
     };
     match exec::prepare(&sweep, dir, force) {
         Ok(prepared) => report_prepared(dir, &prepared),
@@ -428,7 +425,7 @@ fn submit_slurm(
     if let Err(e) = std::fs::create_dir_all(dir.join("slurm"))
         .and_then(|()| stickslip_run::atomic::write_atomic(dir, slurm::SCRIPT, text.as_bytes()))
     {
-        return crate::fail(format!("cannot write {}: {e}", script.display()), 1);
+        return crate::fail(format!("cannot write {}: {e}", script.display()), Exit::Io);
     }
     match &sweep.refine {
         None => say!(
@@ -495,10 +492,10 @@ fn submit_slurm(
                         out.status,
                         String::from_utf8_lossy(&out.stderr).trim()
                     ),
-                    1,
+                    Exit::Io,
                 );
             }
-            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), 1),
+            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), Exit::Io),
         }
     }
     if waves > 1 {
@@ -536,10 +533,10 @@ fn submit_slurm(
                         String::from_utf8_lossy(&out.stderr).trim(),
                         dir.display()
                     ),
-                    1,
+                    Exit::Io,
                 );
             }
-            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), 1),
+            Err(e) => return crate::fail(format!("cannot run sbatch: {e}"), Exit::Io),
         }
         say!("to merge by hand: stickslip sweep merge {}", dir.display());
         return ExitCode::SUCCESS;
@@ -576,13 +573,13 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
                 } else {
                     partial.to_string()
                 };
-                return crate::fail(why, 2);
+                return crate::fail(why, Exit::BadInput);
             }
         },
     };
     let panels = match stickslip_report::map::panels(&json, quantity) {
         Ok(p) => p,
-        Err(e) => return crate::fail(e, 2),
+        Err(e) => return crate::fail(e, Exit::BadInput),
     };
     let svg = match stickslip_report::plot::render_svg(
         &panels,
@@ -591,7 +588,7 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
         stickslip_report::map::PANEL_PX.1,
     ) {
         Ok(s) => s,
-        Err(e) => return crate::fail(format!("cannot draw the map: {e}"), 1),
+        Err(e) => return crate::fail(format!("cannot draw the map: {e}"), Exit::Io),
     };
     let path = out.unwrap_or_else(|| dir.join(format!("map_{quantity}.svg")));
     match stickslip_report::write_atomic(&path, svg.as_bytes()) {
@@ -599,7 +596,7 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
             say!("wrote {}", path.display());
             ExitCode::SUCCESS
         }
-        Err(e) => crate::fail(format!("cannot write {}: {e}", path.display()), 1),
+        Err(e) => crate::fail(format!("cannot write {}: {e}", path.display()), Exit::Io),
     }
 }
 

@@ -137,3 +137,29 @@ fn bad_calls_exit_2_and_say_why() {
         );
     }
 }
+
+#[test]
+fn a_run_that_fails_numerically_exits_3_naming_the_value() {
+    // A runaway limit just above τmax: at fig2's temperature the first end's run fails at its
+    // first stress peak.
+    let rigid = scene("rigid");
+    let out = run(&[
+        "boundary",
+        rigid.to_str().unwrap(),
+        "--set",
+        "contact.nodes=50",
+        "--set",
+        "numerics.runaway_stress_factor=1.0001",
+        "--key",
+        "drive.velocity",
+        "--from",
+        "0.01",
+        "--to",
+        "3",
+        "--quiet",
+    ]);
+    let (_, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("drive.velocity = 0.01: the run failed"), "{stderr}");
+    assert!(stderr.contains("runaway_stress_factor"), "{stderr}");
+}

@@ -104,7 +104,7 @@ pub enum RunError {
         /// The I/O error.
         source: io::Error,
     },
-    /// A directory that cannot be resumed (see [`CheckpointError::exit_code`]).
+    /// A directory that cannot be resumed (see [`CheckpointError::exit`]).
     #[error(transparent)]
     Checkpoint(#[from] CheckpointError),
 }
@@ -113,11 +113,13 @@ impl RunError {
     /// Exit status of the command line: 2 bad scene or output directory, 1 an I/O error
     /// during the run, the checkpoint error's own code.
     #[must_use]
-    pub fn exit_code(&self) -> i32 {
+    pub fn exit(&self) -> crate::exit::Exit {
         match self {
-            Self::Config(_) | Self::OutDir { .. } | Self::Existing { .. } => 2,
-            Self::Io { .. } => 1,
-            Self::Checkpoint(e) => e.exit_code(),
+            Self::Config(_) | Self::OutDir { .. } | Self::Existing { .. } => {
+                crate::exit::Exit::BadInput
+            }
+            Self::Io { .. } => crate::exit::Exit::Io,
+            Self::Checkpoint(e) => e.exit(),
         }
     }
 }

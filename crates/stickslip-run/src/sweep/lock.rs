@@ -90,10 +90,10 @@ pub enum SweepRunError {
 impl SweepRunError {
     /// Exit status of the command line: 1 for an I/O error during the sweep, 2 otherwise.
     #[must_use]
-    pub fn exit_code(&self) -> u8 {
+    pub fn exit(&self) -> crate::exit::Exit {
         match self {
-            Self::Io { .. } => 1,
-            _ => 2,
+            Self::Io { .. } => crate::exit::Exit::Io,
+            _ => crate::exit::Exit::BadInput,
         }
     }
 }
