@@ -1,5 +1,6 @@
-//! Drive integrators against the exact friction-free spring motion: observed orders of velocity
-//! Verlet and RK4, long-run energy behaviour, split Verlet, and the exact rigid drive.
+//! Drive integrators against exact answers: observed orders of velocity Verlet and RK4 on the
+//! friction-free spring, of the split integrator under a prescribed friction force (and its
+//! exactness without one), long-run energy behaviour, split Verlet, and the exact rigid drive.
 
 use stickslip_core::drive::{
     Drive, DriveState, Integrator, RigidDrive, SpringDrive, comoving_energy_j, free_spring_exact,
@@ -71,6 +72,57 @@ fn rk4_is_fourth_order() {
     let o = orders(&fig2(), Integrator::Rk4, 4..=9);
     for &p in &o[o.len() - 3..] {
         assert!((3.7..=4.3).contains(&p), "{o:?}");
+    }
+}
+
+/// The split integrator under a prescribed friction force F(t) = F0·sin(Ωt), whose motion is
+/// known in closed form: with Y = X − V0·t, m·Ÿ = −K·Y − F(t), from rest (Y = 0, Ẏ = −V0),
+/// Y = B·sin ωt + Yp with Yp = −F0·sin(Ωt)/(m·(ω² − Ω²)) and B·ω = −V0 − Ẏp(0). Phase-space
+/// error at `t_end_s` after 2^k split steps with F at each step's start and end, normalised as
+/// in [`phase_error`].
+fn split_forced_error(drive: &SpringDrive, f0_n: f64, t_end_s: f64, k: u32) -> f64 {
+    let omega_f = 30.0;
+    let force = |t: f64| f0_n * (omega_f * t).sin();
+    let n = 1u32 << k;
+    let dt = t_end_s / f64::from(n);
+    let mut state = DriveState::at_rest();
+    for i in 0..n {
+        let t0 = f64::from(i) * dt;
+        drive.split_step(&mut state, dt, force(t0), force(t0 + dt));
+    }
+    let (m, w, v0) = (
+        drive.mass_kg,
+        drive.omega_rad_per_s(),
+        drive.velocity_m_per_s,
+    );
+    let c = -f0_n / (m * (w * w - omega_f * omega_f));
+    let b = (-v0 - c * omega_f) / w;
+    let y = b * (w * t_end_s).sin() + c * (omega_f * t_end_s).sin();
+    let yv = b * w * (w * t_end_s).cos() + c * omega_f * (omega_f * t_end_s).cos();
+    let (x, v) = (y + v0 * t_end_s, yv + v0);
+    let ex = (state.x_m - x) / (v0 / w);
+    let ev = (state.v_m_per_s - v) / v0;
+    assert!((state.t_s - t_end_s).abs() <= 1e-12 * t_end_s);
+    ex.hypot(ev)
+}
+
+#[test]
+fn split_is_exact_without_friction_and_second_order_with_it() {
+    let d = fig2();
+    // F = 0: the spring's own flow, exact whatever the step (ωΔt up to 7).
+    for k in 0..=6 {
+        let e = split_forced_error(&d, 0.0, 0.1, k);
+        assert!(e <= 1e-12, "2^{k} steps: {e:e}");
+    }
+    // F0 = 3 N, about half the spring's force amplitude K·V0/ω ≈ 7 N.
+    let errors: Vec<f64> = (5..=11)
+        .map(|k| split_forced_error(&d, 3.0, 0.1, k))
+        .collect();
+    let orders: Vec<f64> = errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
+    let shown: Vec<String> = errors.iter().map(|e| format!("{e:.3e}")).collect();
+    eprintln!("split under F0·sin(Ωt): errors {shown:?}, observed orders {orders:.4?}");
+    for &p in &orders[orders.len() - 4..] {
+        assert!((1.9..=2.1).contains(&p), "{orders:?}");
     }
 }
 

@@ -468,10 +468,3 @@ fn implicit_euler_is_first_order_and_stays_between_stationary_states() {
         assert!(phi > phi0 && phi <= plus, "{phi}");
     }
 }
-
-#[test]
-fn debug_one() {
-    let b3 = 1e-9 * B * 1.5f64.sqrt();
-    let phi = first_order::exact_phi(1.0, 0.0, B, b3, GAMMA, 2.49975020412396e-4);
-    eprintln!("{phi} {:?}", branches(0.0, B, b3));
-}

@@ -159,12 +159,13 @@ fn adaptive_error_falls_with_the_tolerance() {
     }
     // The error follows the tolerance (a local error per step of order tol gives a global one
     // of order tol^(2/3)): it falls by at least 300 over four decades, stays within 20·tol,
-    // and within a factor 3 of the second-order film's at every tolerance: the same standard.
+    // and within 25 % of the second-order film's at every tolerance (docs/model.md): the same
+    // standard.
     assert!(first[0] >= 300.0 * first[4], "{first:?}");
     for ((tol, e1), e2) in tolerances.iter().zip(&first).zip(&second) {
         assert!(*e1 <= 20.0 * tol, "tolerance {tol:e}: error {e1:e}");
         assert!(
-            (e1 / e2) < 3.0 && (e2 / e1) < 3.0,
+            (e1 / e2) < 1.25 && (e2 / e1) < 1.25,
             "tolerance {tol:e}: {e1:e} against {e2:e}"
         );
     }

@@ -160,6 +160,9 @@ fn a_run_that_fails_numerically_exits_3_naming_the_value() {
     ]);
     let (_, stderr) = texts(&out);
     assert_eq!(out.status.code(), Some(3), "{stderr}");
-    assert!(stderr.contains("drive.velocity = 0.01: the run failed"), "{stderr}");
+    assert!(
+        stderr.contains("drive.velocity = 0.01: the run failed"),
+        "{stderr}"
+    );
     assert!(stderr.contains("runaway_stress_factor"), "{stderr}");
 }
