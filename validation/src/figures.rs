@@ -748,7 +748,8 @@ fn literal(runs: &Runs) -> Figure {
     )
 }
 
-/// Every figure of the report, in the order of the index.
+/// The figures of the paper's (second-order) film, in the order of the index; the
+/// first-order film's follow them (`crate::figures_first_order::all`).
 pub fn all(runs: &Runs) -> Vec<Figure> {
     vec![
         fig2a(runs),
@@ -764,7 +765,4 @@ pub fn all(runs: &Runs) -> Vec<Figure> {
         homogeneous(runs),
         literal(runs),
     ]
-    .into_iter()
-    .chain(crate::figures_first_order::all(runs))
-    .collect()
 }

@@ -100,7 +100,8 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         return Ok(all_pass && diffs.is_empty());
     }
     std::fs::create_dir_all(&reports).map_err(|e| format!("{}: {e}", reports.display()))?;
-    let figures = crate::figures::all(&runs);
+    let mut figures = crate::figures::all(&runs);
+    figures.extend(crate::figures_first_order::all(&runs));
     for fig in &figures {
         match &fig.svg {
             Ok(svg) => write(&reports.join(fig.file), svg.as_bytes())?,

@@ -170,42 +170,95 @@ fn no_source_file_is_far_over_a_thousand_lines() {
     );
 }
 
+/// The modules a crate root or a `mod.rs` declares (`mod x;` or `pub mod x;`, tests aside).
+fn declared_modules(file: &Path) -> Vec<String> {
+    std::fs::read_to_string(file).map_or_else(|_| Vec::new(), |t| modules_in(&t))
+}
+
+/// The modules `text` declares.
+fn modules_in(text: &str) -> Vec<String> {
+    text.lines()
+        .map(str::trim)
+        .filter_map(|l| {
+            let l = l.strip_prefix("pub ").unwrap_or(l);
+            let l = l.strip_prefix("pub(crate) ").unwrap_or(l);
+            l.strip_prefix("mod ")?
+                .strip_suffix(';')
+                .map(str::to_string)
+        })
+        .filter(|m| m != "tests")
+        .collect()
+}
+
 #[test]
-fn architecture_names_every_crate_and_run_library_module() {
+fn architecture_names_every_crate_and_module() {
     let root = workspace_root();
     let text = std::fs::read_to_string(root.join("ARCHITECTURE.md")).expect("ARCHITECTURE.md");
     let mut missing = Vec::new();
-    for dir in [
-        "crates/stickslip-core",
-        "crates/stickslip-run",
-        "crates/stickslip",
-        "crates/stickslip-report",
-        "crates/stickslip-convergence",
-        "crates/stickslip-py",
-        "validation/",
-        "maps/",
-        "benches/",
-        "xtask/",
-    ] {
-        if !text.contains(dir) {
+    // Every crate directory has its own section, headed by its path.
+    let mut crates: Vec<String> = std::fs::read_dir(root.join("crates"))
+        .expect("crates/")
+        .flatten()
+        .filter(|e| e.path().join("Cargo.toml").is_file())
+        .map(|e| format!("crates/{}", e.file_name().to_string_lossy()))
+        .collect();
+    crates.sort();
+    assert!(crates.len() >= 7, "{crates:?}");
+    for dir in &crates {
+        if !text.contains(&format!("### `{dir}`")) {
+            missing.push(format!("a section headed `{dir}`"));
+        }
+    }
+    for dir in ["validation/", "maps/", "benches/", "xtask/"] {
+        if !text.contains(&format!("`{dir}`")) {
             missing.push(dir.to_string());
         }
     }
-    let lib = std::fs::read_to_string(root.join("crates/stickslip-run/src/lib.rs")).unwrap();
-    for line in lib.lines() {
-        if let Some(m) = line
-            .strip_prefix("pub mod ")
-            .and_then(|m| m.strip_suffix(';'))
-            && !text.contains(&format!("`{m}`"))
-            && !text.contains(&format!("`{m}/`"))
-        {
-            missing.push(format!("stickslip-run module {m}"));
+    // Every module of every crate (and one level of submodules) is named in backticks in the
+    // crate's own section (`x`, `x.rs`, `x/` or `parent/x`).
+    for dir in &crates {
+        let heading = format!("### `{dir}`");
+        let section = text.split_once(&heading).map_or("", |(_, rest)| {
+            rest.split_once("\n### ").map_or(rest, |(own, _)| own)
+        });
+        let named = |names: &[String]| {
+            names.iter().any(|n| {
+                [format!("`{n}`"), format!("`{n}.rs`"), format!("`{n}/`")]
+                    .iter()
+                    .any(|form| section.contains(form.as_str()))
+            })
+        };
+        let src = root.join(dir).join("src");
+        for top in ["lib.rs", "main.rs"] {
+            for m in declared_modules(&src.join(top)) {
+                if !named(std::slice::from_ref(&m)) {
+                    missing.push(format!("{dir}: {m}"));
+                }
+                for sub in declared_modules(&src.join(&m).join("mod.rs")) {
+                    if !named(&[sub.clone(), format!("{m}/{sub}")]) {
+                        missing.push(format!("{dir}: {m}/{sub}"));
+                    }
+                }
+            }
         }
     }
     assert!(
         missing.is_empty(),
-        "ARCHITECTURE.md does not name: {missing:?}"
+        "ARCHITECTURE.md does not name: {missing:#?}"
     );
+}
+
+#[test]
+fn the_architecture_check_fails_on_an_unnamed_module() {
+    let declared =
+        modules_in("//! x\npub mod named;\nmod unnamed_one;\n#[cfg(test)]\nmod tests;\n");
+    assert_eq!(declared, ["named", "unnamed_one"]);
+    let architecture = "### `crates/x`\n`named` does this.";
+    let unnamed: Vec<_> = declared
+        .iter()
+        .filter(|m| !architecture.contains(&format!("`{m}`")))
+        .collect();
+    assert_eq!(unnamed, ["unnamed_one"]);
 }
 
 /// The tracked files (`git ls-files`), relative to the root; without git (an unpacked archive)

@@ -18,7 +18,7 @@ fn make(class: &str, message: String, kwargs: &[(&str, serde_json::Value)]) -> P
             let cls = py.import("stickslip._errors")?.getattr(class)?;
             let kw = PyDict::new(py);
             for (k, v) in kwargs {
-                kw.set_item(k, crate::convert::json_to_py(py, v)?)?;
+                kw.set_item(k, crate::json::json_to_py(py, v)?)?;
             }
             let value = cls.call((message.clone(),), Some(&kw))?;
             Ok(PyErr::from_value(value))

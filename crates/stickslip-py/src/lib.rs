@@ -30,6 +30,7 @@ pub mod args;
 pub mod boundary;
 pub mod convert;
 pub mod errors;
+pub mod json;
 pub mod mdr;
 pub mod progress;
 pub mod run;

@@ -155,12 +155,12 @@ impl PyScene {
         }
         let json = |v: serde_json::Result<serde_json::Value>| {
             v.map_err(|e| PyValueError::new_err(e.to_string()))
-                .and_then(|v| convert::json_to_py(py, &v))
+                .and_then(|v| crate::json::json_to_py(py, &v))
         };
         let d = PyDict::new(py);
         d.set_item("name", &scene.name)?;
         d.set_item("verdict", report.verdict().name())?;
-        d.set_item("derived", convert::json_to_py(py, &derived)?)?;
+        d.set_item("derived", crate::json::json_to_py(py, &derived)?)?;
         d.set_item("cost", json(serde_json::to_value(&report.cost))?)?;
         d.set_item("warnings", json(serde_json::to_value(&report.warnings))?)?;
         d.set_item("scene", convert::table_to_py(py, &scene.to_table())?)?;

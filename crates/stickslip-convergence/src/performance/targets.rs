@@ -331,12 +331,15 @@ fn p1_profile(m: &mut String, p: &Performance, needed_s: f64) {
     let _ = writeln!(
         m,
         "The goal leaves a time loop of {} s after today's start-up: {verdict}. The number of \
-         evaluations is set by the default tolerance, which the accuracy half of P1 (f_peak \
-         within 1e-4) bounds from above: the convergence report's tolerance study gives the \
-         errors' slopes against the tolerance, while the evaluations fall only as its cube \
-         root. The cost of an evaluation is the film's exact step at every node and the \
-         coupling's transforms. One step of the literal scheme costs {} µs.\n",
+         evaluations is set by the default tolerance, which the accuracy half of P1 (onsets \
+         within {} µs of the same-N reference; today's largest onset error {} µs) bounds from \
+         above: the convergence report's tolerance study gives the errors' slopes against the \
+         tolerance, while the evaluations fall only as its cube root. The cost of an \
+         evaluation is the film's exact step at every node and the coupling's transforms. One \
+         step of the literal scheme costs {} µs.\n",
         sig(budget_s, 2),
+        tick(P1_ONSET_GOAL_US),
+        sig(p.shipped.max_onset_error_us, 2),
         sig(
             1e6 * p.literal_window_run.loop_s / p.literal_window_run.steps.max(1) as f64,
             3

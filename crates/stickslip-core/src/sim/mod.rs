@@ -23,11 +23,13 @@ mod adaptive;
 pub mod coupling;
 pub mod error_estimate;
 pub mod events;
+pub mod failure;
 mod film;
 mod literal;
 pub mod step_control;
 
 pub use adaptive::StepError;
+pub use failure::NumericalFailure;
 use step_control::ControllerMemory;
 
 use crate::config::{ContactModel, Scheme, SimConfig, Substrate};
@@ -39,7 +41,6 @@ use coupling::{CouplingSolver, CouplingTolerance};
 use events::{EventTracker, MeltingEvent, StepSample};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
-use thiserror::Error;
 
 /// Smallest φ the accurate scheme keeps from a positive start: φ² = 1e-300 is still a normal
 /// f64, so a molten node stays able to regrow (Eq. 8 never takes φ > 0 to 0 in finite time).
@@ -49,29 +50,6 @@ pub const PHI_REPRESENTABLE_MIN: f64 = 1e-150;
 const V_FLOOR: f64 = 1e-6;
 /// Floor of the position's error scale, as a fraction of the film thickness h0.
 const X_FLOOR: f64 = 1e-3;
-
-/// A step produced a non-finite or runaway value.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[error(
-    "numerical failure at t = {t_s:e} s, step {step}, node {node} (r = {r_m:e} m): \
-     {quantity} = {value:e}. {diagnosis}"
-)]
-pub struct NumericalFailure {
-    /// Time at the end of the failing step, s.
-    pub t_s: f64,
-    /// Number of the failing step (from 1).
-    pub step: u64,
-    /// Node where the bad value appeared first.
-    pub node: usize,
-    /// Radius of that node, m.
-    pub r_m: f64,
-    /// Which quantity (`phi`, `tau`, `u3d`, `X`, …).
-    pub quantity: &'static str,
-    /// The bad value.
-    pub value: f64,
-    /// What it means and what to do.
-    pub diagnosis: String,
-}
 
 /// Everything that evolves; serialisable so a run can be checkpointed and resumed bit-identically.
 #[derive(Debug, PartialEq, Serialize, Deserialize)]
