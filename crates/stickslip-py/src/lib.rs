@@ -14,6 +14,7 @@
 //! - [`progress`]: the GIL released while runs and sweeps work, taken back at most ten times
 //!   a second for Ctrl-C and progress callbacks;
 //! - [`boundary`]: the critical value of one key (the run library's bisection);
+//! - [`keys`]: the scene-key registry as Python data;
 //! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays, their inputs
 //!   checked (shape, type, finite values, sizes whose operators would not fit);
 //! - [`args`], [`convert`] and [`errors`]: arguments checked in the API's words, Python ⇄
@@ -31,6 +32,7 @@ pub mod boundary;
 pub mod convert;
 pub mod errors;
 pub mod json;
+pub mod keys;
 pub mod mdr;
 pub mod progress;
 pub mod run;
@@ -48,6 +50,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::load, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(boundary::boundary, m)?)?;
+    m.add_function(wrap_pyfunction!(keys::keys, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::load_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::forward, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::back, m)?)?;

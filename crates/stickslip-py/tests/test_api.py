@@ -252,3 +252,18 @@ def test_first_order_film_from_dict_equals_its_scene_file(fig2_path: Path) -> No
         with pytest.raises(stickslip.SceneError) as err:
             stickslip.Scene.load(fig2_path, bad)
         assert err.value.key == key, (bad, err.value.key)
+
+
+def test_keys_are_the_registry_and_its_defaults_resolve() -> None:
+    keys = {k["path"]: k for k in stickslip.keys()}
+    assert len(keys) >= 50
+    tol = keys["time.tolerance"]
+    assert tol["type"] == "real" and tol["default"] == "5e-5" and tol["unit"] == "–"
+    assert keys["time.scheme"]["words"] == ["accurate", "literal"]
+    assert keys["time.dt_max"]["default"] == "time.end (no cap)"
+    assert keys["contact.radius"]["usual"] == (1e-9, 1e-2)
+    assert all(k["since"] for k in keys.values())
+    # The stated fixed defaults are those a minimal scene resolves to.
+    resolved = stickslip.Scene.load(SCENES / "fig2.toml").to_dict()
+    assert resolved["time"]["tolerance"] == float(tol["default"])
+    assert resolved["output"]["event_recovery"] == float(keys["output.event_recovery"]["default"])

@@ -14,6 +14,7 @@ of dimensionality reduction), from Python. All quantities are SI.
     table = stickslip.sweep("maps/rigid.toml", jobs=2)        # map.csv as arrays
     table = stickslip.load_sweep("out/rigid")                 # complete or partial
     b = stickslip.boundary(scene, "drive.velocity", 0.01, 3.0, rtol=1e-3)   # b["value"]
+    [k["path"] for k in stickslip.keys()]                    # every scene key, documented
     q = stickslip.mdr.forward(tau, radius)                    # Eq. 13
 
 The numbers are those of the command line ``stickslip run``, bit for bit, for the same scene.
@@ -27,7 +28,7 @@ ValueError; ``.key``), ``SweepError`` (a SceneError), ``NumericalFailure`` (``.t
 from . import _native, mdr
 from ._api import PathLike, SceneLike, boundary, load, load_sweep, resume, run, sweep
 from ._errors import Interrupted, NumericalFailure, SceneError, SweepError
-from ._native import Scene
+from ._native import Scene, keys
 from ._progress import ProgressArg
 from ._result import MapTable, RunResult
 
@@ -46,6 +47,7 @@ __all__ = [
     "SceneLike",
     "SweepError",
     "boundary",
+    "keys",
     "load",
     "load_sweep",
     "mdr",
@@ -55,7 +57,7 @@ __all__ = [
 ]
 
 # The functions and classes say they belong to the package (help(), repr, pickling).
-for _obj in (boundary, load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure, SceneError,
+for _obj in (boundary, keys, load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure, SceneError,
              SweepError, MapTable, RunResult):
     _obj.__module__ = __name__
 del _obj

@@ -3,7 +3,7 @@
 # load_sweep.
 
 import os
-from typing import Any, Callable, Dict, Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -78,6 +78,14 @@ def boundary(
     scene: Scene, key: str, lo: float, hi: float, rtol: float = ...
 ) -> Dict[str, Any]:
     """Internal: the bisection of ``stickslip.boundary``."""
+
+def keys() -> List[Dict[str, Any]]:
+    """Every scene key as a dict: ``path``, ``type`` (``"real"``, ``"integer"``, ``"text"``,
+    ``"choice"`` or ``"real list"``), ``words`` (a choice key's words, else ``None``),
+    ``unit`` (SI; ``"–"`` for dimensionless), ``default`` (in words: a value, ``"required"``,
+    or how it derives from other keys), ``allowed`` (the range and the rules between keys, in
+    words), ``usual`` (``(lo, hi)`` of the absolute value outside which ``check`` warns, else
+    ``None``), ``meaning`` and ``since`` (the version that added the key)."""
 
 def sweep(
     sweep: Union[_Path, Mapping[str, Any]],
