@@ -297,6 +297,62 @@ impl SimConfig {
         let n = &self.numerics;
         bounds::COUPLING_TOL.check(n.coupling_tol)?;
         bounds::RUNAWAY_STRESS_FACTOR.check(n.runaway_stress_factor)?;
+        self.check_derived()
+    }
+
+    /// The film's derived numbers finite and > 0 (b, and the contact's coupling a/(h0·G*)),
+    /// and those of the temperature and the drive finite: a value within its key's range can
+    /// still overflow or underflow them (`tau_max = 1e-320` gives b = inf). The error names
+    /// the key that moved the number furthest.
+    ///
+    /// # Errors
+    /// As [`bounds::derived_positive`].
+    pub fn check_derived(&self) -> Result<(), ConfigError> {
+        let l = &self.lubricant;
+        self.lubricant.check_b()?;
+        let c = &self.contact;
+        bounds::derived_positive(
+            "kappa",
+            "a/(h0·G*)",
+            l.a_pa / (c.film_thickness_m * c.g_eff_pa),
+            &[
+                (bounds::A, l.a_pa, 1.0),
+                (bounds::FILM_THICKNESS, c.film_thickness_m, -1.0),
+                (bounds::G_EFF, c.g_eff_pa, -1.0),
+            ],
+        )?;
+        let a0 = self.temperature.a_coeff_pa(0.0);
+        if a0 > 0.0 {
+            let b = l.b_pa();
+            let factors = [
+                (bounds::TEMPERATURE_A0, a0, 0.5),
+                (bounds::TAU_MAX, l.tau_max_pa, -0.5),
+                (bounds::EPS_MAX, l.eps_max, 1.5),
+            ];
+            bounds::derived_positive(
+                "eps_c",
+                "√(A·b)/a = √(2·A·εmax³/τmax)",
+                (a0 * b).sqrt() / l.a_pa,
+                &factors,
+            )?;
+            bounds::derived_positive(
+                "phi0",
+                "√(A/a)",
+                (a0 / l.a_pa).sqrt(),
+                &[(bounds::TEMPERATURE_A0, a0, 0.5), (bounds::A, l.a_pa, -0.5)],
+            )?;
+        }
+        if let Drive::Spring(s) = self.drive {
+            bounds::derived_positive(
+                "omega",
+                "√(K/m)",
+                s.omega_rad_per_s(),
+                &[
+                    (bounds::STIFFNESS, s.stiffness_n_per_m, 0.5),
+                    (bounds::MASS, s.mass_kg, -0.5),
+                ],
+            )?;
+        }
         Ok(())
     }
 

@@ -266,6 +266,24 @@ fn values<'py>(
     Ok(ro)
 }
 
+/// `out` if every value is finite, else a `ValueError`: inputs finite in themselves can
+/// overflow the transform (`tau` of 1e6 Pa on a radius of 1e308 m).
+fn finite_result(
+    out: Vec<f64>,
+    function: &str,
+    quantity: &str,
+    inputs: &str,
+) -> PyResult<Vec<f64>> {
+    match out.iter().position(|v| !v.is_finite()) {
+        None => Ok(out),
+        Some(i) => Err(PyValueError::new_err(format!(
+            "{function}: {quantity}[{i}] = {} is not finite: {inputs} overflow double \
+             precision; allowed: values whose result stays finite (|x| < 1.8e308)",
+            out[i]
+        ))),
+    }
+}
+
 /// The operators for `n` nodes on radius `radius_m`, from the cache or built (without the
 /// GIL); the size was checked by [`values`] with [`check_size`].
 fn operators(
@@ -309,7 +327,8 @@ fn operators(
 /// Exact for uniform stress: τ = τc gives q = 2τc√(a0² − x²) to rounding.
 ///
 /// Raises ``ValueError`` for a wrong shape, an empty array, a value that is not finite
-/// (naming its index) or a bad radius, ``TypeError`` for values that are not real numbers.
+/// (naming its index), a bad radius or a result that overflows (``tau`` and ``radius``
+/// finite, their product not), ``TypeError`` for values that are not real numbers.
 #[pyfunction]
 #[pyo3(signature = (tau, radius, *, form = "dense", quadrature = "product"))]
 pub fn forward<'py>(
@@ -328,7 +347,7 @@ pub fn forward<'py>(
     let ops = operators(py, radius, x.len(), form, quadrature)?;
     let mut out = vec![0.0; x.len()];
     ops.forward(x, &mut out);
-    Ok(out.into_pyarray(py))
+    Ok(finite_result(out, "forward", "q", "tau and radius")?.into_pyarray(py))
 }
 
 /// Back MDR transform, Eq. 15: u3D(r) = (2/π) ∫₀^r u1D(x) / √(r² − x²) dx.
@@ -355,7 +374,7 @@ pub fn back<'py>(
     let ops = operators(py, radius, x.len(), form, quadrature)?;
     let mut out = vec![0.0; x.len()];
     ops.back(x, &mut out);
-    Ok(out.into_pyarray(py))
+    Ok(finite_result(out, "back", "u3d", "u1d and radius")?.into_pyarray(py))
 }
 
 /// Surface displacement of the elastic half-space under the shear stress τ (Eq. 13–15):
@@ -388,7 +407,7 @@ pub fn compliance<'py>(
     ops.compliance(x, &mut q, &mut out);
     let inv_g = 1.0 / g_eff;
     out.iter_mut().for_each(|u| *u *= inv_g);
-    Ok(out.into_pyarray(py))
+    Ok(finite_result(out, "compliance", "u3d", "tau, radius and g_eff")?.into_pyarray(py))
 }
 
 /// Friction force F = 2π ∫₀^a0 τ r dr (Eq. 16), in N, for τ in Pa at r_i = i·radius/N
@@ -415,7 +434,8 @@ pub fn force<'py>(
     let x = tau.as_slice()?;
     let grid = Grid::new(radius, x.len()).map_err(|e| PyValueError::new_err(e.to_string()))?;
     // The weights alone: O(N), no operator (a dense one would cost 8·N² bytes).
-    Ok(py.detach(|| stickslip_core::mdr::force_3d_n(&grid, quadrature, x)))
+    let f = py.detach(|| stickslip_core::mdr::force_3d_n(&grid, quadrature, x));
+    Ok(finite_result(vec![f], "force", "F", "tau and radius")?[0])
 }
 
 /// The node radii r_i = i·radius/N, i = 0 … N−1, in m (``radius`` a0 in m, ``n`` = N, an int

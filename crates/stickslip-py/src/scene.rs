@@ -135,8 +135,9 @@ impl PyScene {
     /// melting_force N, critical_displacement m, spring_period s, euler_number,
     /// first_onset_estimate s; plus stamp_travel m, the free stamp's position at time.end),
     /// ``cost`` (probe_steps, seconds_per_step s, steps, seconds s: the estimated wall time of
-    /// a run, from a timed probe of about 0.05 s of this scene; basis: how the steps were
-    /// estimated), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
+    /// a run, from a timed probe of about 0.05 s of this scene, ``None`` when the probe's own
+    /// pace contradicts the estimate; probe_pace_seconds s: that pace carried to time.end;
+    /// basis: how the steps were estimated, or why the time is unknown), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
     /// "key", "message"}``), ``name`` and ``scene`` (the resolved scene as a dict).
     ///
     /// Nothing is written; the probe runs with the GIL released.

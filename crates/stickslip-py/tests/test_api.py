@@ -207,6 +207,7 @@ def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
     cost = c["cost"]
     assert cost["probe_steps"] > 0 and cost["seconds_per_step"] > 0
     assert cost["seconds"] == pytest.approx(cost["steps"] * cost["seconds_per_step"])
+    assert cost["probe_pace_seconds"] > 0
     assert "adaptive" in cost["basis"]
     slip = scene.with_overrides({"contact.radius": 20.0}).check()
     assert any(

@@ -20,6 +20,28 @@ pub const ADAPTIVE_STEPS_PER_CYCLE: f64 = 280.0;
 /// The tolerance [`ADAPTIVE_STEPS_PER_CYCLE`] was counted at; steps scale as its cube root.
 pub const ADAPTIVE_REFERENCE_TOLERANCE: f64 = 5e-5;
 
+/// How far the probe's own pace may exceed the estimate before the estimate counts as
+/// contradicted: the probe's steps per simulated second, carried to `time.end`, against the
+/// estimated steps.
+pub const PROBE_CONTRADICTS_FACTOR: f64 = 3.0;
+
+/// Whether a probe that took `probe_steps` steps over the fraction `covered` of `time.end`
+/// contradicts an estimate of `estimated_steps` for the whole run: at its own pace the run
+/// would take more than [`PROBE_CONTRADICTS_FACTOR`] times as many (a probe that reached the
+/// end measured the whole run and contradicts nothing).
+#[must_use]
+pub fn probe_contradicts(covered: f64, probe_steps: f64, estimated_steps: f64) -> bool {
+    if covered >= 1.0 {
+        return false;
+    }
+    let pace_steps = if covered > 0.0 {
+        probe_steps / covered
+    } else {
+        f64::INFINITY
+    };
+    pace_steps.is_nan() || pace_steps > PROBE_CONTRADICTS_FACTOR * estimated_steps
+}
+
 /// A rough cost estimate.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CostEstimate {
@@ -29,9 +51,14 @@ pub struct CostEstimate {
     pub seconds_per_step: f64,
     /// Estimated simulation steps of the whole run.
     pub steps: f64,
-    /// Estimated wall seconds of the whole run.
-    pub seconds: f64,
-    /// How the step count was estimated.
+    /// Estimated wall seconds of the whole run; `None` (unknown) when the probe contradicts
+    /// the step estimate: at the probe's own pace the run would take more than
+    /// [`PROBE_CONTRADICTS_FACTOR`] times the estimated steps.
+    pub seconds: Option<f64>,
+    /// The probe's steps carried at its pace to `time.end`, and their wall time, s: what the
+    /// first steps alone imply.
+    pub probe_pace_seconds: f64,
+    /// How the step count was estimated (and why it is unknown, when it is).
     pub basis: String,
 }
 
@@ -103,6 +130,13 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     let sim_steps = (driver.simulation().state().step - steps_before).max(1);
     let seconds_per_step = started.elapsed().as_secs_f64() / sim_steps as f64;
     let t = &scene.config.time;
+    // The probe's pace carried to the end (a probe that reached the end measured it all).
+    let covered = (driver.simulation().time_s() / t.end_s).clamp(0.0, 1.0);
+    let pace_steps = if covered > 0.0 {
+        sim_steps as f64 / covered
+    } else {
+        f64::INFINITY
+    };
     let (steps, basis) = match t.adaptive {
         None => (
             scene.steps as f64,
@@ -130,15 +164,49 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
             )
         }
     };
+    let backed = !probe_contradicts(covered, sim_steps as f64, steps);
+    let basis = if backed {
+        basis
+    } else {
+        format!(
+            "unknown: the first {sim_steps} steps covered {} of time.end, a pace of {:.3e} \
+             steps to the end, more than {PROBE_CONTRADICTS_FACTOR} times the {steps:.0} \
+             estimated ({basis})",
+            if covered > 0.0 {
+                format!("{:.2e}", covered)
+            } else {
+                "nothing".to_string()
+            },
+            pace_steps
+        )
+    };
     Ok(CheckReport {
         cost: CostEstimate {
             probe_steps,
             seconds_per_step,
             steps,
-            seconds: steps * seconds_per_step,
+            seconds: backed.then_some(steps * seconds_per_step),
+            probe_pace_seconds: pace_steps * seconds_per_step,
             basis,
         },
         preflight,
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_probe_that_covers_too_little_makes_the_cost_unknown() {
+        // 2000 steps over 0.2 % of the run: 1e6 steps at that pace, against 3000 estimated.
+        assert!(probe_contradicts(0.002, 2000.0, 3000.0));
+        // Nothing covered (the clock did not move): nothing backs the estimate.
+        assert!(probe_contradicts(0.0, 8.0, 3000.0));
+        // A pace within 3x of the estimate, or a probe that ran the whole scene, backs it.
+        assert!(!probe_contradicts(0.5, 2000.0, 3000.0));
+        assert!(!probe_contradicts(1.0, 2000.0, 10.0));
+        assert!(probe_contradicts(0.1, 2000.0, 6000.0));
+    }
 }

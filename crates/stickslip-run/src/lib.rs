@@ -22,6 +22,7 @@
 
 pub mod atomic;
 pub mod boundary;
+pub mod bounded;
 pub mod build_id;
 pub mod check;
 pub mod checkpoint;

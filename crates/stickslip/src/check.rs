@@ -152,7 +152,13 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
         cost.probe_steps
     );
     say!("steps_estimate = {:.0} ({})", cost.steps, cost.basis);
-    say!("seconds_estimate = {:.3} s", cost.seconds);
+    match cost.seconds {
+        Some(s) => say!("seconds_estimate = {s:.3} s"),
+        None => say!(
+            "seconds_estimate = unknown (the first steps' pace alone implies {:.3e} s)",
+            cost.probe_pace_seconds
+        ),
+    }
     if !report.warnings.is_empty() {
         say!();
         say!("# warnings");

@@ -58,7 +58,8 @@ pub fn markdown() -> String {
          ## Command line\n\n",
     );
     out.push_str(&stickslip_run::exit::Exit::reference());
-    out.push('\n');
+    out.push_str("\n\n");
+    out.push_str(&stickslip_run::bounded::markdown());
     command(&mut out, &crate::Cli::command(), "");
     out.push('\n');
     out.push_str(&stickslip_run::keys::markdown());

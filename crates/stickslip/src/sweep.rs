@@ -391,6 +391,9 @@ fn submit_slurm(
     allow_large: bool,
     keep: Keep,
 ) -> ExitCode {
+    if let Err(e) = slurm::check_extra(extra) {
+        return crate::fail(e, Exit::BadInput);
+    }
     let sweep = match Sweep::load(path, allow_large) {
         Ok(s) => s,
         Err(e) => return crate::fail(e, Exit::BadInput),

@@ -551,6 +551,54 @@ fn slurm_writes_a_job_array_script() {
     );
 }
 
+#[test]
+fn slurm_refuses_an_sbatch_arg_that_would_inject_a_line_and_quotes_one_with_spaces() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = write(
+        tmp.path(),
+        "s.toml",
+        &sweep_text(&common::scene("rigid"), ""),
+    );
+    for bad in [
+        "--x\n#SBATCH --evil\necho injected",
+        "--comment=a\rb",
+        "--comment=\"q\"",
+        "",
+    ] {
+        let dir = tmp.path().join("bad");
+        let arg = format!("--sbatch-arg={bad}");
+        let out = sweep(&[
+            "slurm",
+            file.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+            "--tasks",
+            "2",
+            &arg,
+        ]);
+        let stderr = texts(&out).1;
+        assert_eq!(out.status.code(), Some(2), "{bad:?}: {stderr}");
+        assert!(stderr.contains("--sbatch-arg"), "{stderr}");
+        assert!(!dir.exists(), "{bad:?}: wrote {}", dir.display());
+    }
+    let dir = tmp.path().join("ok");
+    let out = sweep(&[
+        "slurm",
+        file.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--tasks",
+        "2",
+        "--sbatch-arg=--comment=two words",
+    ]);
+    assert!(out.status.success(), "{}", texts(&out).1);
+    let script = std::fs::read_to_string(dir.join("sweep.sbatch")).unwrap();
+    assert!(
+        script.contains("#SBATCH \"--comment=two words\"\n"),
+        "{script}"
+    );
+}
+
 /// A refined sweep over the rigid drive: 3 × 3 base points (velocity × A0), 3 levels.
 fn refined_text(scene: &Path) -> String {
     format!(

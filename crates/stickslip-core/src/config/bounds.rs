@@ -144,6 +144,48 @@ pub const MODULUS_RANGE_PA: (f64, f64) = (1e-15, 1e20);
 /// Largest number of nodes (the dense operators take 8·N² bytes each).
 pub const MAX_NODES: usize = 20_000;
 
+/// A derived number that must be finite and > 0, checked from the keys it is made of: when it
+/// is not, the error names the key that moved it furthest (the largest |exponent·log10|value||
+/// among `factors`, each a key, its value and its power in the product), with the formula.
+///
+/// # Errors
+/// A [`ConfigError`] naming that key and its value, the derived number and its formula.
+pub fn derived_positive(
+    name: &str,
+    formula: &str,
+    value: f64,
+    factors: &[(Bound, f64, f64)],
+) -> Result<f64, ConfigError> {
+    if value.is_finite() && value > 0.0 {
+        return Ok(value);
+    }
+    let weight = |(_, v, p): &(Bound, f64, f64)| (p * v.abs().log10()).abs();
+    let Some(culprit) = factors
+        .iter()
+        .max_by(|a, b| weight(a).total_cmp(&weight(b)))
+    else {
+        return Err(ConfigError::new(name, human(value), "finite and > 0"));
+    };
+    let others: Vec<String> = factors
+        .iter()
+        .filter(|f| f.0.path != culprit.0.path)
+        .map(|(b, v, _)| format!("{} = {}", b.path, human(*v)))
+        .collect();
+    let with = if others.is_empty() {
+        String::new()
+    } else {
+        format!(" with {}", others.join(", "))
+    };
+    Err(ConfigError::new(
+        culprit.0.path,
+        human(culprit.1),
+        &format!(
+            "a value for which the derived {name} = {formula} is finite and > 0{with} (here {name} = {})",
+            human(value)
+        ),
+    ))
+}
+
 const fn bound(path: &'static str, unit: &'static str, range: Range) -> Bound {
     Bound { path, unit, range }
 }

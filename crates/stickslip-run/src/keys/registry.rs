@@ -455,7 +455,12 @@ section! {
             { default: Value(&2.0) }
         SERIES_INTERVAL series_interval "series_interval": f64 =
             "interval between rows of series.csv and probes.csv (rows at the first step at or after each mark)"
-            { unit: "s", default: Value(&1e-7), range: Range::Positive }
+            {
+                unit: "s",
+                default: Value(&1e-7),
+                range: Range::Positive,
+                rule: ">= time.end / 1e12 (marks closer than that would not advance the time)",
+            }
     }
 }
 

@@ -102,18 +102,16 @@ pub fn step_count(end_s: f64, dt_s: f64) -> u64 {
 }
 
 impl Scene {
-    /// Reads a scene file as UTF-8 text.
+    /// Reads a scene file as UTF-8 text: a regular file of at most [`crate::bounded::SCENE`]'s
+    /// cap, checked before it is read.
     ///
     /// # Errors
-    /// [`SceneError::Read`] if the file cannot be read or is not UTF-8.
+    /// [`SceneError::Read`] if the file cannot be read, is not a regular file, is too large or
+    /// is not UTF-8.
     pub fn read_text(path: &std::path::Path) -> Result<String, SceneError> {
-        let bytes = std::fs::read(path).map_err(|e| SceneError::Read {
+        crate::bounded::read_text(path, crate::bounded::SCENE).map_err(|e| SceneError::Read {
             path: path.display().to_string(),
             message: e.to_string(),
-        })?;
-        String::from_utf8(bytes).map_err(|e| SceneError::Read {
-            path: path.display().to_string(),
-            message: format!("not UTF-8 text ({e})"),
         })
     }
 

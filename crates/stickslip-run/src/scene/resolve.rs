@@ -438,6 +438,18 @@ fn resolve_output(
         recovery_factor: output::EVENT_RECOVERY.value(o.event_recovery, so_far)?,
     };
     let series_interval = output::SERIES_INTERVAL.value(o.series_interval, so_far)?;
+    // Marks closer than end·1e-12 round onto the same time (and more than 1e12 rows is no
+    // record anyone reads): a subnormal interval would run with a handful of rows.
+    if series_interval < end / MAX_STEPS {
+        return Err(SceneError::invalid(
+            output::SERIES_INTERVAL.path,
+            error::human(series_interval),
+            format!(
+                "finite, > 0 and >= time.end / {MAX_STEPS:e} = {:e} s",
+                end / MAX_STEPS
+            ),
+        ));
+    }
     let section = OutputSection {
         profile_times: Some(profile_times.clone()),
         probe_radii: Some(probe_radii.clone()),
@@ -478,6 +490,8 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         gamma_per_pa_s: lubricant::GAMMA.value(l.gamma, &nothing())?,
         cubic_pa: 0.0,
     };
+    // b and the default A derive from these: before A's default is taken from them.
+    lubricant.check_b()?;
     let melt_threshold = lubricant::MELT_THRESHOLD.value(l.melt_threshold, &nothing())?;
     let (noise, noise_section) = resolve_noise(&l.noise.clone().unwrap_or_default())?;
     // The scene as resolved so far, for the derived defaults of the sections that follow.

@@ -161,10 +161,11 @@ fn remove_if_present(path: &Path, dir: bool) -> io::Result<()> {
 
 /// Reads `DIR/sweep.json`: `Ok(None)` when there is none.
 fn read_lock(dir: &Path) -> Result<Option<Result<SweepLock, String>>, SweepRunError> {
-    match std::fs::read_to_string(dir.join(SWEEP_FILE)) {
+    match crate::bounded::read_text(&dir.join(SWEEP_FILE), crate::bounded::SWEEP_LOCK) {
         Ok(text) => Ok(Some(
             serde_json::from_str::<SweepLock>(&text).map_err(|e| e.to_string()),
         )),
+        Err(e) if e.kind() == io::ErrorKind::InvalidData => Ok(Some(Err(e.to_string()))),
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(io_err(dir)(e)),
     }

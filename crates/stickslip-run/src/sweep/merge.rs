@@ -178,7 +178,7 @@ fn rows_from_tables(
     for index in 0..count {
         let path = dir.join(SHARDS_DIR).join(table_name(index, count, build));
         cost.tables_read += 1;
-        let Ok(bytes) = std::fs::read(&path) else {
+        let Ok(bytes) = crate::bounded::read(&path, crate::bounded::SHARD_TABLE) else {
             return Ok(None);
         };
         let Ok(table) = serde_json::from_slice::<ShardTable>(&bytes) else {

@@ -429,7 +429,8 @@ impl Sweep {
             path: path.display().to_string(),
             message,
         };
-        let text = std::fs::read_to_string(path).map_err(|e| read_err(e.to_string()))?;
+        let text = crate::bounded::read_text(path, crate::bounded::SWEEP)
+            .map_err(|e| read_err(e.to_string()))?;
         let file = file::parse(&text, &path.display().to_string(), true)?;
         let file_path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
         Self::resolve(&file, &file_path, allow_large).map_err(|e| e.located(&text))
@@ -454,7 +455,7 @@ impl Sweep {
         })?;
         let dir = file_path.parent().unwrap_or(Path::new("."));
         let scene_path = dir.join(&scene_rel);
-        let text = std::fs::read_to_string(&scene_path).map_err(|e| {
+        let text = crate::bounded::read_text(&scene_path, crate::bounded::SCENE).map_err(|e| {
             SweepError::invalid(
                 "scene",
                 format!("{scene_rel:?}"),

@@ -232,10 +232,12 @@ impl PointRecord {
     /// If it exists but cannot be read.
     pub fn read(dir: &Path, point: usize) -> io::Result<Option<Self>> {
         let path = Self::path(dir, point);
-        match std::fs::read(&path) {
+        match crate::bounded::read(&path, crate::bounded::POINT_RECORD) {
             Ok(bytes) => Ok(serde_json::from_slice::<Self>(&bytes)
                 .ok()
                 .filter(|r| r.point == point)),
+            // Not a record this program wrote: run the point again and rewrite it.
+            Err(e) if e.kind() == io::ErrorKind::InvalidData => Ok(None),
             Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
             Err(e) => Err(e),
         }
@@ -253,11 +255,12 @@ impl PointRecord {
         fingerprint: &str,
     ) -> io::Result<Found> {
         let path = Self::path(dir, point);
-        match std::fs::read(&path) {
+        match crate::bounded::read(&path, crate::bounded::POINT_RECORD) {
             Ok(bytes) => Ok(match serde_json::from_slice::<Self>(&bytes) {
                 Ok(r) => r.check(point, values, fingerprint),
                 Err(_) => Found::Damaged,
             }),
+            Err(e) if e.kind() == io::ErrorKind::InvalidData => Ok(Found::Damaged),
             Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(Found::Missing),
             Err(e) => Err(e),
         }

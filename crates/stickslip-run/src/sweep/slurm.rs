@@ -51,7 +51,7 @@ pub fn script(
         q(&dir.join("slurm").join("%A_%a.out"))
     ));
     for arg in extra {
-        out.push_str(&format!("#SBATCH {arg}\n"));
+        out.push_str(&format!("#SBATCH {}\n", sbatch_quote(arg)));
     }
     out.push_str(&format!(
         "# {tasks} tasks; task i runs the points with index mod {tasks} = i. Rerun failed tasks \
@@ -93,6 +93,38 @@ pub fn merge_command(binary: &Path, dir: &Path) -> String {
         shell_quote(&binary.display().to_string()),
         shell_quote(&dir.display().to_string())
     )
+}
+
+/// Checks the arguments of extra `#SBATCH` lines: one line each, so no control character (a
+/// newline would start a line of its own, which every task would run), and no `"` or `\\`,
+/// which sbatch's quoting cannot carry.
+///
+/// # Errors
+/// The first bad argument, escaped, with what is allowed.
+pub fn check_extra(extra: &[String]) -> Result<(), String> {
+    match extra
+        .iter()
+        .find(|a| a.is_empty() || a.chars().any(|c| c.is_control() || c == '"' || c == '\\'))
+    {
+        None => Ok(()),
+        Some(bad) => Err(format!(
+            "--sbatch-arg {bad:?} is invalid; allowed: one non-empty #SBATCH argument on one \
+             line, without control characters (newlines, tabs, …), `\"` or `\\`"
+        )),
+    }
+}
+
+/// An `#SBATCH` argument as written in the script: plain when it is one word of safe
+/// characters, else in double quotes (sbatch splits its lines at spaces outside them).
+fn sbatch_quote(arg: &str) -> String {
+    if arg
+        .chars()
+        .all(|c| c.is_ascii_alphanumeric() || "/._-+%=:,@".contains(c))
+    {
+        arg.to_string()
+    } else {
+        format!("\"{arg}\"")
+    }
 }
 
 /// `s` in single quotes for the shell (plain when it needs none).
