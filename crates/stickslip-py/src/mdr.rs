@@ -30,6 +30,32 @@ const FAST_BYTES_PER_NODE_LEVEL: f64 = 1024.0;
 type Key = (u64, usize, OperatorForm, Quadrature);
 static CACHE: Mutex<Vec<(Key, Arc<MdrOperators>)>> = Mutex::new(Vec::new());
 
+/// The word of a keyword argument (`form`, `quadrature`): a `TypeError` naming the argument
+/// for anything but a str.
+fn word_arg(value: &Bound<'_, PyAny>, name: &str, allowed: &str) -> PyResult<String> {
+    value.extract::<String>().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{name} = {} ({}) is invalid; allowed: {allowed}",
+            args::shown(value),
+            args::type_name(value)
+        ))
+    })
+}
+
+/// `form=` as an operator form.
+fn form_arg(value: &Bound<'_, PyAny>) -> PyResult<OperatorForm> {
+    form_of(&word_arg(value, "form", "\"dense\" or \"fast\"")?)
+}
+
+/// `quadrature=` as a quadrature.
+fn quadrature_arg(value: &Bound<'_, PyAny>) -> PyResult<Quadrature> {
+    quadrature_of(&word_arg(
+        value,
+        "quadrature",
+        "\"product\" or \"literal\"",
+    )?)
+}
+
 fn form_of(form: &str) -> PyResult<OperatorForm> {
     match form {
         "dense" => Ok(OperatorForm::Dense),
@@ -330,16 +356,16 @@ fn operators(
 /// (naming its index), a bad radius or a result that overflows (``tau`` and ``radius``
 /// finite, their product not), ``TypeError`` for values that are not real numbers.
 #[pyfunction]
-#[pyo3(signature = (tau, radius, *, form = "dense", quadrature = "product"))]
+#[pyo3(signature = (tau, radius, *, form = OperatorForm::Dense, quadrature = Quadrature::Product))]
+#[pyo3(text_signature = "(tau, radius, *, form='dense', quadrature='product')")]
 pub fn forward<'py>(
     py: Python<'py>,
     tau: &Bound<'py, PyAny>,
     radius: &Bound<'py, PyAny>,
-    form: &str,
-    quadrature: &str,
+    #[pyo3(from_py_with = form_arg)] form: OperatorForm,
+    #[pyo3(from_py_with = quadrature_arg)] quadrature: Quadrature,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let radius = radius_of(radius)?;
-    let (form, quadrature) = (form_of(form)?, quadrature_of(quadrature)?);
     let tau = values(py, tau, "tau", "the shear stress τ in Pa", |n| {
         check_size(n, form, "tau")
     })?;
@@ -357,16 +383,16 @@ pub fn forward<'py>(
 /// ``quadrature`` as for ``forward``, and the same checks. Exact for the flat punch: u1D = u0
 /// gives u3D = u0.
 #[pyfunction]
-#[pyo3(signature = (u1d, radius, *, form = "dense", quadrature = "product"))]
+#[pyo3(signature = (u1d, radius, *, form = OperatorForm::Dense, quadrature = Quadrature::Product))]
+#[pyo3(text_signature = "(u1d, radius, *, form='dense', quadrature='product')")]
 pub fn back<'py>(
     py: Python<'py>,
     u1d: &Bound<'py, PyAny>,
     radius: &Bound<'py, PyAny>,
-    form: &str,
-    quadrature: &str,
+    #[pyo3(from_py_with = form_arg)] form: OperatorForm,
+    #[pyo3(from_py_with = quadrature_arg)] quadrature: Quadrature,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let radius = radius_of(radius)?;
-    let (form, quadrature) = (form_of(form)?, quadrature_of(quadrature)?);
     let u1d = values(py, u1d, "u1d", "the 1-D displacement u1D in m", |n| {
         check_size(n, form, "u1d")
     })?;
@@ -385,18 +411,18 @@ pub fn back<'py>(
 /// product, then times 1/G*). ``form`` and ``quadrature`` as for ``forward``, and the same
 /// checks.
 #[pyfunction]
-#[pyo3(signature = (tau, radius, g_eff, *, form = "dense", quadrature = "product"))]
+#[pyo3(signature = (tau, radius, g_eff, *, form = OperatorForm::Dense, quadrature = Quadrature::Product))]
+#[pyo3(text_signature = "(tau, radius, g_eff, *, form='dense', quadrature='product')")]
 pub fn compliance<'py>(
     py: Python<'py>,
     tau: &Bound<'py, PyAny>,
     radius: &Bound<'py, PyAny>,
     g_eff: &Bound<'py, PyAny>,
-    form: &str,
-    quadrature: &str,
+    #[pyo3(from_py_with = form_arg)] form: OperatorForm,
+    #[pyo3(from_py_with = quadrature_arg)] quadrature: Quadrature,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let radius = radius_of(radius)?;
     let g_eff = positive(g_eff, "g_eff", "Pa", "the effective shear modulus G*")?;
-    let (form, quadrature) = (form_of(form)?, quadrature_of(quadrature)?);
     let tau = values(py, tau, "tau", "the shear stress τ in Pa", |n| {
         check_size(n, form, "tau")
     })?;
@@ -414,15 +440,15 @@ pub fn compliance<'py>(
 /// (``radius`` a0 in m), with the weights of ``quadrature`` (as in ``forward``; no operator
 /// is built, any size that fits in memory works). The same checks as ``forward``.
 #[pyfunction]
-#[pyo3(signature = (tau, radius, *, quadrature = "product"))]
+#[pyo3(signature = (tau, radius, *, quadrature = Quadrature::Product))]
+#[pyo3(text_signature = "(tau, radius, *, quadrature='product')")]
 pub fn force<'py>(
     py: Python<'py>,
     tau: &Bound<'py, PyAny>,
     radius: &Bound<'py, PyAny>,
-    quadrature: &str,
+    #[pyo3(from_py_with = quadrature_arg)] quadrature: Quadrature,
 ) -> PyResult<f64> {
     let radius = radius_of(radius)?;
-    let quadrature = quadrature_of(quadrature)?;
     let tau = values(py, tau, "tau", "the shear stress τ in Pa", |n| {
         // A float64 copy of the input and the weights, 16·N bytes.
         check_bytes(

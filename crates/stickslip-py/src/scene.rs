@@ -65,6 +65,22 @@ impl PyScene {
     }
 }
 
+/// `path=` of `Scene.load`: a `TypeError` naming the argument for anything but a path.
+fn path_arg(value: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
+    crate::args::required_path(value, "path")
+}
+
+/// `text=` of `Scene.from_toml`: a `TypeError` naming the argument for anything but a str.
+fn toml_text_arg(value: &Bound<'_, PyAny>) -> PyResult<String> {
+    value.extract::<String>().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(format!(
+            "text = {} ({}) is invalid; allowed: the text of a scene file (str)",
+            crate::args::shown(value),
+            crate::args::type_name(value)
+        ))
+    })
+}
+
 #[pymethods]
 impl PyScene {
     /// Reads and validates the scene file at ``path`` (TOML), then applies ``overrides``
@@ -74,7 +90,10 @@ impl PyScene {
     /// is not TOML.
     #[staticmethod]
     #[pyo3(signature = (path, overrides = None))]
-    fn load(path: PathBuf, overrides: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+    fn load(
+        #[pyo3(from_py_with = path_arg)] path: PathBuf,
+        overrides: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         let text = Scene::read_text(&path).map_err(|e| errors::scene(&e))?;
         let table = Scene::parse_table(&text).map_err(|e| errors::scene(&e))?;
         match overrides {
@@ -93,8 +112,8 @@ impl PyScene {
 
     /// A scene from the text of a scene file (TOML).
     #[staticmethod]
-    fn from_toml(text: &str) -> PyResult<Self> {
-        let table = Scene::parse_table(text).map_err(|e| errors::scene(&e))?;
+    fn from_toml(#[pyo3(from_py_with = toml_text_arg)] text: String) -> PyResult<Self> {
+        let table = Scene::parse_table(&text).map_err(|e| errors::scene(&e))?;
         Self::resolve(table)
     }
 

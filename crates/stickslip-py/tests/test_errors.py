@@ -87,3 +87,19 @@ def test_refused_run_is_a_numerical_failure() -> None:
     assert f.refused and f.step == 0 and f.time_s == 0.0
     assert f.quantity == "lagged-sweep contraction factor"
     assert f.result is not None and f.result.stop == "refused"
+
+
+def test_type_errors_name_the_argument() -> None:
+    import numpy as np
+
+    with pytest.raises(TypeError, match=r"quadrature = None \(NoneType\) is invalid"):
+        stickslip.mdr.forward(np.ones(4), 2e-5, quadrature=None)
+    with pytest.raises(TypeError, match=r"form = 3 \(int\) is invalid"):
+        stickslip.mdr.back(np.ones(4), 2e-5, form=3)
+    with pytest.raises(TypeError, match=r"text = None \(NoneType\) is invalid"):
+        stickslip.Scene.from_toml(None)
+    with pytest.raises(TypeError, match=r"path = None"):
+        stickslip.Scene.load(None)
+    # A result that overflows is an error, not an array of inf.
+    with pytest.raises(ValueError, match=r"forward: q\[0\] = \S+ is not finite: tau and radius"):
+        stickslip.mdr.forward(np.full(5, 1e6), 1e308)

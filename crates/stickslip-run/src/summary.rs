@@ -106,21 +106,30 @@ impl RegimeThresholds {
     /// Checks 0 ≤ smooth ≤ stick-slip ≤ 1 and 0 < sliding ≤ 1.
     ///
     /// # Errors
-    /// The offending key (`regime.<field>`) and what is allowed.
-    pub fn validate(&self) -> Result<(), (String, String)> {
+    /// The offending key (`regime.<field>`), its value and what is allowed.
+    pub fn validate(&self) -> Result<(), (String, f64, String)> {
         let ok01 = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);
         if !ok01(self.smooth_recovery) {
-            return Err(("regime.smooth_recovery".into(), "within [0, 1]".to_string()));
+            return Err((
+                "regime.smooth_recovery".into(),
+                self.smooth_recovery,
+                "within [0, 1]".to_string(),
+            ));
         }
         if !(ok01(self.stick_slip_recovery) && self.stick_slip_recovery >= self.smooth_recovery) {
             return Err((
                 "regime.stick_slip_recovery".into(),
-                "within [regime.smooth_recovery, 1]".to_string(),
+                self.stick_slip_recovery,
+                format!(
+                    "within [regime.smooth_recovery = {}, 1]",
+                    crate::scene::error::human(self.smooth_recovery)
+                ),
             ));
         }
         if !(ok01(self.sliding_fraction) && self.sliding_fraction > 0.0) {
             return Err((
                 "regime.sliding_fraction".into(),
+                self.sliding_fraction,
                 "within (0, 1]".to_string(),
             ));
         }

@@ -470,6 +470,54 @@ const CASES: &[Case] = &[
             "below lubricant.melt_threshold",
         ],
     ),
+    // Keys within their ranges whose derived numbers overflow or underflow: the key that
+    // moved them is named, not a default derived from it.
+    case(
+        "tau_max making b infinite",
+        None,
+        &["lubricant.tau_max=1e-320"],
+        &[
+            "lubricant.tau_max = 1e-320",
+            "b = 2·a²·εmax³/τmax",
+            "b = inf",
+        ],
+    ),
+    case(
+        "eps_max making b zero",
+        None,
+        &["lubricant.eps_max=1e-320"],
+        &["lubricant.eps_max = 1e-320", "(here b = 0)"],
+    ),
+    case(
+        "eps_max making b infinite",
+        None,
+        &["lubricant.eps_max=1e308"],
+        &["lubricant.eps_max = 1e308", "b = inf"],
+    ),
+    case(
+        "a making b infinite",
+        None,
+        &["lubricant.a=1e308"],
+        &["lubricant.a = 1e308", "b = inf"],
+    ),
+    case(
+        "a mass making omega infinite",
+        None,
+        &["drive.mass=1e-320"],
+        &["drive.mass = 1e-320", "omega = √(K/m)"],
+    ),
+    case(
+        "a subnormal series interval",
+        None,
+        &["output.series_interval=1e-320"],
+        &["output.series_interval = 1e-320", ">= time.end / 1e12"],
+    ),
+    case(
+        "a date as the name",
+        Some(("name = \"base\"", "name = 1979-05-27")),
+        &[],
+        &["name = 1979-05-27", "a string"],
+    ),
     // The first-order film (docs/model.md#the-first-order-film).
     case(
         "negative cubic",

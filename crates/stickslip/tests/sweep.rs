@@ -483,6 +483,76 @@ const BAD: &[Bad] = &[
 ];
 
 #[test]
+fn bad_sweep_messages_say_the_value_and_what_is_wrong() {
+    let tmp = tempfile::tempdir().unwrap();
+    let axis = "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n";
+    let cases: [(&str, String, &[&str], &[&str]); 4] = [
+        (
+            "a float axis from = to",
+            "[[axis]]\nkey = \"drive.velocity\"\nrange = { from = 1e-2, to = 1e-2, count = 3 }\n"
+                .to_string(),
+            &[
+                "axis[0].range.count = 3",
+                "gives 1e-2 twice",
+                "bounds that differ",
+            ],
+            &["integers"],
+        ),
+        (
+            "a bad regime threshold",
+            format!("[regime]\nstick_slip_recovery = 2.0\n{axis}"),
+            &[
+                "regime.stick_slip_recovery = 2 ",
+                "within [regime.smooth_recovery = ",
+            ],
+            &["(given)"],
+        ),
+        (
+            "a date as the name",
+            format!("name = 1979-05-27\n{axis}"),
+            &["name = 1979-05-27", "a string"],
+            &[],
+        ),
+        (
+            "an axis of more values than allowed",
+            "[[axis]]\nkey = \"drive.velocity\"\nrange = { from = 1, to = 2, count = 100001 }\n"
+                .to_string(),
+            &["at most 100000 values per axis"],
+            &[],
+        ),
+    ];
+    for (i, (what, body, has, lacks)) in cases.iter().enumerate() {
+        let name = if body.starts_with("name") {
+            ""
+        } else {
+            "name = \"bad\"\n"
+        };
+        let text = format!(
+            "{name}scene = \"{}\"\n{body}",
+            common::scene("rigid").display()
+        );
+        let file = write(tmp.path(), &format!("msg{i}.toml"), &text);
+        let dir = tmp.path().join(format!("msg{i}"));
+        let args = [
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+            "--allow-large",
+        ];
+        let out = sweep(&args);
+        let stderr = texts(&out).1;
+        assert_eq!(out.status.code(), Some(2), "{what}: {stderr}");
+        for h in *has {
+            assert!(stderr.contains(h), "{what}: lacks {h:?}: {stderr}");
+        }
+        for l in *lacks {
+            assert!(!stderr.contains(l), "{what}: says {l:?}: {stderr}");
+        }
+    }
+}
+
+#[test]
 fn bad_sweep_files_exit_2_name_the_key_and_write_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     let mut failures = Vec::new();

@@ -136,6 +136,16 @@ impl Scene {
             overrides::apply_override(&mut root, o.as_ref())?;
         }
         error::check_sections(&root)?;
+        // serde reads a TOML date as a string; a name is text.
+        if let Some(v) = root.get(crate::keys::NAME.path)
+            && !v.is_str()
+        {
+            return Err(SceneError::WrongType {
+                key: crate::keys::NAME.path.to_string(),
+                value: error::show_value(v),
+                allowed: "a string (name = \"...\")".to_string(),
+            });
+        }
         let scene: Scene = root
             .clone()
             .try_into()

@@ -367,7 +367,20 @@ pub fn parse(text: &str, path: &str, lines: bool) -> Result<SweepFile, SweepErro
         }
     })?;
     let e = match toml::from_str::<SweepFile>(text) {
-        Ok(file) => return Ok(file),
+        Ok(file) => {
+            // serde reads a TOML date as a string; a name is text.
+            if let Ok(table) = text.parse::<toml::Table>()
+                && let Some(v) = table.get("name")
+                && !v.is_str()
+            {
+                return Err(SweepError::invalid(
+                    "name",
+                    crate::scene::error::show_value(v),
+                    "a string (name = \"...\")",
+                ));
+            }
+            return Ok(file);
+        }
         Err(e) => e,
     };
     let entries = flatten(doc.get_ref());
@@ -499,7 +512,7 @@ mod tests {
         assert_eq!(e.line(), Some(12));
         let e = SweepError::invalid("axis[0] (time.dt)", "values and range", "x").located(GOOD);
         assert_eq!(e.line(), Some(7));
-        let e = SweepError::invalid("regime.smooth_recovery", "(given)", "x").located(GOOD);
+        let e = SweepError::invalid("regime.smooth_recovery", "1.5", "x").located(GOOD);
         assert_eq!(e.line(), Some(14));
         let e = SweepError::invalid("set.\"contact.nodes\"", "20", "x").located(GOOD);
         assert_eq!(e.line(), Some(4));

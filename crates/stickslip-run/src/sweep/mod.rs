@@ -367,7 +367,7 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                 return Err(SweepError::invalid(
                     name("range.count"),
                     r.count,
-                    &format!("at most {MAX_POINTS}"),
+                    &format!("at most {MAX_POINTS} values per axis (also with --allow-large)"),
                 ));
             }
             let at = |j: usize| {
@@ -397,10 +397,8 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                     d.dedup();
                     d.len()
                 };
-                return Err(SweepError::invalid(
-                    name("range.count"),
-                    r.count,
-                    &format!(
+                let allowed = if spec.value == ValueType::Integer {
+                    format!(
                         "{key} takes integers: from = {} to {} in {} steps gives {} twice \
                          (rounded: {}); a count of at most {distinct}, or `values = [...]` \
                          with the integers wanted",
@@ -409,8 +407,18 @@ fn resolve_axis(i: usize, a: &AxisFile, seen: &[String]) -> Result<Axis, SweepEr
                         r.count,
                         value_text(dup),
                         shown(&values)
-                    ),
-                ));
+                    )
+                } else {
+                    format!(
+                        "from = {} to {} in {} steps gives {} twice (the same point run \
+                         again); bounds that differ, or count = 1 for one value",
+                        r.from,
+                        r.to,
+                        r.count,
+                        value_text(dup)
+                    )
+                };
+                return Err(SweepError::invalid(name("range.count"), r.count, &allowed));
             }
             (values, log && n >= 2)
         }
@@ -480,8 +488,12 @@ impl Sweep {
             insert(&mut base, key, value.clone());
         }
         let thresholds = file.regime.unwrap_or_default();
-        if let Err((key, allowed)) = thresholds.validate() {
-            return Err(SweepError::invalid(key, "(given)", &allowed));
+        if let Err((key, value, allowed)) = thresholds.validate() {
+            return Err(SweepError::invalid(
+                key,
+                crate::scene::error::human(value),
+                &allowed,
+            ));
         }
         let mut axes: Vec<Axis> = Vec::new();
         for (i, a) in file.axis.iter().enumerate() {

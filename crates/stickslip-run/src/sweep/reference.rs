@@ -83,9 +83,11 @@ pub fn markdown() -> String {
         ),
         (
             "[[axis]] range",
-            "instead of `values`: `{ from, to, count, scale }`, `scale` `\"linear\"` (default) \
-             or `\"log\"` (from and to > 0), count ≥ 1"
-                .into(),
+            format!(
+                "instead of `values`: `{{ from, to, count, scale }}`, `scale` `\"linear\"` \
+                 (default) or `\"log\"` (from and to > 0), 1 ≤ count ≤ {MAX_POINTS} (per axis, \
+                 also with `--allow-large`), from ≠ to when count > 1"
+            ),
         ),
         (
             "[regime] stick_slip_recovery",
