@@ -121,7 +121,7 @@ const CASES: &[Case] = &[
         &[
             "missing required key `lubricant.tau_max`",
             "none",
-            "finite and > 0",
+            "within [1e-15, 1e20] Pa",
         ],
     ),
     case(
@@ -473,14 +473,10 @@ const CASES: &[Case] = &[
     // Keys within their ranges whose derived numbers overflow or underflow: the key that
     // moved them is named, not a default derived from it.
     case(
-        "tau_max making b infinite",
+        "a subnormal tau_max",
         None,
         &["lubricant.tau_max=1e-320"],
-        &[
-            "lubricant.tau_max = 1e-320",
-            "b = 2·a²·εmax³/τmax",
-            "b = inf",
-        ],
+        &["lubricant.tau_max = 1e-320", "within [1e-15, 1e20] Pa"],
     ),
     case(
         "eps_max making b zero",
@@ -495,10 +491,16 @@ const CASES: &[Case] = &[
         &["lubricant.eps_max = 1e308", "b = inf"],
     ),
     case(
-        "a making b infinite",
+        "a beyond the moduli's range",
         None,
         &["lubricant.a=1e308"],
-        &["lubricant.a = 1e308", "b = inf"],
+        &["lubricant.a = 1e308", "within [1e-15, 1e20] Pa"],
+    ),
+    case(
+        "a tolerance below double precision",
+        None,
+        &["time.tolerance=1e-300"],
+        &["time.tolerance = 1e-300", "> 1e-12 and < 1"],
     ),
     case(
         "a mass making omega infinite",

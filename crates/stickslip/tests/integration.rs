@@ -4,6 +4,7 @@
 
 mod common;
 
+mod bad_input;
 mod bad_scenes;
 mod boundary;
 mod reference;

@@ -190,12 +190,20 @@ const fn bound(path: &'static str, unit: &'static str, range: Range) -> Bound {
     Bound { path, unit, range }
 }
 
-/// `lubricant.tau_max`.
-pub const TAU_MAX: Bound = bound("lubricant.tau_max", "Pa", Range::Positive);
+/// `lubricant.tau_max`: a stress, within the moduli's range.
+pub const TAU_MAX: Bound = bound(
+    "lubricant.tau_max",
+    "Pa",
+    Range::Closed(MODULUS_RANGE_PA.0, MODULUS_RANGE_PA.1),
+);
 /// `lubricant.eps_max`.
 pub const EPS_MAX: Bound = bound("lubricant.eps_max", "–", Range::Positive);
-/// `lubricant.a`.
-pub const A: Bound = bound("lubricant.a", "Pa", Range::Positive);
+/// `lubricant.a`: a modulus.
+pub const A: Bound = bound(
+    "lubricant.a",
+    "Pa",
+    Range::Closed(MODULUS_RANGE_PA.0, MODULUS_RANGE_PA.1),
+);
 /// `lubricant.gamma`.
 pub const GAMMA: Bound = bound("lubricant.gamma", "1/(Pa·s)", Range::Positive);
 /// `lubricant.melt_threshold`.
@@ -244,8 +252,12 @@ pub const VELOCITY: Bound = bound("drive.velocity", "m/s", Range::Finite);
 pub const END: Bound = bound("time.end", "s", Range::Positive);
 /// `time.dt` (at most `time.end`: a rule).
 pub const DT: Bound = bound("time.dt", "s", Range::ByRule);
+/// Smallest `time.tolerance`: relative errors below it are beyond what double precision
+/// resolves in a step (about 1e-16 per operation, summed over a step's arithmetic), so the
+/// error control could not meet them and the steps would shrink to `time.dt_min`.
+pub const MIN_TOLERANCE: f64 = 1e-12;
 /// `time.tolerance`.
-pub const TOLERANCE: Bound = bound("time.tolerance", "–", Range::Open(0.0, 1.0));
+pub const TOLERANCE: Bound = bound("time.tolerance", "–", Range::Open(MIN_TOLERANCE, 1.0));
 /// `time.dt_max` (at most `time.end`: a rule).
 pub const DT_MAX: Bound = bound("time.dt_max", "s", Range::Positive);
 /// `time.dt_min` (at most min(dt, dt_max): a rule).
