@@ -105,7 +105,8 @@ pub fn os(kind: std::io::ErrorKind, message: String) -> PyErr {
 
 /// A run into a directory (or its resume) that did not happen: `SceneError` for the scene,
 /// `FileExistsError` for an earlier run's directory, `FileNotFoundError` for nothing to
-/// resume, `ValueError` for a damaged checkpoint, `OSError` for the rest.
+/// resume, `ValueError` for a damaged checkpoint or one of an older format, `OSError` for the
+/// rest.
 pub fn run(e: &stickslip_run::RunError) -> PyErr {
     use stickslip_run::RunError;
     use stickslip_run::checkpoint::CheckpointError;
@@ -121,7 +122,9 @@ pub fn run(e: &stickslip_run::RunError) -> PyErr {
         RunError::Checkpoint(CheckpointError::Missing { .. }) => {
             PyFileNotFoundError::new_err(text())
         }
-        RunError::Checkpoint(CheckpointError::Corrupt { .. }) => PyValueError::new_err(text()),
+        RunError::Checkpoint(CheckpointError::Corrupt { .. } | CheckpointError::Format { .. }) => {
+            PyValueError::new_err(text())
+        }
         RunError::Checkpoint(CheckpointError::Finished { .. }) => PyRuntimeError::new_err(text()),
     }
 }

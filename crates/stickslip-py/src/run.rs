@@ -105,7 +105,7 @@ fn execute(
         bridge.tick(stop, || Report::Run {
             t_s: sim.time_s(),
             end_s: sim.config().time.end_s,
-            steps: sim.state().step,
+            steps: sim.state().counters.step,
             events: sim.events().len(),
             stop: None,
         });

@@ -2,7 +2,8 @@
 //! unplanned moments) and resumed ends with output bit-identical to an uninterrupted run,
 //! as does one interrupted by SIGINT or SIGTERM (whose data so far are readable meanwhile),
 //! gaussian noise included; a kill before the first checkpoint, a finished or failed run, and a
-//! damaged checkpoint or partial output are refused with a message naming the directory.
+//! damaged checkpoint or partial output are refused with a message naming the directory, a
+//! checkpoint of format 1 with exit 2.
 
 use crate::common;
 
@@ -327,6 +328,20 @@ fn damaged_checkpoint_or_partial_output_exits_2() {
     copy_dir(&killed, &cut);
     std::fs::write(checkpoint(&cut), &bytes[..bytes.len() - 100]).unwrap();
     assert_refused(&cut, "truncated");
+
+    // Format 1, before the state was split into its parts: refused as such.
+    let old = tmp.path().join("old");
+    copy_dir(&killed, &old);
+    let mut b = b"stickslip checkpoint 1\n".to_vec();
+    b.extend_from_slice(&bytes[b.len()..]);
+    std::fs::write(checkpoint(&old), &b).unwrap();
+    assert_refused(
+        &old,
+        &format!(
+            "{} is a checkpoint of format 1, and this build resumes format 2 only",
+            checkpoint(&old).display()
+        ),
+    );
 
     let garbage = tmp.path().join("garbage");
     std::fs::create_dir_all(&garbage).unwrap();
