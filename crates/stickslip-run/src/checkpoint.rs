@@ -8,14 +8,23 @@
 //! checksum (two little-endian u64), then the payload in CBOR. CBOR stores every f64 with its
 //! exact bits (±inf included, which the event tracker holds), which JSON or TOML would not
 //! guarantee. The payload is this module's own type, format 2 (`checkpoint/format2.rs`),
-//! mapped field by field to and from the types it saves: the version of the program that
-//! wrote it, the resolved scene, typed (so resume needs no scene file and resolves nothing
-//! again), the preflight at t = 0, the engine's [`SimState`] part by part (physical state,
-//! stepper and controller memory, counters, events; noise generator positions included), the
-//! driver's [`DriverState`] (loop index, recording marks, step schedule, wall time so far) and
-//! the length and checksum of each streamed file. Every field must be there: nothing is filled
-//! in by default, and a file of another format version (format 1, before the state was split
-//! into its parts) is refused as such.
+//! mapped field by field to and from the types it saves: the build identity of the numerics
+//! that wrote it ([`BUILD_ID`]), the resolved scene, typed (so resume needs no scene file and
+//! resolves nothing again), the preflight at t = 0, the engine's [`SimState`] part by part
+//! (physical state, stepper and controller memory, counters, events; noise generator positions
+//! included), the driver's [`DriverState`] (loop index, recording marks, step schedule, wall
+//! time so far), the length and checksum of each streamed file, and the earlier resumes of the
+//! run across builds. Every field must be there: nothing is filled in by default, and a file of
+//! another format version (format 1, before the state was split into its parts and bound to
+//! the build) is refused as such.
+//!
+//! ## Bound to the build
+//! Another build of the numerics (other sources, compiler or target) may take other steps, so
+//! its checkpoint would not continue the run it started: [`check_build`] refuses it unless the
+//! caller allows it (`stickslip resume --allow-other-build`), and then the crossing is recorded
+//! in run.json (`resumed_across_builds`) and carried by every later checkpoint of the run.
+//! Reading a killed run's data ([`crate::sink::read`]) takes any build's checkpoint: it steps
+//! nothing.
 //!
 //! ## Why the resumed output is bit-identical
 //! The streamed CSV files grow as `DIR/.<name>.tmp` and are renamed into place at the end.
@@ -41,9 +50,10 @@
 //! ([`crate::sink::dir`]) decides when to write one. It does not depend on that sink.
 
 use crate::atomic::{FNV1A64_INIT, StreamPosition, fnv1a64, write_atomic};
+pub use crate::build_id::BUILD_ID;
 use crate::driver::DriverState;
 use crate::scene::ResolvedScene;
-use crate::schema::run_info::{RunInfo, RunStatus};
+use crate::schema::run_info::{BuildCrossing, RunInfo, RunStatus};
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use std::io;
@@ -82,9 +92,9 @@ pub struct StreamPositions {
 /// docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Checkpoint<'a> {
-    /// Version of the program that wrote it: another version may step differently, so resume
-    /// refuses it.
-    pub version: Cow<'a, str>,
+    /// Build identity of the numerics that wrote it ([`BUILD_ID`]): another build may step
+    /// differently, so resume refuses it unless allowed ([`check_build`]).
+    pub build: Cow<'a, str>,
     /// Wall-clock interval between checkpoints of the run, s (0 = none); a resume keeps it
     /// unless told otherwise.
     pub checkpoint_every_s: f64,
@@ -98,6 +108,9 @@ pub struct Checkpoint<'a> {
     pub sim: Cow<'a, SimState>,
     /// How far each streamed file had got.
     pub streams: StreamPositions,
+    /// Earlier resumes of this run by another build than the checkpoint's (run.json's
+    /// `resumed_across_builds`), kept so that a later resume records them too.
+    pub resumed_across_builds: Cow<'a, [BuildCrossing]>,
 }
 
 impl Checkpoint<'_> {
@@ -206,16 +219,30 @@ pub enum CheckpointError {
         reason: String,
     },
     /// A checkpoint of another format version, e.g. format 1, written before the state was
-    /// split into its parts (exit 2).
+    /// split into its parts and checkpoints were bound to the build (exit 2).
     #[error(
-        "{path} is a checkpoint of format {found}, and this build resumes format {FORMAT} only; \
-         rerun the scene with `stickslip run` (--force replaces the directory's files)"
+        "{path} is a checkpoint of format {found}, and this build resumes format {FORMAT} only \
+         (checkpoints bound to the build); rerun the scene with `stickslip run` (--force \
+         replaces the directory's files)"
     )]
     Format {
         /// The checkpoint file.
         path: PathBuf,
         /// The format version in its header.
         found: String,
+    },
+    /// A checkpoint written by another build of the numerics (exit 2).
+    #[error(
+        "{path} was written by build {checkpoint_build} and this is build {build}: its numbers \
+         would differ; rerun, or resume with --allow-other-build to continue anyway"
+    )]
+    OtherBuild {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// The build that wrote it.
+        checkpoint_build: String,
+        /// This build ([`BUILD_ID`]).
+        build: String,
     },
 }
 
@@ -226,7 +253,10 @@ impl CheckpointError {
         match self {
             Self::Finished { status, .. } if status == "ok" => 0,
             Self::Finished { .. } => 3,
-            Self::Missing { .. } | Self::Corrupt { .. } | Self::Format { .. } => 2,
+            Self::Missing { .. }
+            | Self::Corrupt { .. }
+            | Self::Format { .. }
+            | Self::OtherBuild { .. } => 2,
         }
     }
 
@@ -266,13 +296,14 @@ pub fn remove(dir: &Path) -> io::Result<()> {
     crate::atomic::remove_temporaries(dir, FILE_NAME)
 }
 
-/// Reads and checks the checkpoint in `dir` (its format and version included).
+/// Reads and checks the checkpoint in `dir` (its format and checksum; not its build, see
+/// [`check_build`]).
 ///
 /// # Errors
 /// [`CheckpointError::Finished`] when there is no checkpoint but the run.json of an ended run
 /// and no partial output; [`CheckpointError::Missing`] when there is no checkpoint otherwise;
 /// [`CheckpointError::Format`] for another format version; [`CheckpointError::Corrupt`] when
-/// it cannot be read, decoded or is of another version.
+/// it cannot be read or decoded.
 pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
     let file = path(dir);
     let bytes = match std::fs::read(&file) {
@@ -288,18 +319,33 @@ pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
     if let Some(found) = format_of(&bytes) {
         return Err(CheckpointError::Format { path: file, found });
     }
-    let checkpoint = Checkpoint::decode(&bytes).map_err(|r| CheckpointError::corrupt(dir, r))?;
-    let version = env!("CARGO_PKG_VERSION");
-    if checkpoint.version != version {
-        return Err(CheckpointError::corrupt(
-            dir,
-            format!(
-                "written by stickslip {}, this is {version}, whose numerics may differ",
-                checkpoint.version
-            ),
-        ));
+    Checkpoint::decode(&bytes).map_err(|r| CheckpointError::corrupt(dir, r))
+}
+
+/// Whether this build may resume `checkpoint` (read from `dir`): `None` when this build wrote
+/// it; the crossing to record when another build did and `allow_other_build` is set.
+///
+/// # Errors
+/// [`CheckpointError::OtherBuild`] when another build wrote it and it is not allowed.
+pub fn check_build(
+    dir: &Path,
+    checkpoint: &Checkpoint<'_>,
+    allow_other_build: bool,
+) -> Result<Option<BuildCrossing>, CheckpointError> {
+    if checkpoint.build == BUILD_ID {
+        return Ok(None);
     }
-    Ok(checkpoint)
+    if !allow_other_build {
+        return Err(CheckpointError::OtherBuild {
+            path: path(dir),
+            checkpoint_build: checkpoint.build.to_string(),
+            build: BUILD_ID.to_string(),
+        });
+    }
+    Ok(Some(BuildCrossing {
+        checkpoint_build: checkpoint.build.to_string(),
+        build: BUILD_ID.to_string(),
+    }))
 }
 
 /// The error for a directory without a checkpoint: an ended run, or nothing to resume.
@@ -352,7 +398,7 @@ mod tests {
         let mut sim = Simulation::new(scene.config.clone()).unwrap();
         let preflight = sim.preflight();
         Checkpoint {
-            version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
+            build: Cow::Borrowed(BUILD_ID),
             checkpoint_every_s: 0.5,
             preflight: Cow::Owned(preflight),
             driver: Cow::Owned(DriverState {
@@ -380,6 +426,10 @@ mod tests {
             },
             sim: Cow::Owned(sim.state().clone()),
             scene: Cow::Owned(scene),
+            resumed_across_builds: Cow::Owned(vec![BuildCrossing {
+                checkpoint_build: "0123456789abcdef".to_string(),
+                build: BUILD_ID.to_string(),
+            }]),
         }
     }
 
@@ -436,7 +486,7 @@ mod tests {
 
     #[test]
     fn another_format_is_named_and_a_missing_field_is_refused() {
-        // Format 1 (before the state was split into its parts): refused as such.
+        // Format 1 (before checkpoints were bound to the build): refused as such.
         let mut old = b"stickslip checkpoint 1\n".to_vec();
         old.extend_from_slice(&sample().encode().unwrap()[MAGIC.len()..]);
         assert_eq!(format_of(&old).as_deref(), Some("1"));
@@ -466,6 +516,32 @@ mod tests {
         ciborium::into_writer(&ciborium::Value::Map(payload), &mut cut).unwrap();
         let err = Checkpoint::decode(&file_of(&cut)).unwrap_err();
         assert!(err.contains("prev_dt_s"), "{err}");
+    }
+
+    #[test]
+    fn another_build_is_refused_unless_allowed() {
+        let dir = Path::new("out");
+        let mut c = sample();
+        assert_eq!(check_build(dir, &c, false).unwrap(), None);
+        c.build = Cow::Borrowed("0123456789abcdef");
+        let err = check_build(dir, &c, false).unwrap_err();
+        assert_eq!(err.exit_code(), 2);
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{} was written by build 0123456789abcdef and this is build {BUILD_ID}: its \
+                 numbers would differ; rerun, or resume with --allow-other-build to continue \
+                 anyway",
+                path(dir).display()
+            )
+        );
+        assert_eq!(
+            check_build(dir, &c, true).unwrap(),
+            Some(BuildCrossing {
+                checkpoint_build: "0123456789abcdef".to_string(),
+                build: BUILD_ID.to_string(),
+            })
+        );
     }
 
     #[test]

@@ -56,8 +56,9 @@ pub fn markdown() -> String {
          behind the keys and columns (equations, schemes, events, regimes) is described in \
          [model.md](model.md).\n\n\
          ## Command line\n\nExit status: 0 success; 1 an I/O error while writing output; 2 a \
-         bad scene, bad arguments, or an output directory holding an earlier run without \
-         `--force`; 3 a numerical failure or a refused configuration; 4 a sweep whose map is \
+         bad scene, bad arguments, an output directory holding an earlier run without \
+         `--force`, or a checkpoint `resume` cannot continue (none, damaged, of an older format, \
+         or of another build without `--allow-other-build`); 3 a numerical failure or a refused configuration; 4 a sweep whose map is \
          complete but has failed or refused points (their rows say why); 5 `sweep merge` while \
          points are missing; 130 interrupted (SIGINT/SIGTERM: a run writes a checkpoint and \
          `stickslip resume DIR` finishes it; a sweep keeps its finished points and a rerun skips \

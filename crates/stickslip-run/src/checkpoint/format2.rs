@@ -7,6 +7,7 @@
 use super::{Checkpoint, StreamPositions};
 use crate::driver::DriverState;
 use crate::scene::ResolvedScene;
+use crate::schema::run_info::BuildCrossing;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use stickslip_core::drive::DriveState;
@@ -21,13 +22,14 @@ use stickslip_core::sim::{
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct Payload<'a> {
-    version: Cow<'a, str>,
+    build: Cow<'a, str>,
     checkpoint_every_s: f64,
     scene: Cow<'a, ResolvedScene>,
     preflight: Cow<'a, Preflight>,
     driver: Cow<'a, DriverState>,
     sim: Sim,
     streams: StreamPositions,
+    resumed_across_builds: Cow<'a, [BuildCrossing]>,
 }
 
 /// [`SimState`].
@@ -103,13 +105,14 @@ struct Events {
 impl<'a> From<&'a Checkpoint<'_>> for Payload<'a> {
     fn from(c: &'a Checkpoint<'_>) -> Self {
         Self {
-            version: Cow::Borrowed(&c.version),
+            build: Cow::Borrowed(&c.build),
             checkpoint_every_s: c.checkpoint_every_s,
             scene: Cow::Borrowed(&c.scene),
             preflight: Cow::Borrowed(&c.preflight),
             driver: Cow::Borrowed(&c.driver),
             sim: Sim::from(&*c.sim),
             streams: c.streams,
+            resumed_across_builds: Cow::Borrowed(&c.resumed_across_builds),
         }
     }
 }
@@ -117,22 +120,24 @@ impl<'a> From<&'a Checkpoint<'_>> for Payload<'a> {
 impl From<Payload<'static>> for Checkpoint<'static> {
     fn from(p: Payload<'static>) -> Self {
         let Payload {
-            version,
+            build,
             checkpoint_every_s,
             scene,
             preflight,
             driver,
             sim,
             streams,
+            resumed_across_builds,
         } = p;
         Self {
-            version,
+            build,
             checkpoint_every_s,
             scene,
             preflight,
             driver,
             sim: Cow::Owned(SimState::from(sim)),
             streams,
+            resumed_across_builds,
         }
     }
 }
