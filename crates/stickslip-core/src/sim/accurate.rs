@@ -5,30 +5,16 @@
 
 use super::error_estimate;
 use super::film::Film;
-use super::stepper::Stepper;
 use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, Simulation, StepError, V_FLOOR, X_FLOOR};
 use crate::drive::{Drive, DriveState, Integrator};
 
-/// The accurate scheme with the film's kinetics `F`.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Accurate<F> {
-    film: F,
-}
-
-impl<F: Film> Accurate<F> {
-    pub fn new(film: F) -> Self {
-        Self { film }
-    }
-}
-
-impl<F: Film + Send + Sync> Stepper for Accurate<F> {
-    fn step(&self, sim: &mut Simulation, dt_s: f64) -> Result<(), NumericalFailure> {
-        sim.step_accurate_with(&self.film, dt_s)
-    }
-}
-
 impl Simulation {
-    fn step_accurate_with<F: Film>(&mut self, film: &F, dt_s: f64) -> Result<(), NumericalFailure> {
+    /// One accurate step of `dt_s` with the film's kinetics `film` (the `Accurate` stepper's).
+    pub(super) fn step_accurate_with<F: Film>(
+        &mut self,
+        film: &F,
+        dt_s: f64,
+    ) -> Result<(), NumericalFailure> {
         let t0 = self.state.physical.drive.t_s;
         let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
         let params = self.config.lubricant;

@@ -1,23 +1,13 @@
 //! The paper's literal step: explicit Euler for φ, u0 reset once per step, one lagged sweep
 //! of the elastic coupling, plain sums.
 
-use super::stepper::Stepper;
 use super::{Contact, NumericalFailure, Simulation};
 use crate::config::Substrate;
 use crate::landau::{first_order, second_order_rhs};
 
-/// The literal scheme.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Literal;
-
-impl Stepper for Literal {
-    fn step(&self, sim: &mut Simulation, dt_s: f64) -> Result<(), NumericalFailure> {
-        sim.step_literal(dt_s)
-    }
-}
-
 impl Simulation {
-    fn step_literal(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
+    /// One literal step of `dt_s` (the `Literal` stepper's).
+    pub(super) fn step_literal(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
         let t0 = self.state.physical.drive.t_s;
         let a_coeff = self.config.temperature.a_coeff_pa(t0);
         let params = self.config.lubricant;

@@ -4,11 +4,10 @@
 //! (counting, the noise generators' positions, the state check, events). A new way of
 //! stepping — a scheme, or a film's kinetics inside the accurate scheme — is a new
 //! implementation of [`Stepper`] and one line in [`for_config`], not a branch inside the
-//! step.
+//! step. The steps themselves are written in their own modules (`literal`, `accurate`), which
+//! do not refer to this one.
 
-use super::accurate::Accurate;
-use super::film::{FirstOrder, SecondOrder};
-use super::literal::Literal;
+use super::film::{Film, FirstOrder, SecondOrder};
 use super::{NumericalFailure, Simulation};
 use crate::config::{Scheme, SimConfig};
 use std::sync::Arc;
@@ -18,6 +17,28 @@ pub(super) trait Stepper: Send + Sync {
     /// Advances film, substrate and stamp of `sim` by `dt_s`; the shared bookkeeping
     /// (counters, noise positions, the state check, events) is [`Simulation::step`]'s.
     fn step(&self, sim: &mut Simulation, dt_s: f64) -> Result<(), NumericalFailure>;
+}
+
+/// The paper's literal scheme (explicit Euler, one lagged sweep).
+#[derive(Debug, Clone, Copy)]
+struct Literal;
+
+impl Stepper for Literal {
+    fn step(&self, sim: &mut Simulation, dt_s: f64) -> Result<(), NumericalFailure> {
+        sim.step_literal(dt_s)
+    }
+}
+
+/// The accurate scheme with the film's kinetics `F`.
+#[derive(Debug, Clone, Copy)]
+struct Accurate<F> {
+    film: F,
+}
+
+impl<F: Film + Send + Sync> Stepper for Accurate<F> {
+    fn step(&self, sim: &mut Simulation, dt_s: f64) -> Result<(), NumericalFailure> {
+        sim.step_accurate_with(&self.film, dt_s)
+    }
 }
 
 /// The stepper of `config`: the literal scheme, or the accurate scheme with the film's
@@ -30,9 +51,11 @@ pub(super) fn for_config(config: &SimConfig) -> Arc<dyn Stepper> {
     let params = config.lubricant;
     match config.time.scheme {
         Scheme::Literal => Arc::new(Literal),
-        Scheme::Accurate if params.cubic_pa == 0.0 => {
-            Arc::new(Accurate::new(SecondOrder::new(params)))
-        }
-        Scheme::Accurate => Arc::new(Accurate::new(FirstOrder::new(params))),
+        Scheme::Accurate if params.cubic_pa == 0.0 => Arc::new(Accurate {
+            film: SecondOrder::new(params),
+        }),
+        Scheme::Accurate => Arc::new(Accurate {
+            film: FirstOrder::new(params),
+        }),
     }
 }
