@@ -123,15 +123,28 @@ impl Warmed {
         self.restore();
         let mut accepted = 0u64;
         for _ in 0..WINDOW_STEPS {
-            let before = self.driver.simulation().state().coupling_iterations;
+            let before = self
+                .driver
+                .simulation()
+                .state()
+                .counters
+                .coupling_iterations;
             advance(&mut self.driver, Limit::Steps(1));
-            if self.driver.simulation().state().coupling_iterations == before {
+            if self
+                .driver
+                .simulation()
+                .state()
+                .counters
+                .coupling_iterations
+                == before
+            {
                 accepted += 1;
             }
         }
         let sim = self.driver.simulation();
         assert!(sim.events().is_empty(), "the window reached a slip");
-        let iterations = sim.state().coupling_iterations - self.start.coupling_iterations;
+        let iterations =
+            sim.state().counters.coupling_iterations - self.start.counters.coupling_iterations;
         self.restore();
         let per_step = |k: u64| k as f64 / WINDOW_STEPS as f64;
         (per_step(iterations), per_step(accepted))
@@ -181,7 +194,7 @@ fn step(c: &mut Criterion) {
                      guess accepted without any at {:.1} % of the steps (over the \
                      {WINDOW_STEPS} timed steps from t = {:.4e} s)",
                     100.0 * accepted,
-                    warmed.start.drive.t_s,
+                    warmed.start.physical.drive.t_s,
                 );
             }
             group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
@@ -214,27 +227,34 @@ impl SolveProblem {
         advance(&mut warmed.driver, Limit::Steps(1));
         let after = warmed.driver.simulation().state();
         // φ and u0 are final before the coupling solve of a step, which changes only u3D.
-        let phi_sq = after.phi.iter().map(|p| p * p).collect();
-        let u0 = after.u0_m.clone();
-        let reference = after.u3d_m.clone();
-        let run_iterations = after.coupling_iterations - before.coupling_iterations;
+        let phi_sq = after.physical.phi.iter().map(|p| p * p).collect();
+        let u0 = after.physical.u0_m.clone();
+        let reference = after.physical.u3d_m.clone();
+        let run_iterations =
+            after.counters.coupling_iterations - before.counters.coupling_iterations;
         let config = warmed.driver.simulation().config().clone();
         let rho0 = warmed.rho0;
         drop(warmed);
 
         // The quadratic extrapolation of `Simulation` (Lagrange weights at t_n + Δt through
         // t_n, t_n − h_last, t_n − h_last − h_prev).
-        let (x, a) = (DT_S, before.last_dt_s);
-        let b = a + before.prev_dt_s;
+        let (x, a) = (DT_S, before.stepper.last_dt_s);
+        let b = a + before.stepper.prev_dt_s;
         assert!(
-            before.last_dt_s > 0.0 && before.prev_dt_s > 0.0 && before.u3d_prev2_m.len() == n,
+            before.stepper.last_dt_s > 0.0
+                && before.stepper.prev_dt_s > 0.0
+                && before.stepper.u3d_prev2_m.len() == n,
             "three steps of history"
         );
         let w0 = (x + a) * (x + b) / (a * b);
         let w1 = -x * (x + b) / (a * (b - a));
         let w2 = x * (x + a) / (b * (b - a));
         let extrapolated = (0..n)
-            .map(|i| w0 * before.u3d_m[i] + w1 * before.u3d_prev_m[i] + w2 * before.u3d_prev2_m[i])
+            .map(|i| {
+                w0 * before.physical.u3d_m[i]
+                    + w1 * before.stepper.u3d_prev_m[i]
+                    + w2 * before.stepper.u3d_prev2_m[i]
+            })
             .collect();
 
         let grid = Grid::new(config.contact.radius_m, n).expect("valid grid");
@@ -251,7 +271,7 @@ impl SolveProblem {
             },
             guesses: [
                 ("cold", vec![0.0; n]),
-                ("warm", before.u3d_m),
+                ("warm", before.physical.u3d_m),
                 ("extrapolated", extrapolated),
             ],
             reference,

@@ -187,16 +187,16 @@ pub fn run(spec: &RunSpec) -> RunRecord {
     let samples = (spec.end_s / SAMPLE_DT_S).floor() as usize + 1;
     let mut force = Vec::with_capacity(samples);
     let sim0 = driver.simulation();
-    force.push(sim0.state().force_n);
-    let mut prev_phi = sim0.state().phi.clone();
+    force.push(sim0.state().physical.force_n);
+    let mut prev_phi = sim0.state().physical.phi.clone();
     let mut prev_t = sim0.time_s();
-    let mut prev_f = sim0.state().force_n;
+    let mut prev_f = sim0.state().physical.force_n;
     let mut onsets: Vec<Option<f64>> = Vec::new();
     let located_by_core = spec.scheme == Scheme::Accurate;
     let mut observe = |sim: &stickslip_core::sim::Simulation| {
         let t = sim.time_s();
         let state = sim.state();
-        let f = state.force_n;
+        let f = state.physical.force_n;
         while force.len() < samples {
             let ts = RunRecord::sample_time_s(force.len());
             if ts > t + 1e-3 * (t - prev_t) {
@@ -207,7 +207,7 @@ pub fn run(spec: &RunSpec) -> RunRecord {
         }
         if sim.events().len() > onsets.len() {
             let mut theta_min: Option<f64> = None;
-            for (&p0, &p1) in prev_phi.iter().zip(&state.phi) {
+            for (&p0, &p1) in prev_phi.iter().zip(&state.physical.phi) {
                 if p1 < thr && p0 >= thr {
                     let theta = if p1 > 0.0 {
                         (p0 / thr).ln() / (p0 / p1).ln()
@@ -223,7 +223,7 @@ pub fn run(spec: &RunSpec) -> RunRecord {
                 theta_min.map(|th| prev_t + th * (t - prev_t))
             });
         }
-        prev_phi.copy_from_slice(&state.phi);
+        prev_phi.copy_from_slice(&state.physical.phi);
         prev_t = t;
         prev_f = f;
     };

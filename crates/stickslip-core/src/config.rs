@@ -309,7 +309,7 @@ impl SimConfig {
     /// As [`bounds::derived_positive`].
     pub fn check_derived(&self) -> Result<(), ConfigError> {
         let l = &self.lubricant;
-        self.lubricant.check_b()?;
+        bounds::check_film(&self.lubricant)?;
         let c = &self.contact;
         bounds::derived_positive(
             "kappa",

@@ -142,31 +142,6 @@ impl LandauParams {
         2.0 * self.a_pa * self.a_pa * self.eps_max.powi(3) / self.tau_max_pa
     }
 
-    /// b (and the default A = 1.5·τmax/εmax) finite and > 0: keys within their ranges can
-    /// still overflow or underflow them; the error names the key that moved b furthest.
-    ///
-    /// # Errors
-    /// A [`crate::config::ConfigError`] naming that key.
-    pub fn check_b(&self) -> Result<(), crate::config::ConfigError> {
-        use crate::config::bounds;
-        let factors = [
-            (bounds::A, self.a_pa, 2.0),
-            (bounds::EPS_MAX, self.eps_max, 3.0),
-            (bounds::TAU_MAX, self.tau_max_pa, -1.0),
-        ];
-        bounds::derived_positive("b", "2·a²·εmax³/τmax", self.b_pa(), &factors)?;
-        bounds::derived_positive(
-            "A",
-            "1.5·τmax/εmax",
-            self.a_coeff_default_pa(),
-            &[
-                (bounds::TAU_MAX, self.tau_max_pa, 1.0),
-                (bounds::EPS_MAX, self.eps_max, -1.0),
-            ],
-        )?;
-        Ok(())
-    }
-
     /// Temperature coefficient A = 2α(Tc − T)·a/b at the temperature that produced τmax, εmax:
     /// A = 1.5·τmax/εmax, in Pa (Eq. 17).
     #[must_use]

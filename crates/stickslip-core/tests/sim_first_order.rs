@@ -83,7 +83,7 @@ fn the_accurate_step_is_second_order_for_the_first_order_film() {
             sim.step(dt).unwrap();
         }
         assert!((sim.time_s() - t_end).abs() < 1e-20);
-        errors.push((sim.state().phi[0] - reference).abs() / reference);
+        errors.push((sim.state().physical.phi[0] - reference).abs() / reference);
     }
     let orders: Vec<f64> = errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
     eprintln!("phi(T) = {reference}: relative errors {errors:?}");

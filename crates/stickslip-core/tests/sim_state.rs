@@ -47,7 +47,7 @@ fn one_step_advances_the_noise_generators_in_the_state() {
         seed: 1,
     };
     let mut sim = Simulation::new(c).unwrap();
-    let before = sim.state().noise.clone();
+    let before = sim.state().physical.noise.clone();
     sim.step(1e-8).unwrap();
-    assert_ne!(sim.state().noise, before);
+    assert_ne!(sim.state().physical.noise, before);
 }

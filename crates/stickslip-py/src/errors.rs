@@ -105,11 +105,16 @@ pub fn os(kind: std::io::ErrorKind, message: String) -> PyErr {
 
 /// A run into a directory (or its resume) that did not happen: `SceneError` for the scene,
 /// `FileExistsError` for an earlier run's directory, `FileNotFoundError` for nothing to
-/// resume, `ValueError` for a damaged checkpoint, `OSError` for the rest.
+/// resume, `ValueError` for a checkpoint that cannot be resumed (damaged, of an older format,
+/// or of another build without `allow_other_build=True`), `OSError` for the rest.
 pub fn run(e: &stickslip_run::RunError) -> PyErr {
     use stickslip_run::RunError;
     use stickslip_run::checkpoint::CheckpointError;
-    let text = || e.to_string().replace("--force", "force=True");
+    let text = || {
+        e.to_string()
+            .replace("--force", "force=True")
+            .replace("--allow-other-build", "allow_other_build=True")
+    };
     match e {
         RunError::Config(c) => scene(&SceneError::from(c.clone())),
         RunError::Existing { dir, files } => PyFileExistsError::new_err(format!(
@@ -121,7 +126,11 @@ pub fn run(e: &stickslip_run::RunError) -> PyErr {
         RunError::Checkpoint(CheckpointError::Missing { .. }) => {
             PyFileNotFoundError::new_err(text())
         }
-        RunError::Checkpoint(CheckpointError::Corrupt { .. }) => PyValueError::new_err(text()),
+        RunError::Checkpoint(
+            CheckpointError::Corrupt { .. }
+            | CheckpointError::Format { .. }
+            | CheckpointError::OtherBuild { .. },
+        ) => PyValueError::new_err(text()),
         RunError::Checkpoint(CheckpointError::Finished { .. }) => PyRuntimeError::new_err(text()),
     }
 }

@@ -17,7 +17,7 @@ use stickslip_run::checkpoint::CheckpointError;
 use stickslip_run::driver::Control;
 use stickslip_run::schema::RunOutput;
 use stickslip_run::sink::read::{ReadError, read_run};
-use stickslip_run::{DirOptions, RunError, RunOutcome};
+use stickslip_run::{DirOptions, ResumeOptions, RunError, RunOutcome};
 
 /// Columns as a dict of NumPy arrays, each Vec handed over without a copy.
 fn columns<'py, S: AsRef<str>>(
@@ -83,7 +83,7 @@ enum Target {
     /// The interrupted run in a directory, resumed.
     Resume {
         dir: PathBuf,
-        checkpoint_every_s: Option<f64>,
+        options: ResumeOptions,
     },
 }
 
@@ -105,7 +105,7 @@ fn execute(
         bridge.tick(stop, || Report::Run {
             t_s: sim.time_s(),
             end_s: sim.config().time.end_s,
-            steps: sim.state().step,
+            steps: sim.state().counters.step,
             events: sim.events().len(),
             stop: None,
         });
@@ -132,15 +132,16 @@ fn execute(
                 .map_err(Failed::Run)?;
             Ok((Some(outcome), read(dir)?))
         }
-        Target::Resume {
-            dir,
-            checkpoint_every_s,
-        } => match stickslip_run::resume(dir, *checkpoint_every_s, &mut control) {
-            Ok((_, outcome)) => Ok((Some(outcome), read(dir)?)),
-            // Nothing to resume: the run has ended; its output as it is.
-            Err(RunError::Checkpoint(CheckpointError::Finished { .. })) => Ok((None, read(dir)?)),
-            Err(e) => Err(Failed::Run(e)),
-        },
+        Target::Resume { dir, options } => {
+            match stickslip_run::resume(dir, options, &mut control) {
+                Ok((_, outcome)) => Ok((Some(outcome), read(dir)?)),
+                // Nothing to resume: the run has ended; its output as it is.
+                Err(RunError::Checkpoint(CheckpointError::Finished { .. })) => {
+                    Ok((None, read(dir)?))
+                }
+                Err(e) => Err(Failed::Run(e)),
+            }
+        }
     }
 }
 
@@ -216,15 +217,16 @@ pub fn run<'py>(
 }
 
 /// Finishes the interrupted run in ``dir`` as ``stickslip resume DIR`` does and returns its
-/// output as ``run`` does (``resumed`` False when the run had already ended). Internal: use
-/// ``stickslip.resume``.
+/// output as ``run`` does (``resumed`` False when the run had already ended); a checkpoint of
+/// another build only with ``allow_other_build``. Internal: use ``stickslip.resume``.
 #[pyfunction]
-#[pyo3(signature = (dir, *, progress = None, checkpoint_every = None))]
+#[pyo3(signature = (dir, *, progress = None, checkpoint_every = None, allow_other_build = None))]
 pub fn resume<'py>(
     py: Python<'py>,
     dir: &Bound<'py, PyAny>,
     progress: Option<&Bound<'py, PyAny>>,
     checkpoint_every: Option<&Bound<'py, PyAny>>,
+    allow_other_build: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let dir = args::required_path(dir, "dir")?;
     if dir.exists() && !dir.is_dir() {
@@ -235,7 +237,10 @@ pub fn resume<'py>(
     }
     let target = Target::Resume {
         dir,
-        checkpoint_every_s: args::seconds(checkpoint_every, "checkpoint_every")?,
+        options: ResumeOptions {
+            checkpoint_every_s: args::seconds(checkpoint_every, "checkpoint_every")?,
+            allow_other_build: args::flag(allow_other_build, "allow_other_build", false)?,
+        },
     };
     drive(py, &target, progress)
 }

@@ -51,6 +51,7 @@ CASES: List[Tuple[str, str]] = [
     ("stickslip.resume(3)", "TypeError"),
     ("stickslip.resume(done, checkpoint_every=-2)", "ValueError"),
     ("stickslip.resume(done, progress='x')", "TypeError"),
+    ("stickslip.resume(done, allow_other_build='yes')", "TypeError"),
     # stickslip.load
     ("stickslip.load(tmp / 'missing')", "FileNotFoundError"),
     ("stickslip.load(empty)", "FileNotFoundError"),

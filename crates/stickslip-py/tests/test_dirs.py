@@ -1,7 +1,8 @@
 """Runs and sweeps in directories: ``run(out=)`` writes the command line's bytes; an
 interrupted run's data are readable (pandas, ``load``) and ``resume`` (or the CLI's) finishes
-it bit for bit; ``load`` reads finished, failed, interrupted and killed runs; ``load_sweep``
-reads complete and partial maps."""
+it bit for bit, and another build's checkpoint only with ``allow_other_build=True``; ``load``
+reads finished, failed, interrupted and killed runs; ``load_sweep`` reads complete and partial
+maps."""
 
 from __future__ import annotations
 
@@ -137,6 +138,58 @@ def test_interrupted_data_are_readable_and_resume_is_bit_identical(
     again = stickslip.resume(out)
     assert_same_result(again, whole)
     assert_same_files(reference, out)
+
+
+def as_another_build(checkpoint: Path, build: bytes = b"0123456789abcdef") -> None:
+    """Rewrites ``checkpoint`` as another build of the numerics would have written it: the
+    header line, the payload's length and FNV-1a checksum (little-endian u64), then the CBOR
+    payload, whose first key is the text "build" followed by the 16-character identity."""
+    data = checkpoint.read_bytes()
+    header = b"stickslip checkpoint 2\n"
+    assert data.startswith(header)
+    payload = bytearray(data[len(header) + 16 :])
+    key = b"\x65build\x70"  # text(5) "build", then a text(16)
+    i = payload.index(key) + len(key)
+    payload[i : i + 16] = build
+    checksum = 0xCBF29CE484222325
+    for byte in payload:
+        checksum = ((checksum ^ byte) * 0x100000001B3) % 2**64
+    checkpoint.write_bytes(
+        header
+        + len(payload).to_bytes(8, "little")
+        + checksum.to_bytes(8, "little")
+        + bytes(payload)
+    )
+
+
+def test_another_builds_checkpoint_is_refused_unless_allowed(
+    reference: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "run"
+    scene = stickslip.Scene.load(SCENES / "fig2.toml", LONG)
+    with pytest.raises(stickslip.Interrupted):
+        stickslip.run(scene, out=out, progress=interrupt_at_second_report([]))
+    as_another_build(out / "checkpoint.cbor")
+    with pytest.raises(ValueError) as e:
+        stickslip.resume(out)
+    message = str(e.value)
+    assert "was written by build 0123456789abcdef and this is build " in message, message
+    assert message.endswith(
+        "its numbers would differ; rerun, or resume with allow_other_build=True to continue "
+        "anyway"
+    ), message
+    this_build = message.split("this is build ")[1].split(":")[0]
+    whole = stickslip.resume(out, allow_other_build=True)
+    assert whole.status == "ok"
+    assert whole.run_info["resumed_across_builds"] == [
+        {"checkpoint_build": "0123456789abcdef", "build": this_build}
+    ]
+    # The "other" build is this one in disguise: the numbers are the uninterrupted run's.
+    for f in OUTPUTS:
+        assert (reference / f).read_bytes() == (out / f).read_bytes(), f
+    recorded = run_json_without_wall_time(out)
+    assert recorded.pop("resumed_across_builds") == whole.run_info["resumed_across_builds"]
+    assert recorded == run_json_without_wall_time(reference)
 
 
 KILLED_CHILD = r"""

@@ -119,7 +119,7 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     let started = Instant::now();
     let mut probe_steps = 0;
     let mut batch = 8;
-    let steps_before = driver.simulation().state().step;
+    let steps_before = driver.simulation().state().counters.step;
     while probe_steps < PROBE_MAX_STEPS && started.elapsed().as_secs_f64() < PROBE_TARGET_S {
         match driver.advance(&mut sink, &mut control, Limit::Steps(batch))? {
             None => probe_steps += batch,
@@ -127,7 +127,7 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
         }
         batch *= 2;
     }
-    let sim_steps = (driver.simulation().state().step - steps_before).max(1);
+    let sim_steps = (driver.simulation().state().counters.step - steps_before).max(1);
     let seconds_per_step = started.elapsed().as_secs_f64() / sim_steps as f64;
     let t = &scene.config.time;
     // The probe's pace carried to the end (a probe that reached the end measured it all).

@@ -4,13 +4,27 @@
 //!
 //! ## What is saved
 //! `DIR/checkpoint.cbor`, written atomically (temporary file, fsync, rename): the header line
-//! `stickslip checkpoint 1\n`, the payload length and its FNV-1a checksum (two little-endian
-//! u64), then the payload, a [`Checkpoint`] in CBOR. CBOR stores every f64 with its exact bits
-//! (±inf included, which the event tracker holds), which JSON or TOML would not guarantee. The
-//! payload holds the resolved scene, typed (so resume needs no scene file and resolves
-//! nothing again), the preflight at t = 0, the engine's [`SimState`] (noise generator
-//! positions included), the driver's [`DriverState`] (loop index, recording marks, step
-//! schedule, wall time so far) and the length and checksum of each streamed file.
+//! `stickslip checkpoint 2\n` (the format's version), the payload length and its FNV-1a
+//! checksum (two little-endian u64), then the payload in CBOR. CBOR stores every f64 with its
+//! exact bits (±inf included, which the event tracker holds), which JSON or TOML would not
+//! guarantee. The payload is this module's own type, format 2 (`checkpoint/format2.rs`),
+//! mapped field by field to and from the types it saves: the build identity of the numerics
+//! that wrote it ([`BUILD_ID`]), the resolved scene, typed (so resume needs no scene file and
+//! resolves nothing again), the preflight at t = 0, the engine's [`SimState`] part by part
+//! (physical state, stepper and controller memory, counters, events; noise generator positions
+//! included), the driver's [`DriverState`] (loop index, recording marks, step schedule, wall
+//! time so far), the length and checksum of each streamed file, and the earlier resumes of the
+//! run across builds. Every field must be there: nothing is filled in by default, and a file of
+//! another format version (format 1, before the state was split into its parts and bound to
+//! the build) is refused as such.
+//!
+//! ## Bound to the build
+//! Another build of the numerics (other sources, compiler or target) may take other steps, so
+//! its checkpoint would not continue the run it started: [`check_build`] refuses it unless the
+//! caller allows it (`stickslip resume --allow-other-build`), and then the crossing is recorded
+//! in run.json (`resumed_across_builds`) and carried by every later checkpoint of the run.
+//! Reading a killed run's data ([`crate::sink::read`]) takes any build's checkpoint: it steps
+//! nothing.
 //!
 //! ## Why the resumed output is bit-identical
 //! The streamed CSV files grow as `DIR/.<name>.tmp` and are renamed into place at the end.
@@ -36,9 +50,10 @@
 //! ([`crate::sink::dir`]) decides when to write one. It does not depend on that sink.
 
 use crate::atomic::{FNV1A64_INIT, StreamPosition, fnv1a64, write_atomic};
+pub use crate::build_id::BUILD_ID;
 use crate::driver::DriverState;
 use crate::scene::ResolvedScene;
-use crate::schema::run_info::{RunInfo, RunStatus};
+use crate::schema::run_info::{BuildCrossing, RunInfo, RunStatus};
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use std::io;
@@ -48,13 +63,20 @@ use stickslip_core::preflight::Preflight;
 use stickslip_core::sim::SimState;
 use thiserror::Error;
 
+mod format2;
+
 /// File name of the checkpoint in the output directory.
 pub const FILE_NAME: &str = "checkpoint.cbor";
 /// Default wall-clock interval between checkpoints, s: a killed run loses at most about this
 /// much work, and the checkpoint's cost (a few fsyncs) stays far below it.
 pub const DEFAULT_EVERY_S: f64 = 2.0;
-/// First bytes of a checkpoint file; the trailing digit is the format version.
-const MAGIC: &[u8] = b"stickslip checkpoint 1\n";
+/// The format version this build writes and reads.
+pub const FORMAT: u32 = 2;
+/// First bytes of every checkpoint file, followed by the format version and a newline.
+const HEADER: &[u8] = b"stickslip checkpoint ";
+/// First bytes of a checkpoint file of this format.
+const MAGIC: &[u8] = b"stickslip checkpoint 2\n";
+
 /// Length and checksum of each streamed file at the checkpoint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct StreamPositions {
@@ -66,12 +88,13 @@ pub struct StreamPositions {
     pub profiles: StreamPosition,
 }
 
-/// Everything a resumed run needs (the payload of `checkpoint.cbor`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// Everything a resumed run needs, in memory (the file holds it as format 2, see the module
+/// docs).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Checkpoint<'a> {
-    /// Version of the program that wrote it: another version may step differently, so resume
-    /// refuses it.
-    pub version: Cow<'a, str>,
+    /// Build identity of the numerics that wrote it ([`BUILD_ID`]): another build may step
+    /// differently, so resume refuses it unless allowed ([`check_build`]).
+    pub build: Cow<'a, str>,
     /// Wall-clock interval between checkpoints of the run, s (0 = none); a resume keeps it
     /// unless told otherwise.
     pub checkpoint_every_s: f64,
@@ -85,6 +108,9 @@ pub struct Checkpoint<'a> {
     pub sim: Cow<'a, SimState>,
     /// How far each streamed file had got.
     pub streams: StreamPositions,
+    /// Earlier resumes of this run by another build than the checkpoint's (run.json's
+    /// `resumed_across_builds`), kept so that a later resume records them too.
+    pub resumed_across_builds: Cow<'a, [BuildCrossing]>,
 }
 
 impl Checkpoint<'_> {
@@ -94,7 +120,8 @@ impl Checkpoint<'_> {
     /// If the payload cannot be encoded.
     pub fn encode(&self) -> io::Result<Vec<u8>> {
         let mut payload = Vec::new();
-        ciborium::into_writer(self, &mut payload).map_err(io::Error::other)?;
+        ciborium::into_writer(&format2::Payload::from(self), &mut payload)
+            .map_err(io::Error::other)?;
         let mut bytes = Vec::with_capacity(MAGIC.len() + 16 + payload.len());
         bytes.extend_from_slice(MAGIC);
         bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
@@ -106,11 +133,15 @@ impl Checkpoint<'_> {
     /// Reads the file contents written by [`Checkpoint::encode`].
     ///
     /// # Errors
-    /// What is wrong with `bytes`: wrong header, truncated, checksum mismatch, undecodable.
+    /// What is wrong with `bytes`: another format version ([`format_of`] tells which), wrong
+    /// header, truncated, checksum mismatch, undecodable or a field missing.
     pub fn decode(bytes: &[u8]) -> Result<Checkpoint<'static>, String> {
-        let rest = bytes
-            .strip_prefix(MAGIC)
-            .ok_or("not a stickslip checkpoint (wrong header)")?;
+        let Some(rest) = bytes.strip_prefix(MAGIC) else {
+            return Err(match format_of(bytes) {
+                Some(found) => format!("checkpoint format {found}, this build reads {FORMAT}"),
+                None => "not a stickslip checkpoint (wrong header)".to_string(),
+            });
+        };
         let word = |i: usize| -> Option<u64> {
             let b = rest.get(8 * i..8 * i + 8)?;
             Some(u64::from_le_bytes(b.try_into().ok()?))
@@ -131,8 +162,21 @@ impl Checkpoint<'_> {
                 "payload checksum {found:016x} differs from the recorded {sum:016x} (damaged)"
             ));
         }
-        ciborium::from_reader(payload).map_err(|e| format!("cannot decode the payload: {e}"))
+        ciborium::from_reader::<format2::Payload<'static>, _>(payload)
+            .map(Checkpoint::from)
+            .map_err(|e| format!("cannot decode the payload: {e}"))
     }
+}
+
+/// The format version in the header of `bytes` when it is a checkpoint of another format than
+/// this build's ([`FORMAT`]); `None` for this format and for anything else.
+#[must_use]
+pub fn format_of(bytes: &[u8]) -> Option<String> {
+    let rest = bytes.strip_prefix(HEADER)?;
+    let end = rest.iter().take(20).position(|&b| b == b'\n')?;
+    let version = std::str::from_utf8(&rest[..end]).ok()?;
+    let number: u32 = version.parse().ok()?;
+    (number != FORMAT).then(|| version.to_string())
 }
 
 /// Why a directory cannot be resumed.
@@ -174,6 +218,32 @@ pub enum CheckpointError {
         /// What is wrong.
         reason: String,
     },
+    /// A checkpoint of another format version, e.g. format 1, written before the state was
+    /// split into its parts and checkpoints were bound to the build (exit 2).
+    #[error(
+        "{path} is a checkpoint of format {found}, and this build resumes format {FORMAT} only \
+         (checkpoints bound to the build); rerun the scene with `stickslip run` (--force \
+         replaces the directory's files)"
+    )]
+    Format {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// The format version in its header.
+        found: String,
+    },
+    /// A checkpoint written by another build of the numerics (exit 2).
+    #[error(
+        "{path} was written by build {checkpoint_build} and this is build {build}: its numbers \
+         would differ; rerun, or resume with --allow-other-build to continue anyway"
+    )]
+    OtherBuild {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// The build that wrote it.
+        checkpoint_build: String,
+        /// This build ([`BUILD_ID`]).
+        build: String,
+    },
 }
 
 impl CheckpointError {
@@ -183,7 +253,10 @@ impl CheckpointError {
         match self {
             Self::Finished { status, .. } if status == "ok" => crate::exit::Exit::Success,
             Self::Finished { .. } => crate::exit::Exit::Numerical,
-            Self::Missing { .. } | Self::Corrupt { .. } => crate::exit::Exit::BadInput,
+            Self::Missing { .. }
+            | Self::Corrupt { .. }
+            | Self::Format { .. }
+            | Self::OtherBuild { .. } => crate::exit::Exit::BadInput,
         }
     }
 
@@ -223,12 +296,14 @@ pub fn remove(dir: &Path) -> io::Result<()> {
     crate::atomic::remove_temporaries(dir, FILE_NAME)
 }
 
-/// Reads and checks the checkpoint in `dir` (its version included).
+/// Reads and checks the checkpoint in `dir` (its format and checksum; not its build, see
+/// [`check_build`]).
 ///
 /// # Errors
 /// [`CheckpointError::Finished`] when there is no checkpoint but the run.json of an ended run
 /// and no partial output; [`CheckpointError::Missing`] when there is no checkpoint otherwise;
-/// [`CheckpointError::Corrupt`] when it cannot be read, decoded or is of another version.
+/// [`CheckpointError::Format`] for another format version; [`CheckpointError::Corrupt`] when
+/// it cannot be read or decoded.
 pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
     let file = path(dir);
     let bytes = match std::fs::read(&file) {
@@ -241,18 +316,36 @@ pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
             ));
         }
     };
-    let checkpoint = Checkpoint::decode(&bytes).map_err(|r| CheckpointError::corrupt(dir, r))?;
-    let version = env!("CARGO_PKG_VERSION");
-    if checkpoint.version != version {
-        return Err(CheckpointError::corrupt(
-            dir,
-            format!(
-                "written by stickslip {}, this is {version}, whose numerics may differ",
-                checkpoint.version
-            ),
-        ));
+    if let Some(found) = format_of(&bytes) {
+        return Err(CheckpointError::Format { path: file, found });
     }
-    Ok(checkpoint)
+    Checkpoint::decode(&bytes).map_err(|r| CheckpointError::corrupt(dir, r))
+}
+
+/// Whether this build may resume `checkpoint` (read from `dir`): `None` when this build wrote
+/// it; the crossing to record when another build did and `allow_other_build` is set.
+///
+/// # Errors
+/// [`CheckpointError::OtherBuild`] when another build wrote it and it is not allowed.
+pub fn check_build(
+    dir: &Path,
+    checkpoint: &Checkpoint<'_>,
+    allow_other_build: bool,
+) -> Result<Option<BuildCrossing>, CheckpointError> {
+    if checkpoint.build == BUILD_ID {
+        return Ok(None);
+    }
+    if !allow_other_build {
+        return Err(CheckpointError::OtherBuild {
+            path: path(dir),
+            checkpoint_build: checkpoint.build.to_string(),
+            build: BUILD_ID.to_string(),
+        });
+    }
+    Ok(Some(BuildCrossing {
+        checkpoint_build: checkpoint.build.to_string(),
+        build: BUILD_ID.to_string(),
+    }))
 }
 
 /// The error for a directory without a checkpoint: an ended run, or nothing to resume.
@@ -305,7 +398,7 @@ mod tests {
         let mut sim = Simulation::new(scene.config.clone()).unwrap();
         let preflight = sim.preflight();
         Checkpoint {
-            version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
+            build: Cow::Borrowed(BUILD_ID),
             checkpoint_every_s: 0.5,
             preflight: Cow::Owned(preflight),
             driver: Cow::Owned(DriverState {
@@ -333,21 +426,41 @@ mod tests {
             },
             sim: Cow::Owned(sim.state().clone()),
             scene: Cow::Owned(scene),
+            resumed_across_builds: Cow::Owned(vec![BuildCrossing {
+                checkpoint_build: "0123456789abcdef".to_string(),
+                build: BUILD_ID.to_string(),
+            }]),
         }
+    }
+
+    /// `payload` as a checkpoint file of this format.
+    fn file_of(payload: &[u8]) -> Vec<u8> {
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(&fnv1a64(FNV1A64_INIT, payload).to_le_bytes());
+        bytes.extend_from_slice(payload);
+        bytes
     }
 
     #[test]
     fn round_trip_keeps_every_bit() {
         let mut c = sample();
         let state = c.sim.to_mut();
-        // Values JSON could not carry, and ones that need all 64 bits.
-        state.force_n = f64::NEG_INFINITY;
-        state.phi[0] = 0.1 + 0.2;
-        state.phi[1] = f64::MIN_POSITIVE / 3.0;
-        state.u0_m[2] = -0.0;
+        // Values JSON could not carry, and ones that need all 64 bits, in every part.
+        state.physical.force_n = f64::NEG_INFINITY;
+        state.physical.phi[0] = 0.1 + 0.2;
+        state.physical.phi[1] = f64::MIN_POSITIVE / 3.0;
+        state.physical.u0_m[2] = -0.0;
+        state.stepper.u3d_prev2_m = vec![f64::MIN_POSITIVE; 8];
+        state.stepper.accel_change_prev_m_per_s2 = -1e300;
+        state.controller.next_dt_s = 1e-9 / 3.0;
+        state.controller.rejected_last = true;
+        state.counters.onset_retakes = u64::MAX;
+        state.events.last_melt_s[3] = 2.5e-4;
+        state.events.swept[4] = true;
         let back = Checkpoint::decode(&c.encode().unwrap()).unwrap();
         assert_eq!(back, c);
-        assert_eq!(back.sim.u0_m[2].to_bits(), (-0.0f64).to_bits());
+        assert_eq!(back.sim.physical.u0_m[2].to_bits(), (-0.0f64).to_bits());
         assert_eq!(
             back.driver.recorder.last_series_t_s.map(f64::to_bits),
             Some(1 << 63)
@@ -369,6 +482,66 @@ mod tests {
         assert!(Checkpoint::decode(cut).unwrap_err().contains("truncated"));
         assert!(Checkpoint::decode(b"{}").unwrap_err().contains("header"));
         assert!(Checkpoint::decode(&bytes[..MAGIC.len() + 3]).is_err());
+    }
+
+    #[test]
+    fn another_format_is_named_and_a_missing_field_is_refused() {
+        // Format 1 (before checkpoints were bound to the build): refused as such.
+        let mut old = b"stickslip checkpoint 1\n".to_vec();
+        old.extend_from_slice(&sample().encode().unwrap()[MAGIC.len()..]);
+        assert_eq!(format_of(&old).as_deref(), Some("1"));
+        assert!(
+            Checkpoint::decode(&old)
+                .unwrap_err()
+                .contains("checkpoint format 1, this build reads 2")
+        );
+        assert_eq!(format_of(&sample().encode().unwrap()), None);
+        assert_eq!(format_of(b"not a checkpoint"), None);
+        // A payload without one of its fields is not filled in by default.
+        let bytes = sample().encode().unwrap();
+        let payload: ciborium::Value = ciborium::from_reader(&bytes[MAGIC.len() + 16..]).unwrap();
+        let mut payload = payload.into_map().unwrap();
+        let sim = payload
+            .iter_mut()
+            .find(|(k, _)| k.as_text() == Some("sim"))
+            .map(|(_, v)| v.as_map_mut().unwrap())
+            .unwrap();
+        let stepper = sim
+            .iter_mut()
+            .find(|(k, _)| k.as_text() == Some("stepper"))
+            .map(|(_, v)| v.as_map_mut().unwrap())
+            .unwrap();
+        stepper.retain(|(k, _)| k.as_text() != Some("prev_dt_s"));
+        let mut cut = Vec::new();
+        ciborium::into_writer(&ciborium::Value::Map(payload), &mut cut).unwrap();
+        let err = Checkpoint::decode(&file_of(&cut)).unwrap_err();
+        assert!(err.contains("prev_dt_s"), "{err}");
+    }
+
+    #[test]
+    fn another_build_is_refused_unless_allowed() {
+        let dir = Path::new("out");
+        let mut c = sample();
+        assert_eq!(check_build(dir, &c, false).unwrap(), None);
+        c.build = Cow::Borrowed("0123456789abcdef");
+        let err = check_build(dir, &c, false).unwrap_err();
+        assert_eq!(err.exit(), crate::exit::Exit::BadInput);
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{} was written by build 0123456789abcdef and this is build {BUILD_ID}: its \
+                 numbers would differ; rerun, or resume with --allow-other-build to continue \
+                 anyway",
+                path(dir).display()
+            )
+        );
+        assert_eq!(
+            check_build(dir, &c, true).unwrap(),
+            Some(BuildCrossing {
+                checkpoint_build: "0123456789abcdef".to_string(),
+                build: BUILD_ID.to_string(),
+            })
+        );
     }
 
     #[test]

@@ -17,9 +17,9 @@
 //! land on the profile times); times that fall on the same step give one profile. Rows go to
 //! a [`Sink`]: memory, an output directory, or nowhere.
 //!
-//! **State.** Whatever evolves lives in the core's `SimState` or in [`DriverState`], both
-//! serialisable, and the loop is keyed on them, not on the wall clock: a run restored from a
-//! [`Snapshot`] goes on bit-identically.
+//! **State.** Whatever evolves lives in the core's `SimState` or in [`DriverState`] (both saved
+//! by the checkpoint module), and the loop is keyed on them, not on the wall clock: a run
+//! restored from a [`Snapshot`] goes on bit-identically.
 
 use crate::outcome::{RunOutcome, StepCounts, StopReason};
 use crate::scene::{ResolvedScene, step_count};
@@ -162,12 +162,12 @@ impl Snapshot<'_> {
         thresholds: &RegimeThresholds,
     ) -> RunOutcome {
         let state = self.sim;
-        let events = state.events.events().to_vec();
-        let t_final_s = state.drive.t_s;
+        let events = state.events.tracker.events().to_vec();
+        let t_final_s = state.physical.drive.t_s;
         let mut summary = summarize(
             &SummaryInput {
                 events: &events,
-                no_solid_time_s: state.events.no_solid_time_s(),
+                no_solid_time_s: state.events.tracker.no_solid_time_s(),
                 t_final_s,
                 starts_liquid: !self
                     .scene
@@ -184,12 +184,12 @@ impl Snapshot<'_> {
             events,
             summary,
             counts: StepCounts {
-                steps: state.step,
-                accepted_steps: state.accepted_steps,
-                rejected_steps: state.rejected_steps,
-                forced_steps: state.forced_steps,
-                onset_retakes: state.onset_retakes,
-                coupling_iterations: state.coupling_iterations,
+                steps: state.counters.step,
+                accepted_steps: state.counters.accepted_steps,
+                rejected_steps: state.counters.rejected_steps,
+                forced_steps: state.counters.forced_steps,
+                onset_retakes: state.counters.onset_retakes,
+                coupling_iterations: state.counters.coupling_iterations,
             },
             t_final_s,
             wall_seconds: self.wall_seconds,
@@ -470,7 +470,9 @@ impl Driver {
     fn series_row(&mut self, sink: &mut dyn Sink) -> io::Result<()> {
         let o = self.sim.observables();
         let state = self.sim.state();
-        let probes = self.probes.values(o.t_s, &state.phi, &state.last_melt_s);
+        let probes = self
+            .probes
+            .values(o.t_s, &state.physical.phi, &state.events.last_melt_s);
         sink.series_row(&o, probes)?;
         let r = &mut self.state.recorder;
         r.series_rows += 1;
@@ -551,7 +553,7 @@ impl Driver {
             }
             let i = self.state.loop_index + 1;
             let t = self.sim.time_s();
-            let ended_before = self.sim.state().events.ended();
+            let ended_before = self.sim.state().events.tracker.ended();
             let stepped = if adaptive {
                 if t >= end {
                     return Ok(Some(StopReason::End));
@@ -581,7 +583,7 @@ impl Driver {
                 self.step_length(i + 1, self.sim.time_s())
             };
             self.record(sink, h_next)?;
-            let ended = self.sim.state().events.ended();
+            let ended = self.sim.state().events.tracker.ended();
             if self.scene.max_events.is_some_and(|m| ended as u64 >= m) {
                 return Ok(Some(StopReason::MaxEvents));
             }

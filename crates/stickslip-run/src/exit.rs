@@ -9,8 +9,8 @@ pub enum Exit {
     Success,
     /// An I/O error while writing output.
     Io,
-    /// Bad input: a bad scene, bad arguments, or an output directory holding an earlier run
-    /// without `--force`.
+    /// Bad input: a bad scene, bad arguments, an output directory holding an earlier run
+    /// without `--force`, or a checkpoint that cannot be resumed.
     BadInput,
     /// A numerical failure or a refused configuration.
     Numerical,
@@ -55,8 +55,9 @@ impl Exit {
             Self::Success => "success",
             Self::Io => "an I/O error while writing output",
             Self::BadInput => {
-                "a bad scene, bad arguments, or an output directory holding an earlier run \
-                 without `--force`"
+                "a bad scene, bad arguments, an output directory holding an earlier run \
+                 without `--force`, or a checkpoint `resume` cannot continue (none, damaged, \
+                 of an older format, or of another build without `--allow-other-build`)"
             }
             Self::Numerical => "a numerical failure or a refused configuration",
             Self::FailedPoints => {

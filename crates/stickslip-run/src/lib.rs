@@ -13,7 +13,8 @@
 //! - [`check`]: what `stickslip check` reports (preflight, plausibility, a timed probe);
 //! - [`sweep`]: friction maps, points run in-process on threads, sharded, resumable, merged;
 //! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file;
-//! - [`build_id`]: the build identity of the numerics, which sweep points carry;
+//! - [`build_id`]: the build identity of the numerics, which sweep points and checkpoints
+//!   carry;
 //! - [`exit`]: the kinds of ending, as the command line's exit statuses.
 //!
 //! Invariant: no command-line or terminal code here (no clap, no progress bars); errors say
@@ -41,7 +42,7 @@ pub use driver::{Control, Driver, Limit, NullSink, Sink, run};
 pub use outcome::{RunOutcome, RunStatus, StopReason};
 pub use scene::{ResolvedScene, Scene, SceneError};
 pub use schema::RunOutput;
-pub use sink::dir::{DirOptions, RunError, resume, run_to_dir};
+pub use sink::dir::{DirOptions, ResumeOptions, RunError, resume, run_to_dir};
 pub use sink::memory::MemorySink;
 pub use sink::read::read_run;
 

@@ -138,7 +138,12 @@ fn interrupted_data_are_readable_and_the_resumed_run_is_bit_identical() {
     assert!(early.output.events.is_empty());
 
     // Resumed: every output file as the uninterrupted run's, byte for byte.
-    let (_, outcome) = stickslip_run::resume(&dir, None, &mut Control::default()).unwrap();
+    let (_, outcome) = stickslip_run::resume(
+        &dir,
+        &stickslip_run::ResumeOptions::default(),
+        &mut Control::default(),
+    )
+    .unwrap();
     assert_eq!(outcome.stop, StopReason::End);
     for f in OUTPUTS {
         assert!(

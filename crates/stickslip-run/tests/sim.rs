@@ -41,7 +41,7 @@ fn complete_melting_gives_zero_force_and_free_spring_motion() {
         };
         let driver = run_until(&scene, 2e-4 - 1e-9);
         let sim = driver.simulation();
-        let s = sim.state();
+        let s = &sim.state().physical;
         assert!(
             s.phi.iter().all(|&p| p.is_finite() && p < 1e-3),
             "{scheme}: film not melted"
@@ -169,6 +169,7 @@ fn literal_euler_overshoot_is_caught_even_under_a_floor() {
         driver
             .simulation()
             .state()
+            .physical
             .phi
             .iter()
             .all(|p| p.is_finite() && *p >= 0.0 && *p < 1.3)
@@ -238,6 +239,7 @@ fn melting_is_located_inside_the_step() {
         driver
             .simulation()
             .state()
+            .events
             .last_melt_s
             .iter()
             .any(|&t| t > 0.0)

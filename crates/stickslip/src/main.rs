@@ -5,8 +5,9 @@
 //! time loop and the output files are the run library's (`stickslip-run`).
 //!
 //! Exit status: 0 success, 1 an I/O error while writing output, 2 bad scene or arguments
-//! (clap usage errors included) or an output directory holding an earlier run without
-//! `--force`, 3 numerical failure (or a refused configuration), 4 a sweep whose map has
+//! (clap usage errors included), an output directory holding an earlier run without
+//! `--force`, or a checkpoint `resume` cannot continue (none, damaged, of an older format, or
+//! of another build without `--allow-other-build`), 3 numerical failure (or a refused configuration), 4 a sweep whose map has
 //! failed or refused points, 5 `sweep merge` with points missing, 130 interrupted (SIGINT/SIGTERM; a checkpoint is written, `resume` finishes the run).
 //! Messages go to stderr, prefixed `error: `.
 
@@ -42,7 +43,7 @@ use stickslip_core::preflight::{Finding, Severity};
 use stickslip_run::checkpoint::CheckpointError;
 use stickslip_run::exit::Exit;
 use stickslip_run::sink::dir::DEFAULT_CHECKPOINT_EVERY_S;
-use stickslip_run::{DirOptions, RunError, RunOutcome, Scene, StopReason};
+use stickslip_run::{DirOptions, ResumeOptions, RunError, RunOutcome, Scene, StopReason};
 
 /// Stick–slip friction of a lubricant film under a flat stamp.
 #[derive(Debug, Parser)]
@@ -112,7 +113,9 @@ enum Command {
         quiet: bool,
     },
     /// Finish an interrupted run from its checkpoint; the output is bit-identical to that of
-    /// an uninterrupted run (run.json's wall_seconds aside).
+    /// an uninterrupted run (run.json's wall_seconds aside). The checkpoint must come from
+    /// this build of the numerics: another build's is refused (exit 2), as its numbers would
+    /// differ.
     Resume {
         /// Output directory of the interrupted run.
         dir: PathBuf,
@@ -122,6 +125,10 @@ enum Command {
         /// Wall-clock seconds between checkpoints from here on; 0 = none [default: the run's].
         #[arg(long, value_name = "SECONDS", value_parser = parse_interval)]
         checkpoint_every: Option<f64>,
+        /// Continue a checkpoint written by another build anyway (the numbers after the resume
+        /// come from this build; run.json records it in resumed_across_builds).
+        #[arg(long)]
+        allow_other_build: bool,
     },
     /// Friction maps: parameter sweeps with regime classification.
     #[command(subcommand)]
@@ -255,7 +262,7 @@ fn run(scene: &Path, out: &Path, set: &[String], quiet: bool, options: &DirOptio
     }
 }
 
-fn resume(dir: &Path, quiet: bool, checkpoint_every: Option<f64>) -> ExitCode {
+fn resume(dir: &Path, quiet: bool, options: &ResumeOptions) -> ExitCode {
     let flag = match interrupt_flag() {
         Ok(f) => f,
         Err(e) => return fail(format!("cannot install signal handlers: {e}"), Exit::Io),
@@ -267,7 +274,7 @@ fn resume(dir: &Path, quiet: bool, checkpoint_every: Option<f64>) -> ExitCode {
         poll: Some(&mut poll),
         ..Default::default()
     };
-    let result = stickslip_run::resume(dir, checkpoint_every, &mut control);
+    let result = stickslip_run::resume(dir, options, &mut control);
     bar.finish();
     match result {
         Ok((scene, outcome)) => report(&scene.name, dir, &outcome),
@@ -326,7 +333,15 @@ fn main() -> ExitCode {
             dir,
             quiet,
             checkpoint_every,
-        } => resume(&dir, quiet, checkpoint_every),
+            allow_other_build,
+        } => resume(
+            &dir,
+            quiet,
+            &ResumeOptions {
+                checkpoint_every_s: checkpoint_every,
+                allow_other_build,
+            },
+        ),
         Command::Sweep(cmd) => sweep::main(cmd),
         Command::Keys { markdown } => {
             if markdown {

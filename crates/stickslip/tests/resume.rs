@@ -2,14 +2,19 @@
 //! unplanned moments) and resumed ends with output bit-identical to an uninterrupted run,
 //! as does one interrupted by SIGINT or SIGTERM (whose data so far are readable meanwhile),
 //! gaussian noise included; a kill before the first checkpoint, a finished or failed run, and a
-//! damaged checkpoint or partial output are refused with a message naming the directory.
+//! damaged checkpoint or partial output are refused with a message naming the directory, a
+//! checkpoint of format 1 or of another build with exit 2 (the latter naming both builds, and
+//! continued with `--allow-other-build`, which run.json records).
 
 use crate::common;
 
 use common::{bin, run, scene, texts};
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Stdio};
 use std::time::{Duration, Instant, SystemTime};
+use stickslip_run::checkpoint::{BUILD_ID, Checkpoint};
+use stickslip_run::schema::run_info::{BuildCrossing, RunInfo};
 
 /// fig2 at N = 100 to 1 ms (four melting events, about 2 s in the dev profile, several times
 /// the span of the kills below) with thermal noise, so the checkpoint must carry the noise
@@ -328,6 +333,20 @@ fn damaged_checkpoint_or_partial_output_exits_2() {
     std::fs::write(checkpoint(&cut), &bytes[..bytes.len() - 100]).unwrap();
     assert_refused(&cut, "truncated");
 
+    // Format 1, written before checkpoints were bound to the build: refused as such.
+    let old = tmp.path().join("old");
+    copy_dir(&killed, &old);
+    let mut b = b"stickslip checkpoint 1\n".to_vec();
+    b.extend_from_slice(&bytes[b.len()..]);
+    std::fs::write(checkpoint(&old), &b).unwrap();
+    assert_refused(
+        &old,
+        &format!(
+            "{} is a checkpoint of format 1, and this build resumes format 2 only",
+            checkpoint(&old).display()
+        ),
+    );
+
     let garbage = tmp.path().join("garbage");
     std::fs::create_dir_all(&garbage).unwrap();
     std::fs::write(checkpoint(&garbage), b"{\"not\": \"a checkpoint\"}").unwrap();
@@ -462,4 +481,92 @@ fn an_earlier_run_is_refused_without_force_and_never_looks_current() {
     for f in ["series.csv", "events.csv", "profiles.csv", "probes.csv"] {
         assert!(!dir.join(f).exists(), "stale {f} beside a newer run");
     }
+}
+
+#[test]
+fn another_builds_checkpoint_is_refused_unless_allowed_and_then_recorded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (reference, dir) = (tmp.path().join("reference"), tmp.path().join("killed"));
+    let mut uninterrupted = spawn(&run_args(
+        &reference,
+        &[SHORT_NOISY, &["--checkpoint-every", "0"]].concat(),
+    ));
+    killed_run(&dir);
+    // The checkpoint as another build would have written it.
+    let other = "0123456789abcdef";
+    let mut c = Checkpoint::decode(&std::fs::read(checkpoint(&dir)).unwrap()).unwrap();
+    assert_eq!(
+        c.build, BUILD_ID,
+        "a run writes its own build into the checkpoint"
+    );
+    c.build = Cow::Borrowed(other);
+    std::fs::write(checkpoint(&dir), c.encode().unwrap()).unwrap();
+    let before = std::fs::read(checkpoint(&dir)).unwrap();
+
+    let dir_text = dir.display().to_string();
+    let out = run(&["resume", &dir_text, "--quiet"]);
+    let (_, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(
+        stderr,
+        format!(
+            "error: {} was written by build {other} and this is build {BUILD_ID}: its numbers \
+             would differ; rerun, or resume with --allow-other-build to continue anyway\n",
+            checkpoint(&dir).display()
+        )
+    );
+    assert_eq!(
+        std::fs::read(checkpoint(&dir)).unwrap(),
+        before,
+        "refused, yet touched"
+    );
+    assert_eq!(status(&dir).as_deref(), Some("running"));
+
+    // Allowed: it goes on (killed once more after a checkpoint of its own, then resumed
+    // without the flag, as that checkpoint is this build's) and run.json keeps the record.
+    let child = spawn(&[
+        "resume".to_string(),
+        dir_text.clone(),
+        "--quiet".to_string(),
+        "--allow-other-build".to_string(),
+        "--checkpoint-every".to_string(),
+        "0.05".to_string(),
+    ]);
+    wait_until("a checkpoint of the resumed run", || {
+        std::fs::read(checkpoint(&dir)).is_ok_and(|now| now != before)
+    });
+    kill(child, &dir);
+    let out = run(&["resume", &dir_text, "--quiet"]);
+    assert_eq!(out.status.code(), Some(0), "{}", texts(&out).1);
+    let crossing = BuildCrossing {
+        checkpoint_build: other.to_string(),
+        build: BUILD_ID.to_string(),
+    };
+    let info = RunInfo::read(&dir).unwrap();
+    assert_eq!(info.status.name(), "ok");
+    assert_eq!(info.resumed_across_builds, vec![crossing]);
+    let text = std::fs::read_to_string(dir.join("run.json")).unwrap();
+    assert!(
+        text.contains(&format!(
+            "\"resumed_across_builds\": [\n    {{\n      \"checkpoint_build\": \"{other}\",\n      \
+             \"build\": \"{BUILD_ID}\"\n    }}\n  ]"
+        )),
+        "{text}"
+    );
+    // Here the "other" build is this one in disguise, so the numbers are an uninterrupted
+    // run's; run.json differs by the record alone.
+    assert!(uninterrupted.wait().unwrap().success());
+    for f in OUTPUTS {
+        assert!(
+            std::fs::read(reference.join(f)).unwrap() == std::fs::read(dir.join(f)).unwrap(),
+            "{f} differs"
+        );
+    }
+    let mut reread = RunInfo::read(&dir).unwrap();
+    reread.resumed_across_builds.clear();
+    reread.wall_seconds = 0.0;
+    let mut uninterrupted_info = RunInfo::read(&reference).unwrap();
+    uninterrupted_info.wall_seconds = 0.0;
+    assert_eq!(reread, uninterrupted_info);
+    assert!(!report_without_wall_time(&reference).contains("resumed_across_builds"));
 }

@@ -186,6 +186,27 @@ pub fn derived_positive(
     ))
 }
 
+/// The film's b (and the default A = 1.5·τmax/εmax) finite and > 0: keys within their ranges
+/// can still overflow or underflow them; the error names the key that moved b furthest.
+///
+/// # Errors
+/// A [`ConfigError`] naming that key.
+pub fn check_film(l: &crate::landau::LandauParams) -> Result<(), ConfigError> {
+    let factors = [
+        (A, l.a_pa, 2.0),
+        (EPS_MAX, l.eps_max, 3.0),
+        (TAU_MAX, l.tau_max_pa, -1.0),
+    ];
+    derived_positive("b", "2·a²·εmax³/τmax", l.b_pa(), &factors)?;
+    derived_positive(
+        "A",
+        "1.5·τmax/εmax",
+        l.a_coeff_default_pa(),
+        &[(TAU_MAX, l.tau_max_pa, 1.0), (EPS_MAX, l.eps_max, -1.0)],
+    )?;
+    Ok(())
+}
+
 const fn bound(path: &'static str, unit: &'static str, range: Range) -> Bound {
     Bound { path, unit, range }
 }

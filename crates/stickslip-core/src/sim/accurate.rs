@@ -1,42 +1,33 @@
 //! The accurate step: the exact Landau step per node under an exponentially weighted strain,
 //! melting located inside the step, the coupling solved, and the step's local error estimated.
 //! The film's kinetics come from [`super::film`]: the second-order film's, or the first-order
-//! film's when b₃ > 0, chosen once per step.
+//! film's when b₃ > 0, chosen once when the simulation is built ([`super::stepper`]).
 
 use super::error_estimate;
-use super::film::{Film, FirstOrder, SecondOrder};
+use super::film::Film;
 use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, Simulation, StepError, V_FLOOR, X_FLOOR};
 use crate::drive::{Drive, DriveState, Integrator};
 
 impl Simulation {
-    pub(super) fn step_accurate(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
-        let params = self.config.lubricant;
-        if params.cubic_pa == 0.0 {
-            let film = SecondOrder {
-                params,
-                b: params.b_pa(),
-                two_gamma: 2.0 * params.gamma_per_pa_s,
-            };
-            self.step_accurate_with(&film, dt_s)
-        } else {
-            self.step_accurate_with(&FirstOrder::new(params), dt_s)
-        }
-    }
-
-    fn step_accurate_with<F: Film>(&mut self, film: &F, dt_s: f64) -> Result<(), NumericalFailure> {
-        let t0 = self.state.drive.t_s;
+    /// One accurate step of `dt_s` with the film's kinetics `film` (the `Accurate` stepper's).
+    pub(super) fn step_accurate_with<F: Film>(
+        &mut self,
+        film: &F,
+        dt_s: f64,
+    ) -> Result<(), NumericalFailure> {
+        let t0 = self.state.physical.drive.t_s;
         let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
         let params = self.config.lubricant;
         let a = params.a_pa;
         let two_gamma = 2.0 * params.gamma_per_pa_s;
         let thr = self.config.melt_threshold;
         let h0 = self.config.contact.film_thickness_m;
-        let drive_before = (self.state.drive, self.state.force_n);
+        let drive_before = (self.state.physical.drive, self.state.physical.force_n);
         let dx = self.drive_first_half(dt_s);
         // The substrate's change over this step, predicted by linear extrapolation of the last
         // one (the coupling solve below corrects u3D itself; only the strain seen by φ uses it).
-        let ratio = if self.state.last_dt_s > 0.0 {
-            dt_s / self.state.last_dt_s
+        let ratio = if self.state.stepper.last_dt_s > 0.0 {
+            dt_s / self.state.stepper.last_dt_s
         } else {
             0.0
         };
@@ -49,13 +40,13 @@ impl Simulation {
             .events
             .recovery_phi(thr, params.solid_phi(0.0, a_end));
         let mut recovered_s = f64::NEG_INFINITY;
-        for i in 0..self.state.phi.len() {
-            let phi0 = self.state.phi[i];
+        for i in 0..self.state.physical.phi.len() {
+            let phi0 = self.state.physical.phi[i];
             let solid0 = phi0 >= thr;
-            let du3d = ratio * (self.state.u3d_m[i] - self.state.u3d_prev_m[i]);
+            let du3d = ratio * (self.state.physical.u3d_m[i] - self.state.stepper.u3d_prev_m[i]);
             // u0 is held at 0 while melted, so only solid nodes see the stamp's advance.
             let du0 = if solid0 { dx } else { 0.0 };
-            let eps0 = self.state.eps[i];
+            let eps0 = self.state.physical.eps[i];
             let eps1 = eps0 + (du0 - du3d) / h0;
             // Frozen strain for the exact step: the weight θ(z) makes the step exact for a
             // linearised φ² relaxing at rate λ towards a target that moves linearly over the
@@ -76,7 +67,7 @@ impl Simulation {
             self.est_gain[i] = dt_s * w1 * (-two_gamma * a * y1);
             self.est_eps_eff[i] = eps_eff;
             self.est_norm[i] = 0.5 / y1.max(thr * thr);
-            let u0 = self.state.u0_m[i];
+            let u0 = self.state.physical.u0_m[i];
             // `path`: where the node's last exact path starts (φ, strain, offset and length in
             // the step, s), to locate its crossing of the recovery level.
             let whole = (phi0, eps_eff, 0.0, dt_s);
@@ -107,7 +98,7 @@ impl Simulation {
                     self.est_gain[i] = 0.0;
                     self.est_norm[i] = 0.5 / ys;
                     let rest_s = (1.0 - theta) * dt_s;
-                    let u3d = self.state.u3d_m[i];
+                    let u3d = self.state.physical.u3d_m[i];
                     let eps_a = -(u3d + theta * du3d) / h0;
                     let c_a = params.bernoulli_c_pa(eps_a, a_mid);
                     if film.regrows(thr, c_a) {
@@ -140,26 +131,32 @@ impl Simulation {
             } else {
                 phi_end
             };
-            self.state.melted_in_step[i] = melted_at.is_some();
+            self.state.events.melted_in_step[i] = melted_at.is_some();
             if let Some(theta) = melted_at {
-                self.state.last_melt_s[i] = t0 + theta * dt_s;
+                self.state.events.last_melt_s[i] = t0 + theta * dt_s;
             }
-            self.state.u0_m[i] = u0_end;
-            self.state.phi[i] = phi_end;
+            self.state.physical.u0_m[i] = u0_end;
+            self.state.physical.phi[i] = phi_end;
         }
         self.first_melt_fraction = first_melt;
         self.recovered_at_s = recovered_s;
-        self.noise.apply(&mut self.state.phi, dt_s);
-        for (u0, &phi) in self.state.u0_m.iter_mut().zip(&self.state.phi) {
+        self.noise.apply(&mut self.state.physical.phi, dt_s);
+        for (u0, &phi) in self
+            .state
+            .physical
+            .u0_m
+            .iter_mut()
+            .zip(&self.state.physical.phi)
+        {
             if phi < thr {
                 *u0 = 0.0;
             }
         }
-        self.solve_coupling(self.state.step + 1, t0 + dt_s, dt_s)?;
-        self.state.prev_dt_s = self.state.last_dt_s;
-        self.state.last_dt_s = dt_s;
+        self.solve_coupling(self.state.counters.step + 1, t0 + dt_s, dt_s)?;
+        self.state.stepper.prev_dt_s = self.state.stepper.last_dt_s;
+        self.state.stepper.last_dt_s = dt_s;
         self.update_strain_and_stress();
-        self.state.force_n = self.force_3d();
+        self.state.physical.force_n = self.force_3d();
         self.drive_second_half(dt_s);
         self.estimate_step_error(dt_s, drive_before);
         Ok(())
@@ -172,7 +169,7 @@ impl Simulation {
     /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an error in
     /// X that grows with time.
     fn estimate_step_error(&mut self, dt_s: f64, (before, f_before): (DriveState, f64)) {
-        let s = &self.state;
+        let (s, memory) = (&self.state.physical, &self.state.stepper);
         let mut phi_err = 0.0_f64;
         for i in 0..s.phi.len() {
             let (eps_eff, eps_end) = (self.est_eps_eff[i], s.eps[i]);
@@ -194,17 +191,17 @@ impl Simulation {
                 let est = error_estimate::verlet_error(
                     dt_s,
                     change,
-                    s.prev_dt_s,
-                    s.accel_change_prev_m_per_s2,
+                    memory.prev_dt_s,
+                    memory.accel_change_prev_m_per_s2,
                 );
-                self.state.accel_change_prev_m_per_s2 = change;
+                self.state.stepper.accel_change_prev_m_per_s2 = change;
                 est
             }
             (Drive::Spring(sp), Integrator::Rk4) => {
                 error_estimate::frozen_force_error(dt_s, s.force_n - f_before, sp.mass_kg)
             }
         };
-        let s = &self.state;
+        let s = &self.state.physical;
         let a_now = self.config.temperature.a_coeff_pa(s.drive.t_s);
         let eps_c = self.config.lubricant.melting_strain(a_now);
         let eps_scale = if eps_c > 0.0 {

@@ -73,14 +73,14 @@ impl Simulation {
             .saved
             .take()
             .unwrap_or_else(|| Box::new(self.state.clone()));
-        let mut h_try = if self.state.next_dt_s > 0.0 {
-            self.state.next_dt_s
+        let mut h_try = if self.state.controller.next_dt_s > 0.0 {
+            self.state.controller.next_dt_s
         } else {
             self.config.time.dt_s
         };
         let mut cut_to_onset = false;
         let result = loop {
-            let remaining = t_stop_s - self.state.drive.t_s;
+            let remaining = t_stop_s - self.state.physical.drive.t_s;
             let mut h = h_try.min(ctl.dt_max_s);
             // Land on t_stop without leaving a sliver: stretch by up to 10 %, or split evenly.
             if h >= remaining / 1.1 {
@@ -91,7 +91,7 @@ impl Simulation {
             let landing = h == remaining;
             let at_floor = h <= ctl.dt_min_s;
             saved.as_mut().clone_from(&self.state);
-            let was_open = self.state.events.is_open();
+            let was_open = self.state.events.tracker.is_open();
             let err = match self.step(h) {
                 Ok(()) => self.last_error.max() / ctl.tolerance,
                 Err(failure) if at_floor => break Err(failure),
@@ -108,36 +108,36 @@ impl Simulation {
                     // Retake the step to end just after the located onset (the margin keeps
                     // the crossing inside it despite rounding).
                     self.state.clone_from(&saved);
-                    self.state.onset_retakes += 1;
+                    self.state.counters.onset_retakes += 1;
                     cut_to_onset = true;
                     h_try = theta * h * (1.0 + 1e-9);
                     continue;
                 }
                 if err > 1.0 {
-                    self.state.forced_steps += 1;
+                    self.state.counters.forced_steps += 1;
                 }
-                self.state.accepted_steps += 1;
+                self.state.counters.accepted_steps += 1;
                 if landing {
-                    self.state.drive.t_s = t_stop_s;
+                    self.state.physical.drive.t_s = t_stop_s;
                 }
                 let h_next = controller.accepted(h, err, &mut self.state.controller);
                 // A step shortened to land on t_stop or on an onset says nothing about the
                 // next one: the controller's step stands.
                 let h_ctl = if landing || cut_to_onset {
-                    h_next.max(saved.next_dt_s.min(ctl.dt_max_s))
+                    h_next.max(saved.controller.next_dt_s.min(ctl.dt_max_s))
                 } else {
                     h_next
                 };
-                self.state.next_dt_s = h_ctl.max(ctl.dt_min_s);
+                self.state.controller.next_dt_s = h_ctl.max(ctl.dt_min_s);
                 if cut_to_onset {
                     // The step ended on the kink: no extrapolation of u3D across it.
-                    self.state.last_dt_s = 0.0;
-                    self.state.prev_dt_s = 0.0;
+                    self.state.stepper.last_dt_s = 0.0;
+                    self.state.stepper.prev_dt_s = 0.0;
                 }
                 break Ok(h);
             }
             self.state.clone_from(&saved);
-            self.state.rejected_steps += 1;
+            self.state.counters.rejected_steps += 1;
             h_try = controller
                 .rejected(h, err, &mut self.state.controller)
                 .max(ctl.dt_min_s);

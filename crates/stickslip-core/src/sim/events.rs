@@ -98,14 +98,11 @@ pub struct MeltingEvent {
     pub t_end_s: Option<f64>,
     /// Largest area-weighted ⟨φ⟩/φ_eq(t) from this onset to the next one (or the end of the
     /// run): 1 when the film re-solidifies fully between events.
-    #[serde(default)]
     pub recovery: f64,
     /// Time-mean friction force from this onset to the next one (or the end of the run), N.
-    #[serde(default)]
     pub f_mean_n: f64,
     /// Area fraction of the contact that melted at least once during the event (1 when the
     /// front reached the axis): converges as Δt → 0, unlike the instantaneous fraction.
-    #[serde(default)]
     pub melted_area: f64,
 }
 
@@ -162,7 +159,8 @@ struct CycleSums {
     recovery: f64,
 }
 
-/// Detects events step by step; its state is checkpointable.
+/// Detects events step by step; its state is checkpointable (its serde form is part of the
+/// checkpoint's, where every field must be present).
 #[derive(Debug, PartialEq, Serialize, Deserialize)]
 pub struct EventTracker {
     config: EventConfig,
@@ -177,9 +175,7 @@ pub struct EventTracker {
     /// Time after the first onset during which no node was solid, s.
     no_solid_s: f64,
     /// Time and force of the step before the previous one (t_end is located no earlier).
-    #[serde(default)]
     prev_t_s: f64,
-    #[serde(default)]
     prev_f_n: f64,
 }
 

@@ -3,8 +3,9 @@
 //! relaxation rate, the exponent of the error estimate's propagator, the crossing of a level
 //! and whether a film regrows from one.
 //!
-//! The accurate step is generic over [`Film`] and picks the implementation once per step
-//! (b₃ = 0 or not), so the second-order film runs exactly the arithmetic it always ran.
+//! The accurate step is generic over [`Film`]; the implementation is picked once, when the
+//! simulation is built (b₃ = 0 or not, [`super::stepper`]), so the second-order film runs
+//! exactly the arithmetic it always ran.
 
 use super::error_estimate;
 use crate::landau::{LandauParams, bernoulli_phi, first_order};
@@ -32,6 +33,16 @@ pub(super) struct SecondOrder {
     pub params: LandauParams,
     pub b: f64,
     pub two_gamma: f64,
+}
+
+impl SecondOrder {
+    pub fn new(params: LandauParams) -> Self {
+        Self {
+            params,
+            b: params.b_pa(),
+            two_gamma: 2.0 * params.gamma_per_pa_s,
+        }
+    }
 }
 
 impl Film for SecondOrder {

@@ -6,12 +6,19 @@ use crate::config::Substrate;
 use crate::landau::{first_order, second_order_rhs};
 
 impl Simulation {
+    /// One literal step of `dt_s` (the `Literal` stepper's).
     pub(super) fn step_literal(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
-        let t0 = self.state.drive.t_s;
+        let t0 = self.state.physical.drive.t_s;
         let a_coeff = self.config.temperature.a_coeff_pa(t0);
         let params = self.config.lubricant;
         let thr = self.config.melt_threshold;
-        for (was_solid, &phi) in self.state.melted_in_step.iter_mut().zip(&self.state.phi) {
+        for (was_solid, &phi) in self
+            .state
+            .events
+            .melted_in_step
+            .iter_mut()
+            .zip(&self.state.physical.phi)
+        {
             *was_solid = phi >= thr;
         }
         // Eq. 8 keeps φ ≥ 0 exactly; a negative φ is explicit Euler overshooting its
@@ -33,7 +40,7 @@ impl Simulation {
             let b = params.b_pa();
             // |∂rhs/∂φ| = γ·|a·ε² + 3b·φ² − 2b₃·φ − A·b/a| at the node's state before the step
             // (which noise may have pushed far from equilibrium).
-            let eps = self.state.eps[node];
+            let eps = self.state.physical.eps[node];
             let stiffness = params.gamma_per_pa_s
                 * (params.a_pa * eps * eps + 3.0 * b * phi_before * phi_before
                     - 2.0 * params.cubic_pa * phi_before
@@ -52,11 +59,11 @@ impl Simulation {
             };
             return Err(NumericalFailure {
                 t_s: t0 + dt_s,
-                step: self.state.step + 1,
+                step: self.state.counters.step + 1,
                 node,
                 r_m: self.radii_m[node],
                 quantity: "phi",
-                value: self.state.phi[node],
+                value: self.state.physical.phi[node],
                 diagnosis: format!(
                     "explicit Euler overshot below 0 (Eq. 8 keeps phi >= 0): phi before the \
                      step = {phi_before:e}{noisy}; dt x stiffness = {:.3} with stiffness \
@@ -67,18 +74,18 @@ impl Simulation {
                 ),
             });
         }
-        self.noise.apply(&mut self.state.phi, dt_s);
+        self.noise.apply(&mut self.state.physical.phi, dt_s);
         self.first_melt_fraction = 1.0;
         self.recovered_at_s = f64::NEG_INFINITY;
         let dx = self.drive_first_half(dt_s);
-        for i in 0..self.state.phi.len() {
-            let melted = self.state.phi[i] < thr;
-            let newly = melted && self.state.melted_in_step[i];
-            self.state.melted_in_step[i] = newly;
+        for i in 0..self.state.physical.phi.len() {
+            let melted = self.state.physical.phi[i] < thr;
+            let newly = melted && self.state.events.melted_in_step[i];
+            self.state.events.melted_in_step[i] = newly;
             if newly {
-                self.state.last_melt_s[i] = t0 + dt_s;
+                self.state.events.last_melt_s[i] = t0 + dt_s;
             }
-            let u0 = &mut self.state.u0_m[i];
+            let u0 = &mut self.state.physical.u0_m[i];
             *u0 = if melted { 0.0 } else { *u0 + dx };
         }
         self.update_strain_and_stress();
@@ -87,22 +94,26 @@ impl Simulation {
             Contact::Radial { ops, .. } => {
                 if self.config.contact.substrate == Substrate::Elastic {
                     ops.compliance(
-                        &self.state.tau_pa,
+                        &self.state.physical.tau_pa,
                         &mut self.scratch_q,
-                        &mut self.state.u3d_m,
+                        &mut self.state.physical.u3d_m,
                     );
                     let inv_g = 1.0 / self.config.contact.g_eff_pa;
-                    self.state.u3d_m.iter_mut().for_each(|u| *u *= inv_g);
+                    self.state
+                        .physical
+                        .u3d_m
+                        .iter_mut()
+                        .for_each(|u| *u *= inv_g);
                 }
             }
             Contact::Homogeneous {
                 compliance_m_per_pa,
                 ..
             } => {
-                self.state.u3d_m[0] = compliance_m_per_pa * self.state.tau_pa[0];
+                self.state.physical.u3d_m[0] = compliance_m_per_pa * self.state.physical.tau_pa[0];
             }
         }
-        self.state.force_n = self.force_3d();
+        self.state.physical.force_n = self.force_3d();
         self.drive_second_half(dt_s);
         Ok(())
     }
@@ -113,7 +124,14 @@ impl Simulation {
     /// negative or NaN, with its φ before the step.
     fn euler_phi(&mut self, dt_s: f64, rhs: impl Fn(f64, f64) -> f64) -> Option<(usize, f64)> {
         let mut overshoot: Option<(usize, f64)> = None;
-        for (i, (phi, &eps)) in self.state.phi.iter_mut().zip(&self.state.eps).enumerate() {
+        for (i, (phi, &eps)) in self
+            .state
+            .physical
+            .phi
+            .iter_mut()
+            .zip(&self.state.physical.eps)
+            .enumerate()
+        {
             let before = *phi;
             *phi += dt_s * rhs(before, eps);
             if overshoot.is_none() && (phi.is_nan() || *phi < 0.0) {

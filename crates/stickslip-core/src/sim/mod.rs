@@ -17,6 +17,10 @@
 //! The stamp is advanced by the split integrator (friction half kick with F_n, the spring's exact
 //! flow, film update, friction half kick with F_{n+1}; or velocity Verlet: half kick with F_n, drift, film update, half kick
 //! with F_{n+1}) or RK4 with F frozen over the step; the rigid drive sets X = V0·t.
+//!
+//! Each scheme is an implementation of the `stepper` module's trait, chosen once in
+//! [`Simulation::new`]; the state it advances is [`state`]'s: the physical state apart from
+//! what the stepper and the step-size controller remember, the counters and the events.
 
 mod accurate;
 mod adaptive;
@@ -26,21 +30,27 @@ pub mod events;
 pub mod failure;
 mod film;
 mod literal;
+pub mod state;
 pub mod step_control;
+mod stepper;
 
 pub use adaptive::StepError;
 pub use failure::NumericalFailure;
-use step_control::ControllerMemory;
+pub use state::{
+    ControllerMemory, EventBook, PhysicalState, SimState, StepCounters, StepperMemory,
+};
 
 use crate::config::{ContactModel, Scheme, SimConfig, Substrate};
 use crate::drive::{Drive, DriveState, Integrator};
 use crate::grid::Grid;
 use crate::mdr::{MdrOperators, Quadrature};
-use crate::noise::{NoiseSource, NoiseState};
+use crate::noise::NoiseSource;
 use coupling::{CouplingSolver, CouplingTolerance};
 use events::{EventTracker, MeltingEvent, StepSample};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::f64::consts::PI;
+use std::sync::Arc;
+use stepper::Stepper;
 
 /// Smallest φ the accurate scheme keeps from a positive start: φ² = 1e-300 is still a normal
 /// f64, so a molten node stays able to regrow (Eq. 8 never takes φ > 0 to 0 in finite time).
@@ -50,199 +60,6 @@ pub const PHI_REPRESENTABLE_MIN: f64 = 1e-150;
 const V_FLOOR: f64 = 1e-6;
 /// Floor of the position's error scale, as a fraction of the film thickness h0.
 const X_FLOOR: f64 = 1e-3;
-
-/// Everything that evolves; serialisable so a run can be checkpointed and resumed bit-identically.
-#[derive(Debug, PartialEq, Serialize, Deserialize)]
-pub struct SimState {
-    /// Steps taken.
-    pub step: u64,
-    /// Stamp kinematics (and the time).
-    pub drive: DriveState,
-    /// Order parameter φ per node.
-    pub phi: Vec<f64>,
-    /// Stamp-surface displacement since the node last re-solidified, m.
-    pub u0_m: Vec<f64>,
-    /// Substrate displacement, m.
-    pub u3d_m: Vec<f64>,
-    /// Substrate displacement one step earlier, m: the coupling solve starts from the linear
-    /// extrapolation 2·u3D_n − u3D_{n−1}, which cuts the solver's iterations in the stick phase.
-    pub u3d_prev_m: Vec<f64>,
-    /// Elastic strain ε = (u0 − u3D)/h0 as used for τ.
-    pub eps: Vec<f64>,
-    /// Shear stress τ = aφ²ε, Pa.
-    pub tau_pa: Vec<f64>,
-    /// Friction force F = 2π∫τ r dr, N.
-    pub force_n: f64,
-    /// Noise generator state.
-    pub noise: NoiseState,
-    /// Melting events so far.
-    pub events: EventTracker,
-    /// Coupling-solver iterations summed over all steps (accurate scheme).
-    pub coupling_iterations: u64,
-    /// Length of the last step taken, s (0 before the first): scales the extrapolation of u3D.
-    #[serde(default)]
-    pub last_dt_s: f64,
-    /// Substrate displacement two steps earlier, m (empty before the second step): with
-    /// `u3d_prev_m` and `u3d_m` it gives the coupling solve a quadratic first guess.
-    #[serde(default)]
-    pub u3d_prev2_m: Vec<f64>,
-    /// Length of the step before the last one, s (0 before the second step).
-    #[serde(default)]
-    pub prev_dt_s: f64,
-    /// Adaptive stepping: the step to try next, s (0 = start from `time.dt`).
-    #[serde(default)]
-    pub next_dt_s: f64,
-    /// Adaptive stepping: accepted steps.
-    #[serde(default)]
-    pub accepted_steps: u64,
-    /// Adaptive stepping: rejected attempts (error above tolerance, or a failed sub-step).
-    #[serde(default)]
-    pub rejected_steps: u64,
-    /// Adaptive stepping: steps accepted at `time.dt_min` although their error exceeded the
-    /// tolerance.
-    #[serde(default)]
-    pub forced_steps: u64,
-    /// Adaptive stepping: accepted attempts that brought a melting onset and were taken again
-    /// ending at the located melting time (each one more evaluation of the step).
-    #[serde(default)]
-    pub onset_retakes: u64,
-    /// Nodes that melted during the last step (accurate scheme), whatever their φ at its end:
-    /// melting is instantaneous there, so these count as melted for events and observables.
-    #[serde(default)]
-    pub melted_in_step: Vec<bool>,
-    /// When each node last melted (went from solid to below the threshold), s; −1 before its
-    /// first melting. The accurate scheme's melting is instantaneous (φ touches the threshold
-    /// and recovers within the step), so sampled φ rarely shows it; this does, located in time.
-    #[serde(default)]
-    pub last_melt_s: Vec<f64>,
-    /// Adaptive stepping: what the step-size controller remembers (last error, rejection).
-    #[serde(default)]
-    pub controller: ControllerMemory,
-    /// Change of the stamp's acceleration over the last step, m/s² (for the velocity's error
-    /// estimate; 0 before the first step).
-    #[serde(default)]
-    pub accel_change_prev_m_per_s2: f64,
-    /// Nodes that melted at least once during the open event (cleared while none is open).
-    #[serde(default)]
-    pub swept: Vec<bool>,
-}
-
-/// Field by field, so that `clone_from` reuses every buffer: adaptive stepping saves and
-/// restores the state on every attempt, and a derived `clone_from` would allocate each vector
-/// anew (the exhaustive patterns make a new field a compile error here until it is handled).
-impl Clone for SimState {
-    fn clone(&self) -> Self {
-        let Self {
-            step,
-            drive,
-            phi,
-            u0_m,
-            u3d_m,
-            u3d_prev_m,
-            eps,
-            tau_pa,
-            force_n,
-            noise,
-            events,
-            coupling_iterations,
-            last_dt_s,
-            u3d_prev2_m,
-            prev_dt_s,
-            next_dt_s,
-            accepted_steps,
-            rejected_steps,
-            forced_steps,
-            onset_retakes,
-            melted_in_step,
-            last_melt_s,
-            controller,
-            accel_change_prev_m_per_s2,
-            swept,
-        } = self;
-        Self {
-            step: *step,
-            drive: *drive,
-            phi: phi.clone(),
-            u0_m: u0_m.clone(),
-            u3d_m: u3d_m.clone(),
-            u3d_prev_m: u3d_prev_m.clone(),
-            eps: eps.clone(),
-            tau_pa: tau_pa.clone(),
-            force_n: *force_n,
-            noise: noise.clone(),
-            events: events.clone(),
-            coupling_iterations: *coupling_iterations,
-            last_dt_s: *last_dt_s,
-            u3d_prev2_m: u3d_prev2_m.clone(),
-            prev_dt_s: *prev_dt_s,
-            next_dt_s: *next_dt_s,
-            accepted_steps: *accepted_steps,
-            rejected_steps: *rejected_steps,
-            forced_steps: *forced_steps,
-            onset_retakes: *onset_retakes,
-            melted_in_step: melted_in_step.clone(),
-            last_melt_s: last_melt_s.clone(),
-            controller: *controller,
-            accel_change_prev_m_per_s2: *accel_change_prev_m_per_s2,
-            swept: swept.clone(),
-        }
-    }
-
-    fn clone_from(&mut self, source: &Self) {
-        let Self {
-            step,
-            drive,
-            phi,
-            u0_m,
-            u3d_m,
-            u3d_prev_m,
-            eps,
-            tau_pa,
-            force_n,
-            noise,
-            events,
-            coupling_iterations,
-            last_dt_s,
-            u3d_prev2_m,
-            prev_dt_s,
-            next_dt_s,
-            accepted_steps,
-            rejected_steps,
-            forced_steps,
-            onset_retakes,
-            melted_in_step,
-            last_melt_s,
-            controller,
-            accel_change_prev_m_per_s2,
-            swept,
-        } = source;
-        self.step = *step;
-        self.drive = *drive;
-        self.phi.clone_from(phi);
-        self.u0_m.clone_from(u0_m);
-        self.u3d_m.clone_from(u3d_m);
-        self.u3d_prev_m.clone_from(u3d_prev_m);
-        self.eps.clone_from(eps);
-        self.tau_pa.clone_from(tau_pa);
-        self.force_n = *force_n;
-        self.noise.clone_from(noise);
-        self.events.clone_from(events);
-        self.coupling_iterations = *coupling_iterations;
-        self.last_dt_s = *last_dt_s;
-        self.u3d_prev2_m.clone_from(u3d_prev2_m);
-        self.prev_dt_s = *prev_dt_s;
-        self.next_dt_s = *next_dt_s;
-        self.accepted_steps = *accepted_steps;
-        self.rejected_steps = *rejected_steps;
-        self.forced_steps = *forced_steps;
-        self.onset_retakes = *onset_retakes;
-        self.melted_in_step.clone_from(melted_in_step);
-        self.last_melt_s.clone_from(last_melt_s);
-        self.controller = *controller;
-        self.accel_change_prev_m_per_s2 = *accel_change_prev_m_per_s2;
-        self.swept.clone_from(swept);
-    }
-}
 
 /// Scalar observables at the current time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -277,10 +94,12 @@ enum Contact {
     },
 }
 
-/// One simulation: configuration, operators, state and scratch.
+/// One simulation: configuration, operators, stepper, state and scratch.
 pub struct Simulation {
     config: SimConfig,
     contact: Contact,
+    /// The scheme's step, chosen once from the configuration ([`stepper::for_config`]).
+    stepper: Arc<dyn Stepper>,
     noise: NoiseSource,
     state: SimState,
     radii_m: Vec<f64>,
@@ -314,7 +133,7 @@ impl std::fmt::Debug for Simulation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Simulation")
             .field("config", &self.config)
-            .field("step", &self.state.step)
+            .field("step", &self.state.counters.step)
             .finish_non_exhaustive()
     }
 }
@@ -370,33 +189,34 @@ impl Simulation {
         };
         let kappa = config.lubricant.a_pa / (c.film_thickness_m * c.g_eff_pa);
         let state = SimState {
-            step: 0,
-            drive: DriveState::at_rest(),
-            phi: vec![phi_init; n],
-            u0_m: vec![0.0; n],
-            u3d_m: vec![0.0; n],
-            u3d_prev_m: vec![0.0; n],
-            eps: vec![0.0; n],
-            tau_pa: vec![0.0; n],
-            force_n: 0.0,
-            noise: noise.state(),
-            events: EventTracker::new(config.events),
-            coupling_iterations: 0,
-            last_dt_s: 0.0,
-            u3d_prev2_m: Vec::new(),
-            prev_dt_s: 0.0,
-            next_dt_s: 0.0,
-            accepted_steps: 0,
-            rejected_steps: 0,
-            forced_steps: 0,
-            onset_retakes: 0,
-            melted_in_step: vec![false; n],
-            last_melt_s: vec![-1.0; n],
+            physical: PhysicalState {
+                drive: DriveState::at_rest(),
+                phi: vec![phi_init; n],
+                u0_m: vec![0.0; n],
+                u3d_m: vec![0.0; n],
+                eps: vec![0.0; n],
+                tau_pa: vec![0.0; n],
+                force_n: 0.0,
+                noise: noise.state(),
+            },
+            stepper: StepperMemory {
+                u3d_prev_m: vec![0.0; n],
+                u3d_prev2_m: Vec::new(),
+                last_dt_s: 0.0,
+                prev_dt_s: 0.0,
+                accel_change_prev_m_per_s2: 0.0,
+            },
             controller: ControllerMemory::default(),
-            accel_change_prev_m_per_s2: 0.0,
-            swept: vec![false; n],
+            counters: StepCounters::default(),
+            events: EventBook {
+                tracker: EventTracker::new(config.events),
+                melted_in_step: vec![false; n],
+                last_melt_s: vec![-1.0; n],
+                swept: vec![false; n],
+            },
         };
         let mut sim = Self {
+            stepper: stepper::for_config(&config),
             config,
             contact,
             noise,
@@ -434,24 +254,13 @@ impl Simulation {
     /// Replaces the state with a checkpointed one of the same configuration.
     ///
     /// # Errors
-    /// If the node count or the noise state does not fit.
+    /// If a per-node vector's length or the noise state does not fit.
     pub fn restore(&mut self, state: SimState) -> Result<(), String> {
-        if state.phi.len() != self.radii_m.len() {
-            return Err(format!(
-                "checkpoint has {} nodes, the scene {}",
-                state.phi.len(),
-                self.radii_m.len()
-            ));
-        }
+        state.check_nodes(self.radii_m.len())?;
         self.noise
-            .restore(&state.noise)
+            .restore(&state.physical.noise)
             .map_err(|e| e.to_string())?;
-        let n = state.phi.len();
         self.state = state;
-        // Per-node fields added later than the checkpoint format default to empty.
-        self.state.melted_in_step.resize(n, false);
-        self.state.last_melt_s.resize(n, -1.0);
-        self.state.swept.resize(n, false);
         Ok(())
     }
 
@@ -462,12 +271,12 @@ impl Simulation {
 
     /// Current time, s.
     pub fn time_s(&self) -> f64 {
-        self.state.drive.t_s
+        self.state.physical.drive.t_s
     }
 
     /// Melting events so far.
     pub fn events(&self) -> &[MeltingEvent] {
-        self.state.events.events()
+        self.state.events.tracker.events()
     }
 
     /// Advances by `dt_s` (normally `config.time.dt_s`).
@@ -476,15 +285,13 @@ impl Simulation {
     /// [`NumericalFailure`] when a value turns non-finite or runs away (|τ| beyond
     /// `numerics.runaway_stress_factor`·τmax, or the coupling solve fails).
     pub fn step(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
-        match self.config.time.scheme {
-            Scheme::Literal => self.step_literal(dt_s)?,
-            Scheme::Accurate => self.step_accurate(dt_s)?,
-        }
-        self.state.step += 1;
+        let stepper = Arc::clone(&self.stepper);
+        stepper.step(self, dt_s)?;
+        self.state.counters.step += 1;
         // The state carries the generators' positions so that a checkpoint resumes the same
         // random numbers (gaussian noise only; the other kinds draw nothing).
-        if !self.state.noise.word_pos.is_empty() {
-            self.noise.write_state(&mut self.state.noise);
+        if !self.state.physical.noise.word_pos.is_empty() {
+            self.noise.write_state(&mut self.state.physical.noise);
         }
         self.check_state()?;
         self.observe_events();
@@ -492,29 +299,37 @@ impl Simulation {
     }
 
     fn drive_first_half(&mut self, dt_s: f64) -> f64 {
-        let x0 = self.state.drive.x_m;
-        let f = self.state.force_n;
+        let x0 = self.state.physical.drive.x_m;
+        let f = self.state.physical.force_n;
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Verlet) => {
-                s.half_kick(&mut self.state.drive, f, dt_s);
-                s.drift(&mut self.state.drive, dt_s);
+                s.half_kick(&mut self.state.physical.drive, f, dt_s);
+                s.drift(&mut self.state.physical.drive, dt_s);
             }
             (Drive::Spring(s), Integrator::Split) => {
-                s.friction_half_kick(&mut self.state.drive, f, dt_s);
-                s.spring_flow(&mut self.state.drive, dt_s);
+                s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
+                s.spring_flow(&mut self.state.physical.drive, dt_s);
             }
-            (d, integrator) => d.step(integrator, &mut self.state.drive, dt_s, f),
+            (d, integrator) => d.step(integrator, &mut self.state.physical.drive, dt_s, f),
         }
-        self.state.drive.x_m - x0
+        self.state.physical.drive.x_m - x0
     }
 
     fn drive_second_half(&mut self, dt_s: f64) {
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Verlet) => {
-                s.half_kick(&mut self.state.drive, self.state.force_n, dt_s);
+                s.half_kick(
+                    &mut self.state.physical.drive,
+                    self.state.physical.force_n,
+                    dt_s,
+                );
             }
             (Drive::Spring(s), Integrator::Split) => {
-                s.friction_half_kick(&mut self.state.drive, self.state.force_n, dt_s);
+                s.friction_half_kick(
+                    &mut self.state.physical.drive,
+                    self.state.physical.force_n,
+                    dt_s,
+                );
             }
             _ => {}
         }
@@ -524,7 +339,7 @@ impl Simulation {
     fn update_strain_and_stress(&mut self) {
         let h0 = self.config.contact.film_thickness_m;
         let a = self.config.lubricant.a_pa;
-        let s = &mut self.state;
+        let s = &mut self.state.physical;
         for i in 0..s.phi.len() {
             let eps = (s.u0_m[i] - s.u3d_m[i]) / h0;
             s.eps[i] = eps;
@@ -537,8 +352,8 @@ impl Simulation {
     /// values when there are three (an error of O(Δt³), which in the stick phase already meets
     /// the coupling tolerance, so the solve only checks it), else the linear one.
     fn extrapolate_u3d(&mut self, dt_s: f64) {
-        let s = &mut self.state;
-        let n = s.u3d_m.len();
+        let (p, s) = (&mut self.state.physical, &mut self.state.stepper);
+        let n = p.u3d_m.len();
         let (h_last, h_prev) = (s.last_dt_s, s.prev_dt_s);
         if s.u3d_prev2_m.len() != n {
             s.u3d_prev2_m = s.u3d_prev_m.clone();
@@ -558,8 +373,8 @@ impl Simulation {
             (1.0, 0.0, 0.0)
         };
         for i in 0..n {
-            let (u, prev, prev2) = (s.u3d_m[i], s.u3d_prev_m[i], s.u3d_prev2_m[i]);
-            s.u3d_m[i] = w0 * u + w1 * prev + w2 * prev2;
+            let (u, prev, prev2) = (p.u3d_m[i], s.u3d_prev_m[i], s.u3d_prev2_m[i]);
+            p.u3d_m[i] = w0 * u + w1 * prev + w2 * prev2;
             s.u3d_prev2_m[i] = prev;
             s.u3d_prev_m[i] = u;
         }
@@ -580,21 +395,21 @@ impl Simulation {
                 ops,
                 solver: Some(solver),
             } => {
-                for (p2, &p) in self.phi_sq.iter_mut().zip(&self.state.phi) {
+                for (p2, &p) in self.phi_sq.iter_mut().zip(&self.state.physical.phi) {
                     *p2 = p * p;
                 }
                 let report = solver.solve(
                     ops,
                     &self.phi_sq,
                     self.kappa,
-                    &self.state.u0_m,
-                    &mut self.state.u3d_m,
+                    &self.state.physical.u0_m,
+                    &mut self.state.physical.u3d_m,
                     CouplingTolerance {
                         rel_tol: self.config.numerics.coupling_tol,
                         spectral_bound: self.rho0,
                     },
                 );
-                self.state.coupling_iterations += report.iterations as u64;
+                self.state.counters.coupling_iterations += report.iterations as u64;
                 if !report.converged {
                     return Err(NumericalFailure {
                         t_s,
@@ -616,12 +431,12 @@ impl Simulation {
                 compliance_m_per_pa,
                 ..
             } => {
-                let phi = self.state.phi[0];
+                let phi = self.state.physical.phi[0];
                 let k = *compliance_m_per_pa * self.config.lubricant.a_pa * phi * phi
                     / self.config.contact.film_thickness_m;
                 // Kept for the next step's strain prediction, as in the radial solve.
-                self.state.u3d_prev_m[0] = self.state.u3d_m[0];
-                self.state.u3d_m[0] = k * self.state.u0_m[0] / (1.0 + k);
+                self.state.stepper.u3d_prev_m[0] = self.state.physical.u3d_m[0];
+                self.state.physical.u3d_m[0] = k * self.state.physical.u0_m[0] / (1.0 + k);
             }
         }
         Ok(())
@@ -629,8 +444,8 @@ impl Simulation {
 
     fn force_3d(&self) -> f64 {
         match &self.contact {
-            Contact::Radial { ops, .. } => ops.force_3d_n(&self.state.tau_pa),
-            Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.tau_pa[0],
+            Contact::Radial { ops, .. } => ops.force_3d_n(&self.state.physical.tau_pa),
+            Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.physical.tau_pa[0],
         }
     }
 
@@ -641,8 +456,8 @@ impl Simulation {
     /// K has non-negative entries, so power iteration from a positive vector converges to ρ
     /// (Perron–Frobenius); 0 for a rigid substrate.
     pub fn lagged_sweep_contraction(&mut self) -> f64 {
-        let n = self.state.phi.len();
-        let phi_sq: Vec<f64> = self.state.phi.iter().map(|p| p * p).collect();
+        let n = self.state.physical.phi.len();
+        let phi_sq: Vec<f64> = self.state.physical.phi.iter().map(|p| p * p).collect();
         match &self.contact {
             _ if self.config.contact.substrate == Substrate::Rigid => 0.0,
             Contact::Homogeneous {
@@ -683,7 +498,7 @@ impl Simulation {
     /// The physics of this configuration before it runs (derived and stability numbers,
     /// estimates, the verdict); computes the lagged-sweep contraction factor from the state now.
     pub fn preflight(&mut self) -> crate::preflight::Preflight {
-        let rho = if self.state.step == 0 {
+        let rho = if self.state.counters.step == 0 {
             self.rho0
         } else {
             self.lagged_sweep_contraction()
@@ -695,27 +510,27 @@ impl Simulation {
     pub fn observables(&mut self) -> Observables {
         let f_1d_n = match &self.contact {
             Contact::Radial { ops, .. } => {
-                ops.forward(&self.state.tau_pa, &mut self.scratch_q);
+                ops.forward(&self.state.physical.tau_pa, &mut self.scratch_q);
                 ops.force_1d_n(&self.scratch_q)
             }
-            Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.tau_pa[0],
+            Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.physical.tau_pa[0],
         };
         let mut phi_mean = 0.0;
         let mut eps_mean = 0.0;
         let mut melted = 0.0;
-        for i in 0..self.state.phi.len() {
+        for i in 0..self.state.physical.phi.len() {
             let w = self.area_weights[i];
-            phi_mean += w * self.state.phi[i];
-            eps_mean += w * self.state.eps[i];
-            if self.state.phi[i] < self.config.melt_threshold {
+            phi_mean += w * self.state.physical.phi[i];
+            eps_mean += w * self.state.physical.eps[i];
+            if self.state.physical.phi[i] < self.config.melt_threshold {
                 melted += w;
             }
         }
         Observables {
-            t_s: self.state.drive.t_s,
-            x_m: self.state.drive.x_m,
-            v_m_per_s: self.state.drive.v_m_per_s,
-            f_n: self.state.force_n,
+            t_s: self.state.physical.drive.t_s,
+            x_m: self.state.physical.drive.x_m,
+            v_m_per_s: self.state.physical.drive.v_m_per_s,
+            f_n: self.state.physical.force_n,
             f_1d_n,
             phi_mean,
             eps_mean,
@@ -725,13 +540,22 @@ impl Simulation {
 
     /// Node `i` is below the threshold now or melted during the last step.
     fn is_melted(&self, i: usize) -> bool {
-        self.state.phi[i] < self.config.melt_threshold
-            || self.state.melted_in_step.get(i).copied().unwrap_or(false)
+        self.state.physical.phi[i] < self.config.melt_threshold
+            || self
+                .state
+                .events
+                .melted_in_step
+                .get(i)
+                .copied()
+                .unwrap_or(false)
     }
 
     fn observe_events(&mut self) {
         let thr = self.config.melt_threshold;
-        let a_coeff = self.config.temperature.a_coeff_pa(self.state.drive.t_s);
+        let a_coeff = self
+            .config
+            .temperature
+            .a_coeff_pa(self.state.physical.drive.t_s);
         let phi_eq = self.config.lubricant.solid_phi(0.0, a_coeff);
         let recovery_phi = self.config.events.recovery_phi(thr, phi_eq);
         let mut melted_nodes = 0;
@@ -742,39 +566,45 @@ impl Simulation {
         let mut fraction = 0.0;
         let mut swept = 0.0;
         let mut phi_mean = 0.0;
-        let open = self.state.events.is_open();
-        for i in 0..self.state.phi.len() {
-            let phi = self.state.phi[i];
+        let open = self.state.events.tracker.is_open();
+        for i in 0..self.state.physical.phi.len() {
+            let phi = self.state.physical.phi[i];
             phi_mean += self.area_weights[i] * phi;
             if phi < thr {
                 fraction += self.area_weights[i];
             }
             if !open {
-                self.state.swept[i] = false;
+                self.state.events.swept[i] = false;
             }
             if self.is_melted(i) {
                 melted_nodes += 1;
                 unrecovered_nodes += 1;
                 outer = outer.max(self.radii_m[i]);
                 inner = inner.min(self.radii_m[i]);
-                self.state.swept[i] = true;
+                self.state.events.swept[i] = true;
             } else {
                 solid_nodes += 1;
                 if phi < recovery_phi {
                     unrecovered_nodes += 1;
                 }
             }
-            if self.state.swept[i] {
+            if self.state.events.swept[i] {
                 swept += self.area_weights[i];
             }
         }
-        let t_s = self.state.drive.t_s;
+        let t_s = self.state.physical.drive.t_s;
         // Located times where the scheme knows them (the accurate scheme's melting of the
         // axis node and recovery crossings), else the step's end.
-        let center_melt_s = if self.state.melted_in_step.first().copied().unwrap_or(false)
-            && self.state.last_melt_s[0] >= 0.0
+        let center_melt_s = if self
+            .state
+            .events
+            .melted_in_step
+            .first()
+            .copied()
+            .unwrap_or(false)
+            && self.state.events.last_melt_s[0] >= 0.0
         {
-            self.state.last_melt_s[0].min(t_s)
+            self.state.events.last_melt_s[0].min(t_s)
         } else {
             t_s
         };
@@ -784,12 +614,12 @@ impl Simulation {
             t_s
         };
         let sample = StepSample {
-            t_s: self.state.drive.t_s,
-            first_melt_s: self.state.drive.t_s
-                - (1.0 - self.first_melt_fraction) * self.state.last_dt_s,
-            v_m_per_s: self.state.drive.v_m_per_s,
-            x_m: self.state.drive.x_m,
-            f_n: self.state.force_n,
+            t_s: self.state.physical.drive.t_s,
+            first_melt_s: self.state.physical.drive.t_s
+                - (1.0 - self.first_melt_fraction) * self.state.stepper.last_dt_s,
+            v_m_per_s: self.state.physical.drive.v_m_per_s,
+            x_m: self.state.physical.drive.x_m,
+            f_n: self.state.physical.force_n,
             melted_nodes,
             unrecovered_nodes,
             solid_nodes,
@@ -803,15 +633,15 @@ impl Simulation {
             phi_mean,
             phi_eq,
         };
-        self.state.events.observe(&sample);
+        self.state.events.tracker.observe(&sample);
     }
 
     fn check_state(&self) -> Result<(), NumericalFailure> {
-        let s = &self.state;
+        let s = &self.state.physical;
         let fail = |node: usize, quantity: &'static str, value: f64, diagnosis: String| {
             Err(NumericalFailure {
                 t_s: s.drive.t_s,
-                step: s.step,
+                step: self.state.counters.step,
                 node,
                 r_m: self.radii_m.get(node).copied().unwrap_or(0.0),
                 quantity,

@@ -20,12 +20,12 @@
 //! `shrink_max`), and the step accepted right after a rejection may not grow: the error
 //! model was just wrong, so it is not trusted to grow again at once.
 
-use serde::{Deserialize, Serialize};
-
 /// What the controller remembers between steps; part of the checkpointed state so that a
 /// resumed run takes the same steps.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ControllerMemory {
+    /// The step to try next, s (0 = start from `time.dt`).
+    pub next_dt_s: f64,
     /// Scaled error of the last accepted step (0 before the first).
     pub err_prev: f64,
     /// Whether the last attempt was rejected.
@@ -106,7 +106,7 @@ mod tests {
         let c = StepController::of_order(3.0);
         let mut m = ControllerMemory {
             err_prev: c.target,
-            rejected_last: false,
+            ..ControllerMemory::default()
         };
         let h = c.accepted(1e-6, c.target, &mut m);
         assert!((h / 1e-6 - 1.0).abs() < 1e-12, "{h}");

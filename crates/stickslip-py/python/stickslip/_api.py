@@ -142,6 +142,7 @@ def resume(
     *,
     progress: ProgressArg = None,
     checkpoint_every: Optional[float] = None,
+    allow_other_build: bool = False,
 ) -> RunResult:
     """Finishes the interrupted (or killed) run in ``dir`` from its checkpoint, as
     ``stickslip resume DIR`` does, and returns the whole run's output: the files are those
@@ -150,14 +151,24 @@ def resume(
 
     ``progress`` as for ``run``; ``checkpoint_every`` (seconds of wall time, 0 = none)
     replaces the run's interval. A run that has already ended is returned as it is (as
-    ``load`` gives it). Raises ``FileNotFoundError`` when there is nothing to resume (no
-    directory, no checkpoint: a run killed before its first one is run again with
-    ``stickslip.run``), ``ValueError`` for a damaged checkpoint or partial output,
-    ``Interrupted`` and ``NumericalFailure`` as ``run`` does.
+    ``load`` gives it). The checkpoint is bound to the build of the numerics that wrote it
+    (the package and the command line built from one tree share it): another build's (other
+    sources, compiler, target or optimisation level) would not continue the same numbers and
+    is refused with ``ValueError`` naming both builds, unless ``allow_other_build=True``,
+    which continues it and records the crossing in ``run_info["resumed_across_builds"]``.
+    Raises ``FileNotFoundError`` when there is nothing to resume (no directory, no
+    checkpoint: a run killed before its first one is run again with ``stickslip.run``),
+    ``ValueError`` for a damaged checkpoint or partial output, one of an older format or
+    another build's, ``Interrupted`` and ``NumericalFailure`` as ``run`` does.
     """
     callback, bar = _progress.start(progress, "run", os.path.basename(os.fspath(dir)))
     try:
-        parts = _native.resume(dir, progress=callback, checkpoint_every=checkpoint_every)
+        parts = _native.resume(
+            dir,
+            progress=callback,
+            checkpoint_every=checkpoint_every,
+            allow_other_build=allow_other_build,
+        )
     finally:
         if bar is not None:
             bar.close()

@@ -67,7 +67,11 @@ def run(
     parts of a ``RunResult`` with ``error``. Use ``stickslip.run``."""
 
 def resume(
-    dir: _Path, *, progress: _Callback = None, checkpoint_every: Optional[float] = None
+    dir: _Path,
+    *,
+    progress: _Callback = None,
+    checkpoint_every: Optional[float] = None,
+    allow_other_build: bool = False,
 ) -> Dict[str, Any]:
     """Internal: finishes the interrupted run in ``dir``. Use ``stickslip.resume``."""
 

@@ -491,7 +491,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         cubic_pa: 0.0,
     };
     // b and the default A derive from these: before A's default is taken from them.
-    lubricant.check_b()?;
+    stickslip_core::config::bounds::check_film(&lubricant)?;
     let melt_threshold = lubricant::MELT_THRESHOLD.value(l.melt_threshold, &nothing())?;
     let (noise, noise_section) = resolve_noise(&l.noise.clone().unwrap_or_default())?;
     // The scene as resolved so far, for the derived defaults of the sections that follow.

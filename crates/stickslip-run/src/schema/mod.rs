@@ -117,7 +117,11 @@ pub fn markdown() -> String {
          to an uninterrupted one. After a hard kill (SIGKILL, power loss) run.json still says \
          `running` and only the temporary files and the last checkpoint are there: `stickslip \
          resume DIR` finishes the run, and Python's `stickslip.load(DIR)` reads it as of its \
-         last checkpoint.\n",
+         last checkpoint. A checkpoint is bound to the build of the numerics that wrote it \
+         (checkpoint format 2 carries the build identity): `stickslip resume` refuses another \
+         build's checkpoint (exit 2, naming both builds), since its numbers would differ, \
+         unless `--allow-other-build` is given, and then run.json records the crossing in \
+         `resumed_across_builds`.\n",
     );
     let probe = [probes::TIME, probes::PHI, probes::T_MELT];
     for (file, cols) in [
@@ -145,9 +149,11 @@ pub fn markdown() -> String {
          `warnings`, `steps`, `accepted_steps`, \
          `rejected_steps`, `forced_steps`, `onset_retakes`, `t_final`, `wall_seconds`, \
          `coupling_iterations`, \
-         `seed`, `events`, `series_rows`, `columns` (file → column → unit) and `summary` (n_events, \
+         `seed`, `events`, `series_rows`, `columns` (file → column → unit), `summary` (n_events, \
          t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean, recovery, \
-         melted_time_fraction, regime, steady).\n",
+         melted_time_fraction, regime, steady) and, only for a run resumed from another build's \
+         checkpoint, `resumed_across_builds` (`[{checkpoint_build, build}, …]`, one per such \
+         resume).\n",
     );
     out
 }

@@ -93,11 +93,11 @@ fn rows<'a>(t_s: f64, radii_m: &'a [f64], s: &'a SimState) -> impl Iterator<Item
         [
             t_s,
             r,
-            at(&s.phi),
-            at(&s.eps),
-            at(&s.tau_pa),
-            at(&s.u0_m),
-            at(&s.u3d_m),
+            at(&s.physical.phi),
+            at(&s.physical.eps),
+            at(&s.physical.tau_pa),
+            at(&s.physical.u0_m),
+            at(&s.physical.u3d_m),
         ]
     })
 }

@@ -3,7 +3,8 @@
 //!
 //! `status` is there from the start: `running` while the run goes on (written before the
 //! first step), then `ok`, `failed` (with `failure`) or `interrupted` (a checkpoint is in the
-//! directory; `stickslip resume DIR` finishes it).
+//! directory; `stickslip resume DIR` finishes it). `resumed_across_builds` is there only when
+//! the run was resumed from another build's checkpoint (`--allow-other-build`).
 
 use super::SchemaError;
 use crate::outcome::RunOutcome;
@@ -57,6 +58,16 @@ impl From<&NumericalFailure> for FailureRecord {
             message: f.to_string(),
         }
     }
+}
+
+/// A resume from a checkpoint that another build of the numerics wrote (`stickslip resume
+/// --allow-other-build`): the run's numbers before and after it come from different builds.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct BuildCrossing {
+    /// The build that wrote the checkpoint.
+    pub checkpoint_build: String,
+    /// The build that resumed it.
+    pub build: String,
 }
 
 /// Derived parameters as written to run.json (SI).
@@ -192,6 +203,11 @@ pub struct RunInfo {
     pub columns: BTreeMap<String, BTreeMap<String, String>>,
     /// The run's summary and regime (docs/model.md#regimes-and-friction-maps; null while running).
     pub summary: Option<RunSummary>,
+    /// Resumes from a checkpoint of another build, in order (absent when there were none,
+    /// so a run within one build writes the same run.json as before the field existed, and
+    /// run.json files without it read as none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub resumed_across_builds: Vec<BuildCrossing>,
 }
 
 /// The noise seed of `scene`, if its noise draws random numbers.
@@ -229,6 +245,7 @@ impl RunInfo {
             series_rows: 0,
             columns: super::column_units(&scene.output.probe_radii_m),
             summary: None,
+            resumed_across_builds: Vec::new(),
         }
     }
 

@@ -70,6 +70,16 @@ impl Default for DirOptions {
     }
 }
 
+/// How to resume.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ResumeOptions {
+    /// Wall-clock interval between checkpoints from here on, s (`None`: the run's own).
+    pub checkpoint_every_s: Option<f64>,
+    /// Continue a checkpoint written by another build of the numerics (recorded in run.json's
+    /// `resumed_across_builds`); otherwise it is refused.
+    pub allow_other_build: bool,
+}
+
 /// Why a run into a directory did not happen or did not complete.
 #[derive(Debug, Error)]
 pub enum RunError {
@@ -229,14 +239,19 @@ impl DirSink {
         let positions = streams.positions()?;
         let mut driver = snapshot.driver.clone();
         driver.wall_before_s = snapshot.wall_seconds;
+        let crossings = self
+            .info
+            .as_ref()
+            .map_or(&[][..], |i| &i.resumed_across_builds[..]);
         let c = Checkpoint {
-            version: Cow::Borrowed(env!("CARGO_PKG_VERSION")),
+            build: Cow::Borrowed(checkpoint::BUILD_ID),
             checkpoint_every_s: self.every_s,
             scene: Cow::Borrowed(snapshot.scene),
             preflight: Cow::Borrowed(snapshot.preflight),
             driver: Cow::Owned(driver),
             sim: Cow::Borrowed(snapshot.sim),
             streams: positions,
+            resumed_across_builds: Cow::Borrowed(crossings),
         };
         checkpoint::save(&self.dir, &c)
     }
@@ -367,18 +382,22 @@ pub fn run_to_dir(
 }
 
 /// Finishes the interrupted run in `dir` from its checkpoint, with output bit-identical to
-/// an uninterrupted run (run.json's `wall_seconds` aside). `checkpoint_every_s` overrides the
-/// run's checkpoint interval. Returns the scene and the outcome of the whole run.
+/// an uninterrupted run (run.json's `wall_seconds` aside). A checkpoint of another build is
+/// refused unless `options.allow_other_build`, and then recorded in run.json. Returns the
+/// scene and the outcome of the whole run.
 ///
 /// # Errors
 /// [`RunError::Checkpoint`] when there is nothing to resume or the checkpoint (or the partial
-/// output it refers to) is unusable; otherwise as [`run_to_dir`].
+/// output it refers to) is unusable or another build's; otherwise as [`run_to_dir`].
 pub fn resume(
     dir: &Path,
-    checkpoint_every_s: Option<f64>,
+    options: &ResumeOptions,
     control: &mut Control<'_>,
 ) -> Result<(ResolvedScene, RunOutcome), RunError> {
     let c = checkpoint::load(dir)?;
+    let crossing = checkpoint::check_build(dir, &c, options.allow_other_build)?;
+    let mut crossings = c.resumed_across_builds.into_owned();
+    crossings.extend(crossing);
     let corrupt = |reason: String| CheckpointError::corrupt(dir, reason);
     let scene = c.scene.into_owned();
     let preflight = c.preflight.into_owned();
@@ -398,12 +417,16 @@ pub fn resume(
         probes: reopen(schema::probes::FILE, c.streams.probes)?,
         profiles: reopen(schema::profiles::FILE, c.streams.profiles)?,
     };
-    let mut sink = DirSink::with_interval(dir, checkpoint_every_s.unwrap_or(c.checkpoint_every_s));
-    let info = RunInfo::starting(
+    let mut sink = DirSink::with_interval(
+        dir,
+        options.checkpoint_every_s.unwrap_or(c.checkpoint_every_s),
+    );
+    let mut info = RunInfo::starting(
         &scene,
         &preflight,
         crate::driver::warnings_of(&scene, &preflight),
     );
+    info.resumed_across_builds = crossings;
     let io_err = |source| RunError::Io {
         path: dir.to_path_buf(),
         source,

@@ -154,7 +154,8 @@ fn or_header(text: String, write: impl FnOnce(&mut Vec<u8>) -> io::Result<()>) -
 }
 
 fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError> {
-    // A checkpoint of another version or a damaged one is no checkpoint here.
+    // A checkpoint of another format or a damaged one is no checkpoint here; another build's
+    // is: reading its state steps nothing.
     let checkpoint: Option<Checkpoint<'static>> = checkpoint::load(dir).ok();
     let at = checkpoint.as_ref().map(|c| c.streams);
     let probe_radii: Vec<f64> = info
