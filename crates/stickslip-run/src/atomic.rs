@@ -155,18 +155,15 @@ impl AtomicFile {
         })
     }
 
-    /// Continues the file `dir/name` of an interrupted run at `at`, which a checkpoint
-    /// recorded: the first `at.bytes` bytes of the temporary file `dir/.<name>.tmp` (written by
-    /// [`create_resumable`](Self::create_resumable)) are kept
-    /// and whatever follows them (written after the checkpoint) is cut off. When the temporary
-    /// file is gone because the run was killed while committing its output, those bytes are
-    /// taken from the committed `dir/name` instead.
+    /// Whether `dir`'s streamed file `name` (its resumable temporary, or the final name an
+    /// interrupted run published) still holds the first `at.bytes` bytes with the recorded
+    /// checksum; `Ok(true)` when they are in the final name. Reads only, changes nothing: a
+    /// resume checks every stream this way before it reopens any, so one that cannot go on
+    /// leaves the directory as it found it.
     ///
     /// # Errors
-    /// [`io::ErrorKind::NotFound`] if neither file exists; [`io::ErrorKind::InvalidData`] if
-    /// the file is shorter than `at.bytes` or its first `at.bytes` bytes do not have the
-    /// recorded checksum (a damaged file, or one of another run); other I/O errors as they come.
-    pub fn reopen(dir: &Path, name: &str, at: StreamPosition) -> io::Result<Self> {
+    /// When neither file exists, it is shorter, or its first bytes differ.
+    pub fn check_prefix(dir: &Path, name: &str, at: StreamPosition) -> io::Result<bool> {
         let tmp = dir.join(resumable_temporary(name));
         let target = dir.join(name);
         let (source, from_target) = if tmp.exists() {
@@ -207,6 +204,24 @@ impl AtomicFile {
                 at.fnv1a64
             )));
         }
+        Ok(from_target)
+    }
+
+    /// Continues the file `dir/name` of an interrupted run at `at`, which a checkpoint
+    /// recorded: the first `at.bytes` bytes of the temporary file `dir/.<name>.tmp` (written by
+    /// [`create_resumable`](Self::create_resumable)) are kept
+    /// and whatever follows them (written after the checkpoint) is cut off. When the temporary
+    /// file is gone because the run was killed while committing its output, those bytes are
+    /// taken from the committed `dir/name` instead.
+    ///
+    /// # Errors
+    /// [`io::ErrorKind::NotFound`] if neither file exists; [`io::ErrorKind::InvalidData`] if
+    /// the file is shorter than `at.bytes` or its first `at.bytes` bytes do not have the
+    /// recorded checksum (a damaged file, or one of another run); other I/O errors as they come.
+    pub fn reopen(dir: &Path, name: &str, at: StreamPosition) -> io::Result<Self> {
+        let tmp = dir.join(resumable_temporary(name));
+        let target = dir.join(name);
+        let from_target = Self::check_prefix(dir, name, at)?;
         let mut file = if from_target {
             let mut file = File::create(&tmp)?;
             io::copy(&mut File::open(&target)?.take(at.bytes), &mut file)?;
@@ -236,6 +251,16 @@ impl AtomicFile {
             w.get_ref().sync_data()?;
         }
         Ok(self.position)
+    }
+
+    /// Keeps the temporary file as it is after a failed write (a full disk): what is buffered
+    /// is flushed as far as it goes, and the file is not removed, so the rows written so far
+    /// stay readable and resumable.
+    pub fn keep_after_failure(mut self) {
+        if let Some(w) = &mut self.writer {
+            let _ = w.flush();
+        }
+        self.writer = None;
     }
 
     /// Flushes and syncs the file and leaves it under its temporary name, for a resumed run

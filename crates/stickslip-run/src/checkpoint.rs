@@ -56,7 +56,7 @@ use crate::scene::ResolvedScene;
 use crate::schema::run_info::{BuildCrossing, RunInfo, RunStatus};
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
-use std::io;
+use std::io::{self, Read};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 use stickslip_core::preflight::Preflight;
@@ -76,6 +76,9 @@ pub const FORMAT: u32 = 2;
 const HEADER: &[u8] = b"stickslip checkpoint ";
 /// First bytes of a checkpoint file of this format.
 const MAGIC: &[u8] = b"stickslip checkpoint 2\n";
+/// Largest checkpoint read, bytes: far above a real one (the state of 20000 nodes is about
+/// 2 MB; a million events about 200 MB), so that no file makes `resume` exhaust memory.
+pub const MAX_BYTES: u64 = 4 << 30;
 
 /// Length and checksum of each streamed file at the checkpoint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -306,20 +309,62 @@ pub fn remove(dir: &Path) -> io::Result<()> {
 /// it cannot be read or decoded.
 pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
     let file = path(dir);
-    let bytes = match std::fs::read(&file) {
-        Ok(b) => b,
+    let corrupt = |why: String| CheckpointError::corrupt(dir, why);
+    // Checked before reading: a device or FIFO would never end, and a file longer than its
+    // header says is refused without reading its payload.
+    let meta = match std::fs::metadata(&file) {
+        Ok(m) => m,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Err(no_checkpoint(dir)),
-        Err(e) => {
-            return Err(CheckpointError::corrupt(
-                dir,
-                format!("cannot read it: {e}"),
-            ));
+        Err(e) => return Err(corrupt(format!("cannot read it: {e}"))),
+    };
+    if !meta.is_file() {
+        return Err(corrupt(
+            "not a regular file (a directory, device, FIFO or socket)".to_string(),
+        ));
+    }
+    if meta.len() > MAX_BYTES {
+        return Err(corrupt(format!(
+            "{} bytes, more than the {MAX_BYTES} a checkpoint may have",
+            meta.len()
+        )));
+    }
+    let read = || -> io::Result<Vec<u8>> {
+        let mut f = std::fs::File::open(&file)?;
+        let mut head = Vec::with_capacity(MAGIC.len() + 16);
+        (&mut f)
+            .take((MAGIC.len() + 16) as u64)
+            .read_to_end(&mut head)?;
+        if let Some(len) = head
+            .strip_prefix(MAGIC)
+            .and_then(|r| r.get(..8))
+            .and_then(|b| b.try_into().ok())
+            .map(u64::from_le_bytes)
+        {
+            let expected = (MAGIC.len() + 16) as u64 + len;
+            if meta.len() != expected {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    format!(
+                        "the header says {len} payload bytes, the file has {} (truncated or \
+                         extended)",
+                        meta.len() - (MAGIC.len() + 16) as u64
+                    ),
+                ));
+            }
         }
+        let mut bytes = head;
+        f.take(MAX_BYTES).read_to_end(&mut bytes)?;
+        Ok(bytes)
+    };
+    let bytes = match read() {
+        Ok(b) => b,
+        Err(e) if e.kind() == io::ErrorKind::InvalidData => return Err(corrupt(e.to_string())),
+        Err(e) => return Err(corrupt(format!("cannot read it: {e}"))),
     };
     if let Some(found) = format_of(&bytes) {
         return Err(CheckpointError::Format { path: file, found });
     }
-    Checkpoint::decode(&bytes).map_err(|r| CheckpointError::corrupt(dir, r))
+    Checkpoint::decode(&bytes).map_err(corrupt)
 }
 
 /// Whether this build may resume `checkpoint` (read from `dir`): `None` when this build wrote

@@ -270,3 +270,85 @@ fn special_files_are_refused_at_once_writing_nothing() {
         );
     }
 }
+
+/// Whether this process runs as root (mounting a small file system needs it).
+fn is_root() -> bool {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find_map(|l| l.strip_prefix("Uid:"))
+                .map(|v| v.split_whitespace().next() == Some("0"))
+        })
+        .unwrap_or(false)
+}
+
+#[test]
+fn a_full_disk_ends_the_run_as_failed_with_an_io_reason() {
+    if !is_root() {
+        eprintln!("skipped: mounting a 256 kB file system needs root (CI runs as root)");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let disk = tmp.path().join("disk");
+    std::fs::create_dir(&disk).unwrap();
+    let mounted = std::process::Command::new("mount")
+        .args([
+            "-t",
+            "tmpfs",
+            "-o",
+            "size=256k",
+            "tmpfs",
+            disk.to_str().unwrap(),
+        ])
+        .status()
+        .expect("mount runs");
+    assert!(mounted.success(), "cannot mount a tmpfs as root");
+    let dir = disk.join("out");
+    // Rows every 1e-9 s of a 20-node fig2 in fixed steps to 2e-5 s: about 2 MB of series, far
+    // over 256 kB.
+    let out = common::run(&[
+        "run",
+        common::scene("fig2").to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--quiet",
+        "--set",
+        "contact.nodes=20",
+        "--set",
+        "time.end=2e-5",
+        "--set",
+        "time.stepping=fixed",
+        "--set",
+        "time.dt=1e-9",
+        "--set",
+        "output.series_interval=1e-9",
+        "--set",
+        "output.profile_times=[2e-5]",
+    ]);
+    let read = stickslip_run::sink::read::read_run(&dir);
+    std::process::Command::new("umount")
+        .arg(&disk)
+        .status()
+        .ok();
+    let stderr = common::texts(&out).1;
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("No space left on device"), "{stderr}");
+    let read = read.expect("the run directory reads");
+    let info = &read.output.info;
+    assert_eq!(info.status.name(), "failed");
+    assert_eq!(info.stop.as_deref(), Some("io"));
+    let failure = info.failure.as_ref().expect("a failure record");
+    assert_eq!(failure.quantity, "io");
+    assert!(
+        failure.message.contains("No space left on device"),
+        "{}",
+        failure.message
+    );
+    // The rows written before the disk filled are kept and read.
+    assert!(
+        read.output.series.len() > 100,
+        "{} rows",
+        read.output.series.len()
+    );
+}

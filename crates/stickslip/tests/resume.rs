@@ -297,10 +297,40 @@ fn copy_dir(from: &Path, to: &Path) {
     }
 }
 
+/// Every file of `dir` with its bytes.
+fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .flatten()
+                .filter(|e| e.path().is_file())
+                .map(|e| {
+                    (
+                        e.file_name().to_string_lossy().into_owned(),
+                        std::fs::read(e.path()).unwrap_or_default(),
+                    )
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// `resume dir` exits 2 saying `expected`, and leaves every file of `dir` as it was.
 fn assert_refused(dir: &Path, expected: &str) {
+    let before = snapshot(dir);
     let out = run(&["resume", &dir.display().to_string(), "--quiet"]);
     let (_, stderr) = texts(&out);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let after = snapshot(dir);
+    assert_eq!(
+        before.keys().collect::<Vec<_>>(),
+        after.keys().collect::<Vec<_>>(),
+        "a refused resume changed the files of {}",
+        dir.display()
+    );
+    for (name, bytes) in &before {
+        assert!(after[name] == *bytes, "a refused resume changed {name}");
+    }
     assert!(stderr.starts_with("error: "), "{stderr}");
     assert!(
         stderr.contains(expected),
@@ -359,6 +389,37 @@ fn damaged_checkpoint_or_partial_output_exits_2() {
     assert_refused(&shortened, "partial output cannot be continued");
     std::fs::remove_file(shortened.join(".series.csv.tmp")).unwrap();
     assert_refused(&shortened, "neither");
+
+    // One stream's partial output lost: the others are kept, and what was there still loads.
+    let lost = tmp.path().join("lost");
+    copy_dir(&killed, &lost);
+    let series_rows = |dir: &Path| {
+        stickslip_run::sink::read::read_run(dir)
+            .map(|r| r.output.series.len())
+            .unwrap_or(0)
+    };
+    let rows = series_rows(&lost);
+    assert!(rows > 0);
+    std::fs::remove_file(lost.join(".probes.csv.tmp")).unwrap();
+    assert_refused(&lost, "partial output cannot be continued");
+    assert!(lost.join(".series.csv.tmp").exists());
+    assert_eq!(series_rows(&lost), rows);
+
+    // A checkpoint that is not a regular file, or longer than its header says, is refused
+    // before its payload is read.
+    let device = tmp.path().join("device");
+    copy_dir(&killed, &device);
+    std::fs::remove_file(checkpoint(&device)).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", checkpoint(&device)).unwrap();
+    assert_refused(&device, "not a regular file");
+    let long = tmp.path().join("long");
+    copy_dir(&killed, &long);
+    let f = std::fs::OpenOptions::new()
+        .append(true)
+        .open(checkpoint(&long))
+        .unwrap();
+    f.set_len(bytes.len() as u64 + (1 << 30)).unwrap();
+    assert_refused(&long, "truncated or extended");
 }
 
 /// The status in `dir`'s run.json, if it can be read.

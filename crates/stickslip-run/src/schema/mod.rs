@@ -141,7 +141,8 @@ pub fn markdown() -> String {
         "\n### `run.json`\n\n`name`, `status` (`running` | `interrupted` | `ok` | `failed`), \
          `failure` (null, or `{time_s, step, node, r_m, quantity, value, reason, message}`), \
          `stop` (`end` | `max_events` | `open_event` | `periodic` | `failure` | `refused` | \
-         `interrupted`), `version`, `scene` (as \
+         `interrupted` | `io`: an I/O error, such as a full disk, ended the run; status \
+         `failed`, the failure's quantity `io`), `version`, `scene` (as \
          resolved), `derived` (b, A, eps_c, phi0, omega, g_eff, nodes, steps_planned, \
          lagged_sweep_contraction, melting_force, critical_displacement, spring_period, \
          euler_number, first_onset_estimate; for a first-order film also cubic, eps_melt, \

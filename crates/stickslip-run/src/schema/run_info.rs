@@ -163,7 +163,7 @@ pub struct RunInfo {
     /// Why it failed (null unless `status` is `failed`).
     pub failure: Option<FailureRecord>,
     /// Why it stopped: `end` (time.end), `max_events`, `open_event` (time.max_open_event),
-    /// `failure`, `refused`, `interrupted` (null while running).
+    /// `failure`, `refused`, `interrupted`, `io` (an I/O error ended it; null while running).
     pub stop: Option<String>,
     /// Program version (Cargo package version).
     pub version: String,

@@ -156,7 +156,7 @@ fn remove_earlier_run(dir: &Path) -> io::Result<()> {
     for f in RUN_FILES {
         remove_temporaries(dir, f)?;
     }
-    Ok(())
+    release_reserve(dir)
 }
 
 /// The three streamed files.
@@ -177,6 +177,30 @@ impl Streams {
     }
 }
 
+/// run.json's `stop` after an I/O error ended the run.
+pub const IO_STOP: &str = "io";
+/// The space a running run keeps in its directory, removed when an I/O error ends it so that
+/// run.json can still say so on a full disk (a hidden file; removed when the run ends).
+const RESERVE_FILE: &str = ".run.reserve";
+/// Its size, bytes: several times a run.json.
+const RESERVE_BYTES: usize = 64 << 10;
+
+/// Keeps [`RESERVE_BYTES`] of the disk for the record of an I/O failure.
+fn reserve(dir: &Path) -> io::Result<()> {
+    let path = dir.join(RESERVE_FILE);
+    let mut f = std::fs::File::create(&path)?;
+    io::Write::write_all(&mut f, &[0u8; RESERVE_BYTES])?;
+    f.sync_data()
+}
+
+/// Gives the reserved space back.
+fn release_reserve(dir: &Path) -> io::Result<()> {
+    match std::fs::remove_file(dir.join(RESERVE_FILE)) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    }
+}
+
 /// Streams a run into a directory.
 #[derive(Debug)]
 pub struct DirSink {
@@ -187,6 +211,8 @@ pub struct DirSink {
     every: Option<Duration>,
     due: Instant,
     calls: u64,
+    /// Time and step of the last iteration, s: where an I/O failure is said to have happened.
+    last: (f64, u64),
 }
 
 impl DirSink {
@@ -221,6 +247,46 @@ impl DirSink {
             every,
             due: every.and_then(|d| now.checked_add(d)).unwrap_or(now),
             calls: 0,
+            last: (0.0, 0),
+        }
+    }
+
+    /// After an I/O error that ended the run (a full disk, a removed directory): run.json
+    /// says `failed`, stop `io`, with the error as its failure record, so that no reader takes
+    /// the run for one still going. Written atomically where the file system still allows it,
+    /// else rewritten in place (truncating run.json first frees the space it needs).
+    fn record_io_failure(&mut self, e: &io::Error) {
+        // The rows so far stay in the temporary files (readable, and resumable from the last
+        // checkpoint).
+        if let Some(s) = self.streams.take() {
+            s.series.keep_after_failure();
+            s.probes.keep_after_failure();
+            s.profiles.keep_after_failure();
+        }
+        let Some(info) = &mut self.info else { return };
+        let (time_s, step) = self.last;
+        info.status = crate::outcome::RunStatus::Failed;
+        info.stop = Some(IO_STOP.to_string());
+        let reason = "an I/O error while writing the output (a full disk, a removed or \
+                      read-only directory, …); the rows written so far are in the directory's \
+                      temporary files, and `stickslip resume` continues from the last \
+                      checkpoint once the cause is fixed"
+            .to_string();
+        info.failure = Some(crate::schema::run_info::FailureRecord {
+            time_s,
+            step,
+            node: 0,
+            r_m: 0.0,
+            quantity: "io".to_string(),
+            value: serde_json::Value::String(format!("{:?}", e.kind())),
+            message: format!("I/O error at t = {time_s:e} s, step {step}: {e}. {reason}"),
+            reason,
+        });
+        let _ = release_reserve(&self.dir);
+        if info.write(&self.dir).is_err()
+            && let Ok(text) = serde_json::to_vec_pretty(&*info)
+        {
+            let _ = std::fs::write(self.dir.join(schema::run_info::FILE), text);
         }
     }
 
@@ -266,6 +332,7 @@ impl DirSink {
 impl Sink for DirSink {
     fn begin(&mut self, start: &RunStart<'_>) -> io::Result<()> {
         remove_earlier_run(&self.dir)?;
+        reserve(&self.dir)?;
         let info = RunInfo::starting(start.scene, start.preflight, start.warnings.to_vec());
         info.write(&self.dir)?;
         let mut series = AtomicFile::create_resumable(&self.dir, schema::series::FILE)?;
@@ -294,6 +361,7 @@ impl Sink for DirSink {
     }
 
     fn after_iteration(&mut self, snapshot: &Snapshot<'_>) -> io::Result<()> {
+        self.last = (snapshot.sim.physical.drive.t_s, snapshot.sim.counters.step);
         let Some(every) = self.every else {
             return Ok(());
         };
@@ -334,6 +402,7 @@ impl Sink for DirSink {
             info.finish(outcome);
             info.write(&self.dir)?;
         }
+        release_reserve(&self.dir)?;
         if outcome.stop != StopReason::Interrupted {
             // The run has ended and its output is complete: nothing is left to resume, and no
             // temporary file of a killed earlier process of this run is kept (nor the copy a
@@ -373,12 +442,13 @@ pub fn run_to_dir(
     if let Some(on_start) = control.on_start.as_mut() {
         on_start(driver.warnings());
     }
-    driver
-        .run_to_end(&mut sink, control)
-        .map_err(|source| RunError::Io {
+    driver.run_to_end(&mut sink, control).map_err(|source| {
+        sink.record_io_failure(&source);
+        RunError::Io {
             path: dir.to_path_buf(),
             source,
-        })
+        }
+    })
 }
 
 /// Finishes the interrupted run in `dir` from its checkpoint, with output bit-identical to
@@ -408,10 +478,18 @@ pub fn resume(
         c.driver.into_owned(),
     )
     .map_err(|e| start_error(dir, e))?;
-    let reopen = |name: &str, at| {
-        AtomicFile::reopen(dir, name, at)
-            .map_err(|e| corrupt(format!("its partial output cannot be continued: {e}")))
-    };
+    let cannot_continue =
+        |e: io::Error| corrupt(format!("its partial output cannot be continued: {e}"));
+    // Every stream checked before any is reopened (which cuts it back to the checkpoint): a
+    // resume that cannot go on leaves the directory as it found it.
+    for (name, at) in [
+        (schema::series::FILE, c.streams.series),
+        (schema::probes::FILE, c.streams.probes),
+        (schema::profiles::FILE, c.streams.profiles),
+    ] {
+        AtomicFile::check_prefix(dir, name, at).map_err(cannot_continue)?;
+    }
+    let reopen = |name: &str, at| AtomicFile::reopen(dir, name, at).map_err(cannot_continue);
     let streams = Streams {
         series: reopen(schema::series::FILE, c.streams.series)?,
         probes: reopen(schema::probes::FILE, c.streams.probes)?,
@@ -431,9 +509,13 @@ pub fn resume(
         path: dir.to_path_buf(),
         source,
     };
+    reserve(dir).map_err(io_err)?;
     info.write(dir).map_err(io_err)?;
     sink.info = Some(info);
     sink.streams = Some(streams);
-    let outcome = driver.run_to_end(&mut sink, control).map_err(io_err)?;
+    let outcome = driver.run_to_end(&mut sink, control).map_err(|source| {
+        sink.record_io_failure(&source);
+        io_err(source)
+    })?;
     Ok((scene, outcome))
 }

@@ -97,7 +97,9 @@ pub fn read_run(dir: &Path) -> Result<ReadRun, ReadError> {
     ]
     .iter()
     .all(|f| dir.join(f).is_file());
-    let ended = matches!(info.status, RunStatus::Ok | RunStatus::Failed);
+    // A run an I/O error ended kept its rows in the temporary files.
+    let ended = matches!(info.status, RunStatus::Ok | RunStatus::Failed)
+        && info.stop.as_deref() != Some(super::dir::IO_STOP);
     if ended || (info.status == RunStatus::Interrupted && published) {
         return Ok(ReadRun {
             output: RunOutput::read(dir)?,
@@ -109,14 +111,19 @@ pub fn read_run(dir: &Path) -> Result<ReadRun, ReadError> {
 
 /// The text of the stream `name`: its temporary file (or, for a run killed while committing,
 /// the file renamed into place), up to `at` when that much is there, else up to its last
-/// complete line; empty when neither file exists.
-fn stream_text(dir: &Path, name: &str, at: Option<StreamPosition>) -> Result<String, ReadError> {
+/// complete line; `None` when neither file exists (a stream lost, which then does not cut
+/// the others' rows).
+fn stream_text(
+    dir: &Path,
+    name: &str,
+    at: Option<StreamPosition>,
+) -> Result<Option<String>, ReadError> {
     let tmp = dir.join(format!(".{name}.tmp"));
     let bytes = match std::fs::read(&tmp) {
         Ok(b) => b,
         Err(e) if e.kind() == io::ErrorKind::NotFound => match std::fs::read(dir.join(name)) {
             Ok(b) => b,
-            Err(e) if e.kind() == io::ErrorKind::NotFound => Vec::new(),
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
             Err(e) => return Err(SchemaError::io(&dir.join(name), &e).into()),
         },
         Err(e) => return Err(SchemaError::io(&tmp, &e).into()),
@@ -125,7 +132,7 @@ fn stream_text(dir: &Path, name: &str, at: Option<StreamPosition>) -> Result<Str
         Some(n) if n <= bytes.len() => n,
         _ => bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1),
     };
-    Ok(String::from_utf8_lossy(&bytes[..end]).into_owned())
+    Ok(Some(String::from_utf8_lossy(&bytes[..end]).into_owned()))
 }
 
 /// `text` (a header and rows) with at most `rows` rows.
@@ -164,21 +171,32 @@ fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError>
         .as_ref()
         .and_then(|o| o.probe_radii.clone())
         .unwrap_or_default();
-    let series = or_header(
-        stream_text(dir, schema::series::FILE, at.map(|a| a.series))?,
-        Series::write_header,
-    );
-    let probes = or_header(
-        stream_text(dir, schema::probes::FILE, at.map(|a| a.probes))?,
-        |w| Probes::write_header(w, &probe_radii),
-    );
+    let series = stream_text(dir, schema::series::FILE, at.map(|a| a.series))?;
+    let probes = stream_text(dir, schema::probes::FILE, at.map(|a| a.probes))?;
+    // Series and probes rows are written together, profiles a whole profile at a time: rows
+    // cut off by a kill are dropped so the tables agree (a stream that is lost altogether
+    // cuts nothing: what the others hold is read).
+    let rows = match (&series, &probes) {
+        (Some(s), Some(p)) => {
+            row_count(&or_header(s.clone(), Series::write_header))
+                .min(row_count(&or_header(p.clone(), |w| {
+                    Probes::write_header(w, &probe_radii)
+                })))
+        }
+        (Some(s), None) => row_count(&or_header(s.clone(), Series::write_header)),
+        (None, Some(p)) => row_count(&or_header(p.clone(), |w| {
+            Probes::write_header(w, &probe_radii)
+        })),
+        (None, None) => 0,
+    };
+    let series = or_header(series.unwrap_or_default(), Series::write_header);
+    let probes = or_header(probes.unwrap_or_default(), |w| {
+        Probes::write_header(w, &probe_radii)
+    });
     let profiles = or_header(
-        stream_text(dir, schema::profiles::FILE, at.map(|a| a.profiles))?,
+        stream_text(dir, schema::profiles::FILE, at.map(|a| a.profiles))?.unwrap_or_default(),
         Profiles::write_header,
     );
-    // Series and probes rows are written together, profiles a whole profile at a time: rows
-    // cut off by a kill are dropped so the tables agree.
-    let rows = row_count(&series).min(row_count(&probes));
     let nodes = info.derived.nodes.max(1);
     let profile_rows = row_count(&profiles) / nodes * nodes;
     let mut output = RunOutput {
@@ -205,10 +223,13 @@ fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError>
             );
             // Counters, time, events and summary as of the checkpoint; the status and the
             // stop reason stay run.json's.
-            let (status, stop) = (info.status, info.stop.take());
+            let (status, stop, failure) = (info.status, info.stop.take(), info.failure.take());
             info.finish(&outcome);
             info.status = status;
             info.stop = stop;
+            if failure.is_some() {
+                info.failure = failure;
+            }
             output.events = Events(outcome.events);
             output.info = info;
             Source::Checkpoint
