@@ -593,6 +593,19 @@ fn bad_sweep_files_exit_2_name_the_key_and_write_nothing() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// `stickslip sweep slurm FILE --out DIR --tasks TASKS ARG`.
+fn slurm(file: &Path, dir: &Path, tasks: &str, arg: &str) -> std::process::Output {
+    sweep(&[
+        "slurm",
+        file.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--tasks",
+        tasks,
+        arg,
+    ])
+}
+
 #[test]
 fn slurm_writes_a_job_array_script() {
     let tmp = tempfile::tempdir().unwrap();
@@ -602,15 +615,7 @@ fn slurm_writes_a_job_array_script() {
         &sweep_text(&common::scene("rigid"), ""),
     );
     let dir = tmp.path().join("out");
-    let out = sweep(&[
-        "slurm",
-        file.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--tasks",
-        "4",
-        "--sbatch-arg=--time=00:10:00",
-    ]);
+    let out = slurm(&file, &dir, "4", "--sbatch-arg=--time=00:10:00");
     assert!(out.status.success(), "{}", texts(&out).1);
     let script = std::fs::read_to_string(dir.join("sweep.sbatch")).unwrap();
     assert!(script.contains("#SBATCH --array=0-3"), "{script}");
@@ -636,31 +641,14 @@ fn slurm_refuses_an_sbatch_arg_that_would_inject_a_line_and_quotes_one_with_spac
         "",
     ] {
         let dir = tmp.path().join("bad");
-        let arg = format!("--sbatch-arg={bad}");
-        let out = sweep(&[
-            "slurm",
-            file.to_str().unwrap(),
-            "--out",
-            dir.to_str().unwrap(),
-            "--tasks",
-            "2",
-            &arg,
-        ]);
+        let out = slurm(&file, &dir, "2", &format!("--sbatch-arg={bad}"));
         let stderr = texts(&out).1;
         assert_eq!(out.status.code(), Some(2), "{bad:?}: {stderr}");
         assert!(stderr.contains("--sbatch-arg"), "{stderr}");
         assert!(!dir.exists(), "{bad:?}: wrote {}", dir.display());
     }
     let dir = tmp.path().join("ok");
-    let out = sweep(&[
-        "slurm",
-        file.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--tasks",
-        "2",
-        "--sbatch-arg=--comment=two words",
-    ]);
+    let out = slurm(&file, &dir, "2", "--sbatch-arg=--comment=two words");
     assert!(out.status.success(), "{}", texts(&out).1);
     let script = std::fs::read_to_string(dir.join("sweep.sbatch")).unwrap();
     assert!(
