@@ -24,7 +24,8 @@
 //! benchmark through the `stickslip` binary; otherwise only `stickslip-core`'s public API is
 //! called, and reports are made with `stickslip-report`.
 
-pub mod celik;
+/// Celik et al.'s three-grid procedure (the run library's, which `stickslip verify` uses too).
+pub use stickslip_run::verify::celik;
 pub mod fig2;
 pub mod noise;
 pub mod operators;

@@ -14,7 +14,8 @@ pub enum Exit {
     BadInput,
     /// A numerical failure or a refused configuration.
     Numerical,
-    /// A sweep whose map is complete but has failed or refused points.
+    /// A result with parts that failed: a sweep whose map is complete but has failed or
+    /// refused points, or `verify` with a quantity not within its accuracy.
     FailedPoints,
     /// `sweep merge` while points are missing.
     Incomplete,
@@ -62,7 +63,8 @@ impl Exit {
             Self::Numerical => "a numerical failure or a refused configuration",
             Self::FailedPoints => {
                 "a sweep whose map is complete but has failed or refused points (their rows \
-                 say why)"
+                 say why), or `verify` with a quantity not within --rtol (its table says \
+                 which)"
             }
             Self::Incomplete => "`sweep merge` while points are missing",
             Self::Interrupted => {

@@ -37,6 +37,7 @@ pub mod sink;
 pub mod steady;
 pub mod summary;
 pub mod sweep;
+pub mod verify;
 
 pub use driver::{Control, Driver, Limit, NullSink, Sink, run};
 pub use outcome::{RunOutcome, RunStatus, StopReason};

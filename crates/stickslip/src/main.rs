@@ -33,6 +33,7 @@ mod check;
 mod progress;
 mod reference;
 mod sweep;
+mod verify;
 
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -111,6 +112,28 @@ enum Command {
         /// No line per run on stderr.
         #[arg(long)]
         quiet: bool,
+    },
+    /// The error of every summary number of a scene: it runs at its own settings and refined
+    /// in space (N, 2N, 4N) and in time (tolerance /10, /100; or Δt /2, /4) apart, and prints
+    /// per quantity the value, its uncertainty (Celik's GCI, safety 1.25 in the asymptotic
+    /// range, 3 outside), the extrapolated value, observed against theoretical orders and a
+    /// verdict; writes DIR/verify.json. Exit 0 when every quantity is within --rtol, 4 when
+    /// one is not (or not converged, or a discrete quantity changed), 2 for bad input.
+    Verify {
+        /// Scene file (TOML).
+        scene: PathBuf,
+        /// Relative accuracy each quantity's uncertainty must be within.
+        #[arg(long, default_value_t = 1e-3)]
+        rtol: f64,
+        /// Directory of verify.json [default: a fresh verify-NAME].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Runs at a time.
+        #[arg(long, default_value_t = 2)]
+        jobs: usize,
+        /// Override a scene value (repeatable).
+        #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+        set: Vec<String>,
     },
     /// Finish an interrupted run from its checkpoint; the output is bit-identical to that of
     /// an uninterrupted run (run.json's wall_seconds aside). The checkpoint must come from
@@ -328,6 +351,19 @@ fn main() -> ExitCode {
             to,
             rtol,
             quiet,
+        }),
+        Command::Verify {
+            scene,
+            rtol,
+            out,
+            jobs,
+            set,
+        } => verify::main(&verify::Args {
+            scene: &scene,
+            set: &set,
+            rtol,
+            out: out.as_deref(),
+            jobs,
         }),
         Command::Resume {
             dir,

@@ -12,3 +12,4 @@ mod resume;
 mod runs;
 mod sweep;
 mod sweep_safe;
+mod verify;

@@ -27,7 +27,7 @@ use serde::{Deserialize, Serialize};
 ///
 /// # Example
 /// ```
-/// use stickslip_convergence::celik::observed_orders;
+/// use stickslip_run::verify::celik::observed_orders;
 /// let p = observed_orders(&[0.1, 0.05], &[3e-2, 7.5e-3]);
 /// assert!((p[0] - 2.0).abs() < 1e-12);
 /// ```
@@ -103,7 +103,7 @@ pub struct Celik {
 ///
 /// # Example
 /// ```
-/// use stickslip_convergence::celik::three_grid;
+/// use stickslip_run::verify::celik::three_grid;
 /// // f(h) = 1 + 3·h^1.7 on non-uniformly refined grids: p = 1.7 and φext = 1 are recovered.
 /// let h = [0.04, 0.07, 0.1];
 /// let phi = h.map(|h: f64| 1.0 + 3.0 * h.powf(1.7));

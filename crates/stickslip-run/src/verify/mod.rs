@@ -1,0 +1,499 @@
+//! The error of every summary number of a scene (`stickslip verify`): the scene runs at its
+//! own settings and at refined ones, space (N, 2N, 4N) and time (the tolerance, /10, /100; or
+//! Δt, Δt/2, Δt/4 for fixed steps) apart, and each quantity gets its value, extrapolated value,
+//! observed and theoretical orders, an uncertainty ([`estimate`]), whether the levels are in
+//! the asymptotic range, whether a discrete quantity (event count, regime) changed between
+//! levels, and a verdict against a relative accuracy.
+//!
+//! This module holds the levels, the quantities and the verdicts; the command line and Python
+//! print and write what it returns.
+
+pub mod celik;
+pub mod estimate;
+
+use crate::driver::{Control, NullSink, StartError};
+use crate::keys::{contact, time};
+use crate::outcome::RunOutcome;
+use crate::scene::{ResolvedScene, SceneError};
+use estimate::Estimate;
+use serde::Serialize;
+use stickslip_core::config::{ContactModel, Scheme};
+
+/// Onsets reported one by one, at most (the rest are summarised by the last period).
+pub const MAX_ONSETS: usize = 10;
+/// Refinement ratio of the tolerance between time levels.
+pub const TOLERANCE_RATIO: f64 = 10.0;
+/// Order in the tolerance of the adaptive stepping's global error: a local error per step of
+/// the order of the tolerance in a second-order step gives a global one of order tol^(2/3).
+pub const ADAPTIVE_ORDER: f64 = 2.0 / 3.0;
+/// Order of the accurate scheme in Δt, and of the forces in the node spacing a0/N.
+pub const SCHEME_ORDER: f64 = 2.0;
+/// Order of event times (onsets, periods, the stamp's advance) in the node spacing: the first
+/// node to melt is the outermost, r = a0 − a0/N, which moves with N, and near the edge u3D
+/// varies like (a0 − r)·ln(a0 − r) (the convergence report measures 0.87–0.89).
+pub const EVENT_TIME_SPACE_ORDER: f64 = 1.0;
+
+/// The theoretical order in the node spacing of the quantity `name`.
+fn space_order(name: &str) -> f64 {
+    if name.starts_with("onset_")
+        || matches!(name, "t_first_onset" | "period_last" | "x_period_last")
+    {
+        EVENT_TIME_SPACE_ORDER
+    } else {
+        SCHEME_ORDER
+    }
+}
+
+/// What is refined.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    /// The nodes: N, 2N, 4N.
+    Space,
+    /// The time stepping: tolerance /10, /100, or Δt /2, /4.
+    Time,
+}
+
+/// One run of the refinement.
+#[derive(Debug, Clone, Serialize)]
+pub struct Level {
+    /// What it refines (the scene's own run is the first of each axis).
+    pub axis: Axis,
+    /// Nodes.
+    pub nodes: usize,
+    /// The adaptive tolerance, or none with fixed steps.
+    pub tolerance: Option<f64>,
+    /// The fixed step, s (with fixed steps).
+    pub dt_s: Option<f64>,
+    /// Steps taken.
+    pub steps: u64,
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// The run's status (`ok`, `failed`).
+    pub status: String,
+}
+
+/// Verdict of one quantity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// The uncertainty is within the requested relative accuracy.
+    Within,
+    /// Converged (asymptotic levels) but the uncertainty exceeds the requested accuracy.
+    Outside,
+    /// The levels are not in the asymptotic range and the cautious bound exceeds the
+    /// requested accuracy: no small number can be given.
+    NotConverged,
+    /// A discrete quantity differs between levels.
+    Changed,
+}
+
+/// One quantity's error.
+#[derive(Debug, Clone, Serialize)]
+pub struct Quantity {
+    /// Its name (`t_first_onset`, `onset_3`, `n_events`, `regime`, …).
+    pub name: String,
+    /// Its unit.
+    pub unit: &'static str,
+    /// The value at the scene's own settings (for `regime`, 0; see `text`).
+    pub value: f64,
+    /// A discrete quantity's value as text (`regime`: its name).
+    pub text: Option<String>,
+    /// Extrapolated value: the scene's value corrected by both refinements' extrapolations.
+    pub extrapolated: Option<f64>,
+    /// Uncertainty of `value` (space and time added), in its unit.
+    pub uncertainty: f64,
+    /// The spatial refinement's estimate (none for one node).
+    pub space: Option<Estimate>,
+    /// The temporal refinement's estimate.
+    pub time: Option<Estimate>,
+    /// Whether every refinement is in the asymptotic range.
+    pub asymptotic: bool,
+    /// A discrete quantity that differs between the levels.
+    pub changed: bool,
+    /// The verdict against `rtol`.
+    pub verdict: Verdict,
+}
+
+/// What `verify` found.
+#[derive(Debug, Clone, Serialize)]
+pub struct VerifyReport {
+    /// The scene's name.
+    pub scene: String,
+    /// The requested relative accuracy.
+    pub rtol: f64,
+    /// Every quantity.
+    pub quantities: Vec<Quantity>,
+    /// The runs made, the scene's own first.
+    pub levels: Vec<Level>,
+}
+
+impl VerifyReport {
+    /// Whether every quantity is within `rtol`.
+    #[must_use]
+    pub fn all_within(&self) -> bool {
+        self.quantities.iter().all(|q| q.verdict == Verdict::Within)
+    }
+}
+
+/// Why verify could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum VerifyError {
+    /// A bad option.
+    #[error("{option} = {value} is invalid; allowed: {allowed}")]
+    Option {
+        /// The option.
+        option: &'static str,
+        /// Its value.
+        value: String,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+    /// A refined scene that does not resolve (e.g. 4N beyond the node limit).
+    #[error("the refined scene ({what}) is invalid: {error}")]
+    Scene {
+        /// Which refinement.
+        what: String,
+        /// Why.
+        error: Box<SceneError>,
+    },
+    /// A run that could not start.
+    #[error("a run could not start ({what}): {error}")]
+    Start {
+        /// Which run.
+        what: String,
+        /// Why.
+        error: Box<StartError>,
+    },
+}
+
+/// The scenes of the refinements: the scene's own first, then space (2N, 4N; none for one
+/// node) and time (finer tolerances, or halved fixed steps).
+///
+/// # Errors
+/// [`VerifyError::Scene`] when a refined scene does not resolve.
+pub fn level_scenes(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>, VerifyError> {
+    let c = &scene.config;
+    let with = |what: String, settings: Vec<crate::keys::Setting>| {
+        scene
+            .with_settings(&settings)
+            .map_err(|error| VerifyError::Scene {
+                what,
+                error: Box::new(error),
+            })
+    };
+    let mut out = vec![(Axis::Space, scene.clone())];
+    if c.contact.model == ContactModel::Radial {
+        for k in [2, 4] {
+            let n = c.contact.nodes * k;
+            out.push((
+                Axis::Space,
+                with(format!("N = {n}"), vec![contact::NODES.set(n as i64)])?,
+            ));
+        }
+    }
+    for k in [1, 2] {
+        let (what, settings) = match c.time.adaptive {
+            Some(a) => {
+                let tol = a.tolerance / TOLERANCE_RATIO.powi(k);
+                (
+                    format!("time.tolerance = {tol:e}"),
+                    vec![time::TOLERANCE.set(tol)],
+                )
+            }
+            None => {
+                let dt = c.time.dt_s / 2f64.powi(k);
+                (format!("time.dt = {dt:e}"), vec![time::DT.set(dt)])
+            }
+        };
+        out.push((Axis::Time, with(what, settings)?));
+    }
+    Ok(out)
+}
+
+/// A quantity's values in one run: continuous ones as numbers, discrete ones as text.
+#[derive(Debug, Clone, PartialEq)]
+enum Value {
+    Number(f64),
+    Text(String),
+}
+
+/// The quantities of a run, by name, with their units.
+fn quantities(o: &RunOutcome) -> Vec<(String, &'static str, Option<Value>)> {
+    let s = &o.summary;
+    let num = |v: Option<f64>| v.map(Value::Number);
+    let mut out = vec![
+        (
+            "n_events".to_string(),
+            "–",
+            Some(Value::Text(s.n_events.to_string())),
+        ),
+        (
+            "regime".to_string(),
+            "–",
+            Some(Value::Text(s.regime.name().to_string())),
+        ),
+        ("t_first_onset".to_string(), "s", num(s.t_first_onset)),
+        ("period_last".to_string(), "s", num(s.period_last)),
+        ("x_period_last".to_string(), "m", num(s.x_period_last)),
+        ("f_peak_first".to_string(), "N", num(s.f_peak_first)),
+        ("f_peak_last".to_string(), "N", num(s.f_peak_last)),
+        ("f_mean".to_string(), "N", num(s.f_mean)),
+        ("recovery".to_string(), "–", num(s.recovery)),
+    ];
+    for (k, e) in o.events.iter().take(MAX_ONSETS).enumerate() {
+        out.push((
+            format!("onset_{}", k + 1),
+            "s",
+            Some(Value::Number(e.t_onset_s)),
+        ));
+    }
+    out
+}
+
+/// The spacing of a level along its axis: a0/N in space; the tolerance, or Δt, in time.
+fn spacing(axis: Axis, scene: &ResolvedScene) -> f64 {
+    match axis {
+        Axis::Space => 1.0 / scene.config.contact.nodes as f64,
+        Axis::Time => scene
+            .config
+            .time
+            .adaptive
+            .map_or(scene.config.time.dt_s, |a| a.tolerance),
+    }
+}
+
+/// Runs every level (`jobs` at a time) and estimates every quantity's error against `rtol`.
+///
+/// # Errors
+/// A bad option, a refined scene that does not resolve, or a run that cannot start.
+pub fn verify(scene: &ResolvedScene, rtol: f64, jobs: usize) -> Result<VerifyReport, VerifyError> {
+    if !(rtol.is_finite() && rtol > 0.0 && rtol < 1.0) {
+        return Err(VerifyError::Option {
+            option: "rtol",
+            value: crate::keys::human(rtol),
+            allowed: "finite, > 0 and < 1 (a relative accuracy)",
+        });
+    }
+    let scenes = level_scenes(scene)?;
+    let outcomes = run_all(&scenes, jobs.max(1))?;
+    let levels = scenes
+        .iter()
+        .zip(&outcomes)
+        .map(|((axis, s), o)| Level {
+            axis: *axis,
+            nodes: s.config.contact.nodes,
+            tolerance: s.config.time.adaptive.map(|a| a.tolerance),
+            dt_s: s
+                .config
+                .time
+                .adaptive
+                .is_none()
+                .then_some(s.config.time.dt_s),
+            steps: o.counts.steps,
+            wall_s: o.wall_seconds,
+            status: o.status().name().to_string(),
+        })
+        .collect();
+    let time_order = if scene.config.time.adaptive.is_some() {
+        ADAPTIVE_ORDER
+    } else if scene.config.time.scheme == Scheme::Literal {
+        1.0
+    } else {
+        SCHEME_ORDER
+    };
+    // The scene's own run, then the axes' other two levels each.
+    let space: Vec<usize> = (0..scenes.len())
+        .filter(|&i| i == 0 || scenes[i].0 == Axis::Space)
+        .collect();
+    let time: Vec<usize> = std::iter::once(0)
+        .chain((0..scenes.len()).filter(|&i| scenes[i].0 == Axis::Time))
+        .collect();
+    let per_run: Vec<_> = outcomes.iter().map(quantities).collect();
+    let mut out = Vec::new();
+    for (name, unit, base) in &per_run[0] {
+        let Some(base) = base else { continue };
+        let find = |i: usize| {
+            per_run[i]
+                .iter()
+                .find(|(n, _, _)| n == name)
+                .and_then(|(_, _, v)| v.clone())
+        };
+        let all: Vec<Option<Value>> = (0..scenes.len()).map(find).collect();
+        let q = match base {
+            Value::Text(t) => {
+                let changed = all.iter().any(|v| v.as_ref() != Some(base));
+                Quantity {
+                    name: name.clone(),
+                    unit,
+                    value: t.parse().unwrap_or(0.0),
+                    text: Some(t.clone()),
+                    extrapolated: None,
+                    uncertainty: 0.0,
+                    space: None,
+                    time: None,
+                    asymptotic: !changed,
+                    changed,
+                    verdict: if changed {
+                        Verdict::Changed
+                    } else {
+                        Verdict::Within
+                    },
+                }
+            }
+            Value::Number(v) => {
+                let along = |idx: &[usize], order: f64| -> Option<Estimate> {
+                    if idx.len() != 3 {
+                        return None;
+                    }
+                    let mut phi = [0.0; 3];
+                    let mut h = [0.0; 3];
+                    for (j, &i) in idx.iter().enumerate() {
+                        phi[j] = match &all[i] {
+                            Some(Value::Number(x)) => *x,
+                            _ => return None,
+                        };
+                        h[j] = spacing(scenes[i].0, &scenes[i].1);
+                    }
+                    Some(estimate::estimate(h, phi, order))
+                };
+                let s = along(&space, space_order(name));
+                let t = along(&time, time_order);
+                // A level without the quantity (an event that did not happen there): the
+                // quantity is not converged at all.
+                let missing = (space.len() == 3 && s.is_none()) || t.is_none();
+                let parts: Vec<Estimate> = s.iter().chain(t.iter()).cloned().collect();
+                let (uncertainty, asymptotic) = estimate::combine(&parts);
+                let extrapolated = (!missing).then(|| {
+                    v + parts
+                        .iter()
+                        .map(|e| e.extrapolated.map_or(0.0, |x| x - e.value))
+                        .sum::<f64>()
+                });
+                let bound = rtol * v.abs();
+                let verdict = if missing {
+                    Verdict::Changed
+                } else if uncertainty <= bound {
+                    Verdict::Within
+                } else if asymptotic {
+                    Verdict::Outside
+                } else {
+                    Verdict::NotConverged
+                };
+                Quantity {
+                    name: name.clone(),
+                    unit,
+                    value: *v,
+                    text: None,
+                    extrapolated,
+                    uncertainty: if missing { f64::INFINITY } else { uncertainty },
+                    space: s,
+                    time: t,
+                    asymptotic: asymptotic && !missing,
+                    changed: missing,
+                    verdict,
+                }
+            }
+        };
+        out.push(q);
+    }
+    Ok(VerifyReport {
+        scene: scene.name.clone(),
+        rtol,
+        quantities: out,
+        levels,
+    })
+}
+
+/// Runs `scenes`, `jobs` at a time, in order.
+fn run_all(scenes: &[(Axis, ResolvedScene)], jobs: usize) -> Result<Vec<RunOutcome>, VerifyError> {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results: Vec<std::sync::Mutex<Option<Result<RunOutcome, VerifyError>>>> =
+        scenes.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    std::thread::scope(|s| {
+        for _ in 0..jobs.min(scenes.len()) {
+            s.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some((axis, scene)) = scenes.get(i) else {
+                        break;
+                    };
+                    let r = crate::driver::run(scene, &mut NullSink, &mut Control::default())
+                        .map_err(|error| VerifyError::Start {
+                            what: format!("{axis:?} level {i}"),
+                            error: Box::new(error),
+                        });
+                    if let Ok(mut slot) = results[i].lock() {
+                        *slot = Some(r);
+                    }
+                }
+            });
+        }
+    });
+    results
+        .into_iter()
+        .map(|m| {
+            m.into_inner().ok().flatten().unwrap_or_else(|| {
+                Err(VerifyError::Option {
+                    option: "jobs",
+                    value: "a worker that stopped".to_string(),
+                    allowed: "workers that run every level",
+                })
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    fn homogeneous() -> ResolvedScene {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../validation/scenes/homogeneous.toml"
+        );
+        Scene::from_path(std::path::Path::new(path), &[] as &[&str]).unwrap()
+    }
+
+    #[test]
+    fn a_homogeneous_scene_refines_time_only_and_bounds_its_onsets() {
+        let scene = homogeneous();
+        let scenes = level_scenes(&scene).unwrap();
+        assert_eq!(
+            scenes.iter().map(|(a, _)| *a).collect::<Vec<_>>(),
+            [Axis::Space, Axis::Time, Axis::Time]
+        );
+        let r = verify(&scene, 1e-3, 2).unwrap();
+        assert_eq!(r.levels.len(), 3);
+        let onset = r
+            .quantities
+            .iter()
+            .find(|q| q.name == "t_first_onset")
+            .expect("an onset");
+        assert!(onset.space.is_none() && onset.time.is_some());
+        // The bound covers the distance to the finest level.
+        let t = onset.time.as_ref().unwrap();
+        assert!(onset.uncertainty >= 0.0 && onset.uncertainty.is_finite());
+        assert!(t.order_theoretical > 0.0);
+        let n = r.quantities.iter().find(|q| q.name == "n_events").unwrap();
+        assert_eq!(
+            n.verdict,
+            if n.changed {
+                Verdict::Changed
+            } else {
+                Verdict::Within
+            }
+        );
+    }
+
+    #[test]
+    fn bad_rtol_is_refused() {
+        let scene = homogeneous();
+        for bad in [0.0, -1.0, f64::NAN, 1.0] {
+            let e = verify(&scene, bad, 1).unwrap_err().to_string();
+            assert!(e.starts_with("rtol = "), "{e}");
+        }
+    }
+}

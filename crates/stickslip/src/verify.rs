@@ -1,0 +1,202 @@
+//! `stickslip verify`: the error of every summary number of a scene, from the run library's
+//! refinements (`stickslip_run::verify`); states the cost first, prints a table, writes
+//! `DIR/verify.json`. Exit 0 when every quantity is within --rtol, 4 when one is not, 2 for
+//! bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use stickslip_run::exit::Exit;
+use stickslip_run::scene::Scene;
+use stickslip_run::verify::{self, Quantity, Verdict, VerifyReport};
+
+/// The command's arguments.
+pub struct Args<'a> {
+    /// Scene file.
+    pub scene: &'a Path,
+    /// `--set` overrides.
+    pub set: &'a [String],
+    /// Requested relative accuracy.
+    pub rtol: f64,
+    /// Output directory (default: a fresh `verify-NAME[-k]`).
+    pub out: Option<&'a Path>,
+    /// Runs at a time.
+    pub jobs: usize,
+}
+
+/// A fresh directory `verify-NAME`, `verify-NAME-2`, … that does not exist yet.
+fn fresh_dir(name: &str) -> PathBuf {
+    let safe: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    (1..)
+        .map(|k| {
+            PathBuf::from(if k == 1 {
+                format!("verify-{safe}")
+            } else {
+                format!("verify-{safe}-{k}")
+            })
+        })
+        .find(|p| !p.exists())
+        .unwrap_or_else(|| PathBuf::from("verify"))
+}
+
+fn verdict_word(v: Verdict) -> &'static str {
+    match v {
+        Verdict::Within => "within",
+        Verdict::Outside => "OUTSIDE",
+        Verdict::NotConverged => "NOT CONVERGED",
+        Verdict::Changed => "CHANGED",
+    }
+}
+
+fn order(e: Option<&verify::estimate::Estimate>) -> String {
+    match e {
+        None => "–".to_string(),
+        Some(e) => format!(
+            "{} ({:.2})",
+            e.order_observed
+                .map_or("–".to_string(), |p| format!("{p:.2}")),
+            e.order_theoretical
+        ),
+    }
+}
+
+fn row(q: &Quantity) -> String {
+    let value = q
+        .text
+        .clone()
+        .unwrap_or_else(|| format!("{:.6e} {}", q.value, q.unit));
+    let unc = if q.text.is_some() {
+        "–".to_string()
+    } else {
+        format!("{:.2e}", q.uncertainty)
+    };
+    let ext = q
+        .extrapolated
+        .map_or("–".to_string(), |x| format!("{x:.6e}"));
+    format!(
+        "{:<14} {:>22} {:>10} {:>14} {:>12} {:>12} {:>4} {}",
+        q.name,
+        value,
+        unc,
+        ext,
+        order(q.space.as_ref()),
+        order(q.time.as_ref()),
+        if q.asymptotic { "yes" } else { "no" },
+        verdict_word(q.verdict)
+    )
+}
+
+/// The table of `report`.
+fn table(report: &VerifyReport) -> String {
+    let mut out = format!(
+        "{:<14} {:>22} {:>10} {:>14} {:>12} {:>12} {:>4} verdict (rtol {})\n",
+        "quantity",
+        "value",
+        "± (abs)",
+        "extrapolated",
+        "p space",
+        "p time",
+        "asym",
+        stickslip_run::keys::human(report.rtol)
+    );
+    for q in &report.quantities {
+        out.push_str(&row(q));
+        out.push('\n');
+    }
+    out
+}
+
+/// Runs `stickslip verify`.
+pub fn main(a: &Args<'_>) -> ExitCode {
+    let scene = match Scene::from_path(a.scene, a.set) {
+        Ok(s) => s,
+        Err(e) => return crate::fail(e, Exit::BadInput),
+    };
+    if !(a.rtol.is_finite() && a.rtol > 0.0 && a.rtol < 1.0) {
+        return crate::fail(
+            format!(
+                "--rtol {} is invalid; allowed: finite, > 0 and < 1 (a relative accuracy)",
+                stickslip_run::keys::human(a.rtol)
+            ),
+            Exit::BadInput,
+        );
+    }
+    if a.jobs == 0 {
+        return crate::fail(
+            "--jobs 0 is invalid; allowed: an integer >= 1",
+            Exit::BadInput,
+        );
+    }
+    let levels = match verify::level_scenes(&scene) {
+        Ok(l) => l,
+        Err(e) => return crate::fail(e, Exit::BadInput),
+    };
+    // The cost, from check's estimate of each level's run.
+    let seconds: Option<f64> = levels
+        .iter()
+        .map(|(_, s)| {
+            stickslip_run::check::check(s)
+                .ok()
+                .and_then(|r| r.cost.seconds)
+        })
+        .sum();
+    match seconds {
+        Some(s) => eprintln!(
+            "verify: {} runs ({} at a time), about {} of runs by check's estimates",
+            levels.len(),
+            a.jobs,
+            crate::progress::duration_text(s)
+        ),
+        None => eprintln!(
+            "verify: {} runs ({} at a time); their cost is unknown (check cannot back an \
+             estimate for every level)",
+            levels.len(),
+            a.jobs
+        ),
+    }
+    let report = match verify::verify(&scene, a.rtol, a.jobs) {
+        Ok(r) => r,
+        Err(e) => return crate::fail(e, Exit::BadInput),
+    };
+    say_raw!("{}", table(&report));
+    let dir = a
+        .out
+        .map_or_else(|| fresh_dir(&scene.name), Path::to_path_buf);
+    let json = match serde_json::to_vec_pretty(&report) {
+        Ok(j) => j,
+        Err(e) => return crate::fail(format!("cannot encode verify.json: {e}"), Exit::Io),
+    };
+    if let Err(e) = std::fs::create_dir_all(&dir)
+        .and_then(|()| stickslip_run::atomic::write_atomic(&dir, "verify.json", &json))
+    {
+        return crate::fail(
+            format!("cannot write {}: {e}", dir.join("verify.json").display()),
+            Exit::Io,
+        );
+    }
+    say!("wrote {}", dir.join("verify.json").display());
+    if report.all_within() {
+        ExitCode::SUCCESS
+    } else {
+        let bad = report
+            .quantities
+            .iter()
+            .filter(|q| q.verdict != Verdict::Within)
+            .count();
+        eprintln!(
+            "verify: {bad} of {} quantities are not within rtol {} (exit {})",
+            report.quantities.len(),
+            stickslip_run::keys::human(report.rtol),
+            Exit::FailedPoints.code()
+        );
+        crate::code(Exit::FailedPoints)
+    }
+}
