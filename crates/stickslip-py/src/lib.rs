@@ -15,6 +15,7 @@
 //!   a second for Ctrl-C and progress callbacks;
 //! - [`boundary`]: the critical value of one key (the run library's bisection);
 //! - [`keys`]: the scene-key registry as Python data;
+//! - [`verify`]: the error of every summary number of a scene;
 //! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays, their inputs
 //!   checked (shape, type, finite values, sizes whose operators would not fit);
 //! - [`args`], [`convert`] and [`errors`]: arguments checked in the API's words, Python ⇄
@@ -38,6 +39,7 @@ pub mod progress;
 pub mod run;
 pub mod scene;
 pub mod sweep;
+pub mod verify;
 
 /// The native part of the ``stickslip`` package; use ``stickslip`` itself.
 #[pymodule]
@@ -51,6 +53,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(boundary::boundary, m)?)?;
     m.add_function(wrap_pyfunction!(keys::keys, m)?)?;
+    m.add_function(wrap_pyfunction!(verify::verify, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::load_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::forward, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::back, m)?)?;

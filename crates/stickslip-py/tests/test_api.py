@@ -268,3 +268,21 @@ def test_keys_are_the_registry_and_its_defaults_resolve() -> None:
     resolved = stickslip.Scene.load(SCENES / "fig2.toml").to_dict()
     assert resolved["time"]["tolerance"] == float(tol["default"])
     assert resolved["output"]["event_recovery"] == float(keys["output.event_recovery"]["default"])
+
+
+def test_verify_gives_every_quantity_with_its_error() -> None:
+    scene = stickslip.Scene.load(
+        SCENES / "fig2.toml",
+        {"contact.nodes": 50, "time.end": 8e-4, "output.profile_times": [8e-4]},
+    )
+    v = stickslip.verify(scene, rtol=0.5)
+    assert len(v["levels"]) == 5 and v["rtol"] == 0.5
+    q = {x["name"]: x for x in v["quantities"]}
+    onset = q["t_first_onset"]
+    assert onset["verdict"] == "within" and onset["uncertainty"] >= 0
+    assert onset["space"]["order_theoretical"] == 1.0
+    assert q["regime"]["text"] == "stick_slip"
+    with pytest.raises(ValueError, match="rtol = 0 is invalid"):
+        stickslip.verify(scene, rtol=0.0)
+    with pytest.raises(TypeError, match="rtol"):
+        stickslip.verify(scene, rtol="tight")

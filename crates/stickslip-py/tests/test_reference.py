@@ -45,7 +45,7 @@ def markdown() -> str:
         f"```text\n{_doc(stickslip)}\n```\n",
         "## Functions\n",
     ]
-    for name in ("run", "resume", "load", "sweep", "load_sweep", "boundary", "keys"):
+    for name in ("run", "resume", "load", "sweep", "load_sweep", "boundary", "verify", "keys"):
         fn = getattr(stickslip, name)
         parts.append(_entry(_signature(fn, f"stickslip.{name}"), fn))
     parts.append("## Types\n")

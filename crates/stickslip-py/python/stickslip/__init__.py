@@ -15,6 +15,7 @@ of dimensionality reduction), from Python. All quantities are SI.
     table = stickslip.load_sweep("out/rigid")                 # complete or partial
     b = stickslip.boundary(scene, "drive.velocity", 0.01, 3.0, rtol=1e-3)   # b["value"]
     [k["path"] for k in stickslip.keys()]                    # every scene key, documented
+    v = stickslip.verify(scene, rtol=1e-3)                    # every number with its error
     q = stickslip.mdr.forward(tau, radius)                    # Eq. 13
 
 The numbers are those of the command line ``stickslip run``, bit for bit, for the same scene.
@@ -26,7 +27,7 @@ ValueError; ``.key``), ``SweepError`` (a SceneError), ``NumericalFailure`` (``.t
 """
 
 from . import _native, mdr
-from ._api import PathLike, SceneLike, boundary, load, load_sweep, resume, run, sweep
+from ._api import PathLike, SceneLike, boundary, load, load_sweep, resume, run, sweep, verify
 from ._errors import Interrupted, NumericalFailure, SceneError, SweepError
 from ._native import Scene, keys
 from ._progress import ProgressArg
@@ -54,10 +55,11 @@ __all__ = [
     "resume",
     "run",
     "sweep",
+    "verify",
 ]
 
 # The functions and classes say they belong to the package (help(), repr, pickling).
-for _obj in (boundary, keys, load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure, SceneError,
+for _obj in (boundary, keys, verify, load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure, SceneError,
              SweepError, MapTable, RunResult):
     _obj.__module__ = __name__
 del _obj

@@ -290,6 +290,31 @@ def load_sweep(dir: PathLike) -> MapTable:
     return MapTable(parts["table"], points=parts["points"], complete=parts["complete"])
 
 
+def verify(scene: SceneLike, rtol: float = 1e-3, *, jobs: int = 2) -> Dict[str, Any]:
+    """The error of every summary number of ``scene``, as ``stickslip verify`` gives it: the
+    scene runs at its own settings and refined in space (N, 2N, 4N) and in time (tolerance
+    /10, /100, or Δt /2, /4) apart, ``jobs`` runs at a time.
+
+    Returns a dict (verify.json's content): ``quantities``, a list with per quantity
+    ``name``, ``unit``, ``value`` (at the scene's settings), ``text`` (a discrete quantity's
+    value: the event count, the regime), ``extrapolated``, ``uncertainty`` (of ``value``, in
+    its unit: Celik's GCI with safety factor 1.25 in the asymptotic range, 3 outside),
+    ``space`` and ``time`` (each refinement's ``order_observed``, ``order_theoretical``,
+    ``asymptotic``, ``uncertainty``, ``note``), ``asymptotic``, ``changed`` and ``verdict``
+    (``"within"`` rtol, ``"outside"``, ``"not_converged"`` or ``"changed"``); ``levels`` (the
+    runs: axis, nodes, tolerance or dt_s, steps, wall_s, status); ``rtol``; ``scene``.
+
+    Raises ``ValueError`` for an rtol outside (0, 1), ``SceneError`` when a refined scene is
+    invalid (e.g. 4N above the node limit), ``TypeError`` for arguments of the wrong type.
+    """
+    for name, value in (("rtol", rtol), ("jobs", jobs)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError(f"{name}: expected a number, got {type(value).__name__}")
+    if isinstance(jobs, float) or jobs < 1:
+        raise ValueError(f"jobs = {jobs!r} is invalid; allowed: an int >= 1")
+    return dict(_native.verify(_scene(scene), float(rtol), int(jobs)))
+
+
 def boundary(
     scene: SceneLike, key: str, lo: float, hi: float, *, rtol: float = 1e-3
 ) -> Dict[str, Any]:

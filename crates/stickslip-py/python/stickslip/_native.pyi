@@ -83,6 +83,9 @@ def boundary(
 ) -> Dict[str, Any]:
     """Internal: the bisection of ``stickslip.boundary``."""
 
+def verify(scene: Scene, rtol: float = ..., jobs: int = ...) -> Dict[str, Any]:
+    """Internal: the refinements of ``stickslip.verify``."""
+
 def keys() -> List[Dict[str, Any]]:
     """Every scene key as a dict: ``path``, ``type`` (``"real"``, ``"integer"``, ``"text"``,
     ``"choice"`` or ``"real list"``), ``words`` (a choice key's words, else ``None``),
