@@ -156,7 +156,9 @@ impl PyScene {
     /// ``cost`` (probe_steps, seconds_per_step s, steps, seconds s: the estimated wall time of
     /// a run, from a timed probe of about 0.05 s of this scene, ``None`` when the probe's own
     /// pace contradicts the estimate; probe_pace_seconds s: that pace carried to time.end;
-    /// basis: how the steps were estimated, or why the time is unknown), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
+    /// basis: how the steps were estimated, or why the time is unknown), ``resolution`` (the
+    /// first event at N and 2N: nodes, first_onset_s, f_peak_first_n, relative_change, and
+    /// skipped saying why it was not compared; a change above 1 % adds a warning), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
     /// "key", "message"}``), ``name`` and ``scene`` (the resolved scene as a dict).
     ///
     /// Nothing is written; the probe runs with the GIL released.
@@ -182,6 +184,10 @@ impl PyScene {
         d.set_item("verdict", report.verdict().name())?;
         d.set_item("derived", crate::json::json_to_py(py, &derived)?)?;
         d.set_item("cost", json(serde_json::to_value(&report.cost))?)?;
+        d.set_item(
+            "resolution",
+            json(serde_json::to_value(&report.resolution))?,
+        )?;
         d.set_item("warnings", json(serde_json::to_value(&report.warnings))?)?;
         d.set_item("scene", convert::table_to_py(py, &scene.to_table())?)?;
         Ok(d)

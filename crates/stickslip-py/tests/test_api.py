@@ -197,7 +197,9 @@ def test_interrupted_pickles_with_its_result(small_result: stickslip.RunResult) 
 def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
     scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 200})
     c = scene.check()
-    assert set(c) == {"name", "verdict", "derived", "cost", "warnings", "scene"}
+    assert set(c) == {"name", "verdict", "derived", "cost", "warnings", "scene", "resolution"}
+    assert c["resolution"]["nodes"] == [200, 400]
+    assert c["resolution"]["relative_change"] < 0.01
     assert c["name"] == "fig2" and c["verdict"] == "run"
     assert c["scene"] == scene.to_dict()
     derived = dict(c["derived"])

@@ -67,10 +67,91 @@ pub struct CostEstimate {
 pub struct CheckReport {
     /// The preflight.
     pub preflight: Preflight,
-    /// Notes and warnings (preflight, unusual values).
+    /// Notes and warnings (preflight, unusual values, a coarse resolution).
     pub warnings: Vec<Finding>,
     /// Cost estimate.
     pub cost: CostEstimate,
+    /// The first event at N and at 2N.
+    pub resolution: ResolutionProbe,
+}
+
+/// Wall time the resolution probe may take, s (both runs together).
+pub const RESOLUTION_BUDGET_S: f64 = 2.0;
+/// A first event that moves by more than this (relative) from N to 2N draws a warning.
+pub const RESOLUTION_WARN: f64 = 0.01;
+
+/// The scene's first event at its N and at 2N: a cheap sign of a too coarse resolution.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResolutionProbe {
+    /// N and 2N.
+    pub nodes: [usize; 2],
+    /// The first onset at each, s.
+    pub first_onset_s: [Option<f64>; 2],
+    /// The peak force before it at each, N.
+    pub f_peak_first_n: [Option<f64>; 2],
+    /// The larger relative change of the two from N to 2N.
+    pub relative_change: Option<f64>,
+    /// Why the probe did not compare (one node, no event, over its time budget).
+    pub skipped: Option<String>,
+}
+
+/// Runs the scene to its first event at N and 2N (within [`RESOLUTION_BUDGET_S`]).
+fn resolution_probe(scene: &ResolvedScene) -> ResolutionProbe {
+    let n = scene.config.contact.nodes;
+    let mut probe = ResolutionProbe {
+        nodes: [n, 2 * n],
+        first_onset_s: [None, None],
+        f_peak_first_n: [None, None],
+        relative_change: None,
+        skipped: None,
+    };
+    if scene.config.contact.model == stickslip_core::config::ContactModel::Homogeneous {
+        probe.skipped = Some("one node: nothing to refine".to_string());
+        return probe;
+    }
+    let started = Instant::now();
+    for (i, nodes) in [n, 2 * n].into_iter().enumerate() {
+        let Ok(s) = scene.with_settings(&[
+            crate::keys::contact::NODES.set(nodes as i64),
+            crate::keys::time::MAX_EVENTS.set(1),
+        ]) else {
+            probe.skipped = Some(format!("N = {nodes} is not a valid scene"));
+            return probe;
+        };
+        let mut over = false;
+        let mut poll = |_: &crate::driver::Progress| {
+            over = started.elapsed().as_secs_f64() > RESOLUTION_BUDGET_S;
+            over
+        };
+        let mut control = Control {
+            poll: Some(&mut poll),
+            ..Control::default()
+        };
+        let Ok(o) = crate::driver::run(&s, &mut NullSink, &mut control) else {
+            probe.skipped = Some(format!("the run at N = {nodes} could not start"));
+            return probe;
+        };
+        if over {
+            probe.skipped = Some(format!(
+                "the first event lies beyond the probe's {RESOLUTION_BUDGET_S} s of runs"
+            ));
+            return probe;
+        }
+        probe.first_onset_s[i] = o.summary.t_first_onset;
+        probe.f_peak_first_n[i] = o.summary.f_peak_first;
+    }
+    let rel = |[a, b]: [Option<f64>; 2]| match (a, b) {
+        (Some(a), Some(b)) if b != 0.0 => Some(((a - b) / b).abs()),
+        _ => None,
+    };
+    probe.relative_change = match (rel(probe.first_onset_s), rel(probe.f_peak_first_n)) {
+        (Some(x), Some(y)) => Some(x.max(y)),
+        (x, y) => x.or(y),
+    };
+    if probe.relative_change.is_none() {
+        probe.skipped = Some("no event before time.end at both N".to_string());
+    }
+    probe
 }
 
 /// Whether a run of the scene goes ahead.
@@ -114,7 +195,27 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     let mut sink = NullSink;
     let mut driver = Driver::start(scene, &mut sink)?;
     let preflight = driver.preflight().clone();
-    let warnings = warnings_of(scene, &preflight);
+    let mut warnings = warnings_of(scene, &preflight);
+    let resolution = resolution_probe(scene);
+    if let Some(change) = resolution.relative_change.filter(|&c| c > RESOLUTION_WARN) {
+        warnings.push(Finding {
+            severity: stickslip_core::preflight::Severity::Warning,
+            key: crate::keys::contact::NODES.path.to_string(),
+            message: format!(
+                "contact.nodes = {} may be too coarse for this scene: the first event moves by \
+                 {:.1} % from N = {} to {} (onset {} → {} s, peak force {} → {} N); `stickslip \
+                 verify` gives every number's error",
+                resolution.nodes[0],
+                100.0 * change,
+                resolution.nodes[0],
+                resolution.nodes[1],
+                show(resolution.first_onset_s[0]),
+                show(resolution.first_onset_s[1]),
+                show(resolution.f_peak_first_n[0]),
+                show(resolution.f_peak_first_n[1]),
+            ),
+        });
+    }
     let mut control = Control::default();
     let started = Instant::now();
     let mut probe_steps = 0;
@@ -191,7 +292,12 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
         },
         preflight,
         warnings,
+        resolution,
     })
+}
+
+fn show(v: Option<f64>) -> String {
+    v.map_or_else(|| "none".to_string(), |x| format!("{x:.6e}"))
 }
 
 #[cfg(test)]

@@ -143,6 +143,24 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
         ),
         None => say!("first_onset_estimate = none before time.end"),
     }
+    let r = &report.resolution;
+    say!();
+    say!("# resolution (the first event at N and 2N)");
+    match (r.relative_change, &r.skipped) {
+        (Some(c), _) => say!(
+            "first event at N = {} and {}: onsets {} and {} s, peak forces {} and {} N; change \
+             {:.2} %",
+            r.nodes[0],
+            r.nodes[1],
+            show(r.first_onset_s[0]),
+            show(r.first_onset_s[1]),
+            show(r.f_peak_first_n[0]),
+            show(r.f_peak_first_n[1]),
+            100.0 * c
+        ),
+        (None, Some(why)) => say!("not compared: {why}"),
+        (None, None) => say!("not compared"),
+    }
     let cost = &report.cost;
     say!();
     say!("# cost estimate");
@@ -174,4 +192,8 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     // The warnings are part of the report on stdout; printing them again on stderr (as `run`
     // does) showed each one twice.
     ExitCode::SUCCESS
+}
+
+fn show(v: Option<f64>) -> String {
+    v.map_or_else(|| "none".to_string(), |x| format!("{x:.6e}"))
 }

@@ -68,3 +68,56 @@ fn verify_writes_each_quantity_with_its_error_and_exits_by_the_verdicts() {
         assert!(stderr.contains(says), "{stderr}");
     }
 }
+
+/// The surface-force-apparatus contact a new user built: fig2's film at h0 = 1 nm, K = 5000
+/// N/m, V0 = 1 µm/s, N = 200.
+const SFA: &str = r#"name = "sfa_k5000"
+[lubricant]
+tau_max = 1e6
+eps_max = 1.0
+a = 1e6
+gamma = 10.0
+[contact]
+radius = 2e-5
+film_thickness = 1e-9
+g_eff = 1e9
+nodes = 200
+[drive]
+stiffness = 5000.0
+mass = 0.1
+velocity = 1e-6
+[time]
+end = 0.2
+[output]
+series_interval = 1e-3
+"#;
+
+#[test]
+fn check_warns_when_the_first_event_moves_with_the_resolution() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sfa = tmp.path().join("sfa.toml");
+    std::fs::write(&sfa, SFA).unwrap();
+    let out = run(&["check", sfa.to_str().unwrap()]);
+    let (stdout, stderr) = texts(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("first event at N = 200 and 400"),
+        "{stdout}"
+    );
+    // 0.10707 s at N = 200 against 0.10235 s at N = 400: 4.6 %.
+    assert!(stdout.contains("may be too coarse"), "{stdout}");
+    assert!(stdout.contains("stickslip verify"), "{stdout}");
+    let fig2 = scene("fig2");
+    let out = run(&[
+        "check",
+        fig2.to_str().unwrap(),
+        "--set",
+        "contact.nodes=200",
+    ]);
+    let (stdout, _) = texts(&out);
+    assert!(
+        stdout.contains("first event at N = 200 and 400"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("may be too coarse"), "{stdout}");
+}
