@@ -296,7 +296,9 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     })
 }
 
-fn show(v: Option<f64>) -> String {
+/// A probe's number as printed: seven digits, or `none`.
+#[must_use]
+pub fn show(v: Option<f64>) -> String {
     v.map_or_else(|| "none".to_string(), |x| format!("{x:.6e}"))
 }
 

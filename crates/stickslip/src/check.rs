@@ -4,6 +4,7 @@
 use std::process::ExitCode;
 use stickslip_core::preflight::Severity;
 use stickslip_run::ResolvedScene;
+use stickslip_run::check::show;
 use stickslip_run::exit::Exit;
 
 /// Prints the check of `scene`; exit 0 (2 if the engine rejects it). A configuration that
@@ -192,8 +193,4 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     // The warnings are part of the report on stdout; printing them again on stderr (as `run`
     // does) showed each one twice.
     ExitCode::SUCCESS
-}
-
-fn show(v: Option<f64>) -> String {
-    v.map_or_else(|| "none".to_string(), |x| format!("{x:.6e}"))
 }
