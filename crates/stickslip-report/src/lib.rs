@@ -21,5 +21,6 @@ pub mod map;
 pub mod palette;
 pub mod plot;
 pub mod stats;
+pub mod verify;
 
 pub use stickslip_run::atomic::write_atomic_path as write_atomic;

@@ -1,6 +1,6 @@
 //! `stickslip verify`: the error of every summary number of a scene, from the run library's
 //! refinements (`stickslip_run::verify`); states the cost first, prints a table, writes
-//! `DIR/verify.json`. Exit 0 when every quantity is within --rtol, 4 when one is not, 2 for
+//! `DIR/verify.json` and a figure per quantity (the reporting kit's `verify`). Exit 0 when every quantity is within --rtol, 4 when one is not, 2 for
 //! bad input.
 
 use std::path::{Path, PathBuf};
@@ -182,7 +182,24 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             Exit::Io,
         );
     }
-    say!("wrote {}", dir.join("verify.json").display());
+    let mut figures = 0;
+    for q in &report.quantities {
+        let svg = match stickslip_report::verify::svg(&report, q) {
+            Ok(Some(svg)) => svg,
+            Ok(None) => continue,
+            Err(e) => return crate::fail(format!("cannot draw {}: {e}", q.name), Exit::Io),
+        };
+        let path = dir.join(format!("verify_{}.svg", q.name));
+        if let Err(e) = stickslip_report::write_atomic(&path, svg.as_bytes()) {
+            return crate::fail(format!("cannot write {}: {e}", path.display()), Exit::Io);
+        }
+        figures += 1;
+    }
+    say!(
+        "wrote {} and {figures} figures (verify_QUANTITY.svg: each quantity against N and \
+         against the time stepping)",
+        dir.join("verify.json").display()
+    );
     if report.all_within() {
         ExitCode::SUCCESS
     } else {

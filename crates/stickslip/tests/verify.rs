@@ -55,6 +55,13 @@ fn verify_writes_each_quantity_with_its_error_and_exits_by_the_verdicts() {
         assert!(!onset[field].is_null(), "{field}: {onset}");
     }
     assert_eq!(onset["space"]["order_theoretical"], 1.0);
+    assert_eq!(onset["values"].as_array().unwrap().len(), 5);
+    let svg = std::fs::read_to_string(out.join("verify_t_first_onset.svg")).unwrap();
+    assert!(
+        svg.contains("<svg") && svg.contains("t_first_onset against N"),
+        "{svg:.200}"
+    );
+    assert!(!out.join("verify_regime.svg").exists());
     // An accuracy no run gives: exit 4, naming how many quantities miss it.
     let tight = run_strings(&args("1e-12"));
     let (_, stderr) = texts(&tight);

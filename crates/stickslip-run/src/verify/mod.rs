@@ -113,6 +113,9 @@ pub struct Quantity {
     pub changed: bool,
     /// The verdict against `rtol`.
     pub verdict: Verdict,
+    /// Its value at each level, in the order of [`VerifyReport::levels`] (none where that run
+    /// did not have it, and for discrete quantities).
+    pub values: Vec<Option<f64>>,
 }
 
 /// What `verify` found.
@@ -320,6 +323,13 @@ pub fn verify(scene: &ResolvedScene, rtol: f64, jobs: usize) -> Result<VerifyRep
                 .and_then(|(_, _, v)| v.clone())
         };
         let all: Vec<Option<Value>> = (0..scenes.len()).map(find).collect();
+        let values: Vec<Option<f64>> = all
+            .iter()
+            .map(|v| match v {
+                Some(Value::Number(x)) => Some(*x),
+                _ => None,
+            })
+            .collect();
         let q = match base {
             Value::Text(t) => {
                 let changed = all.iter().any(|v| v.as_ref() != Some(base));
@@ -339,6 +349,7 @@ pub fn verify(scene: &ResolvedScene, rtol: f64, jobs: usize) -> Result<VerifyRep
                     } else {
                         Verdict::Within
                     },
+                    values,
                 }
             }
             Value::Number(v) => {
@@ -392,6 +403,7 @@ pub fn verify(scene: &ResolvedScene, rtol: f64, jobs: usize) -> Result<VerifyRep
                     asymptotic: asymptotic && !missing,
                     changed: missing,
                     verdict,
+                    values,
                 }
             }
         };
