@@ -31,15 +31,18 @@ pub const PROBE_CONTRADICTS_FACTOR: f64 = 3.0;
 /// end measured the whole run and contradicts nothing).
 #[must_use]
 pub fn probe_contradicts(covered: f64, probe_steps: f64, estimated_steps: f64) -> bool {
-    if covered >= 1.0 {
-        return false;
-    }
-    let pace_steps = if covered > 0.0 {
+    let pace = pace_steps(covered, probe_steps);
+    covered < 1.0 && (pace.is_nan() || pace > PROBE_CONTRADICTS_FACTOR * estimated_steps)
+}
+
+/// A probe's `probe_steps` over the fraction `covered` of `time.end`, carried at that pace to
+/// the end (infinite when it covered nothing).
+fn pace_steps(covered: f64, probe_steps: f64) -> f64 {
+    if covered > 0.0 {
         probe_steps / covered
     } else {
         f64::INFINITY
-    };
-    pace_steps.is_nan() || pace_steps > PROBE_CONTRADICTS_FACTOR * estimated_steps
+    }
 }
 
 /// A rough cost estimate.
@@ -218,6 +221,28 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
             ),
         });
     }
+    Ok(CheckReport {
+        cost: cost_of(scene, &mut driver)?,
+        preflight,
+        warnings,
+        resolution,
+    })
+}
+
+/// The cost estimate of a run of `scene` alone (what `check` reports as `cost`), without the
+/// rest of the check.
+///
+/// # Errors
+/// When the engine rejects the configuration.
+pub fn cost_estimate(scene: &ResolvedScene) -> Result<CostEstimate, StartError> {
+    let mut driver = Driver::start(scene, &mut NullSink)?;
+    cost_of(scene, &mut driver)
+}
+
+/// The timed probe of `driver` (fresh, at t = 0) and the step estimate of `scene`.
+fn cost_of(scene: &ResolvedScene, driver: &mut Driver) -> Result<CostEstimate, StartError> {
+    let mut sink = NullSink;
+    let preflight = driver.preflight().clone();
     let mut control = Control::default();
     let started = Instant::now();
     let mut probe_steps = 0;
@@ -235,11 +260,7 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     let t = &scene.config.time;
     // The probe's pace carried to the end (a probe that reached the end measured it all).
     let covered = (driver.simulation().time_s() / t.end_s).clamp(0.0, 1.0);
-    let pace_steps = if covered > 0.0 {
-        sim_steps as f64 / covered
-    } else {
-        f64::INFINITY
-    };
+    let pace = pace_steps(covered, sim_steps as f64);
     let (steps, basis) = match t.adaptive {
         None => (
             scene.steps as f64,
@@ -280,21 +301,16 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
             } else {
                 "nothing".to_string()
             },
-            pace_steps
+            pace
         )
     };
-    Ok(CheckReport {
-        cost: CostEstimate {
-            probe_steps,
-            seconds_per_step,
-            steps,
-            seconds: backed.then_some(steps * seconds_per_step),
-            probe_pace_seconds: pace_steps * seconds_per_step,
-            basis,
-        },
-        preflight,
-        warnings,
-        resolution,
+    Ok(CostEstimate {
+        probe_steps,
+        seconds_per_step,
+        steps,
+        seconds: backed.then_some(steps * seconds_per_step),
+        probe_pace_seconds: pace * seconds_per_step,
+        basis,
     })
 }
 

@@ -143,9 +143,9 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     let seconds: Option<f64> = levels
         .iter()
         .map(|(_, s)| {
-            stickslip_run::check::check(s)
+            stickslip_run::check::cost_estimate(s)
                 .ok()
-                .and_then(|r| r.cost.seconds)
+                .and_then(|c| c.seconds)
         })
         .sum();
     match seconds {
@@ -162,7 +162,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             a.jobs
         ),
     }
-    let report = match verify::verify(&scene, a.rtol, a.jobs) {
+    let report = match verify::verify_levels(&scene, &levels, a.rtol, a.jobs) {
         Ok(r) => r,
         Err(e) => return crate::fail(e, Exit::BadInput),
     };

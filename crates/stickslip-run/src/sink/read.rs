@@ -176,23 +176,17 @@ fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError>
     // Series and probes rows are written together, profiles a whole profile at a time: rows
     // cut off by a kill are dropped so the tables agree (a stream that is lost altogether
     // cuts nothing: what the others hold is read).
-    let rows = match (&series, &probes) {
-        (Some(s), Some(p)) => {
-            row_count(&or_header(s.clone(), Series::write_header))
-                .min(row_count(&or_header(p.clone(), |w| {
-                    Probes::write_header(w, &probe_radii)
-                })))
-        }
-        (Some(s), None) => row_count(&or_header(s.clone(), Series::write_header)),
-        (None, Some(p)) => row_count(&or_header(p.clone(), |w| {
-            Probes::write_header(w, &probe_radii)
-        })),
-        (None, None) => 0,
-    };
-    let series = or_header(series.unwrap_or_default(), Series::write_header);
-    let probes = or_header(probes.unwrap_or_default(), |w| {
-        Probes::write_header(w, &probe_radii)
-    });
+    let series = series.map(|s| or_header(s, Series::write_header));
+    let probes = probes.map(|p| or_header(p, |w| Probes::write_header(w, &probe_radii)));
+    let rows = [&series, &probes]
+        .into_iter()
+        .flatten()
+        .map(|text| row_count(text))
+        .min()
+        .unwrap_or(0);
+    let series = series.unwrap_or_else(|| or_header(String::new(), Series::write_header));
+    let probes = probes
+        .unwrap_or_else(|| or_header(String::new(), |w| Probes::write_header(w, &probe_radii)));
     let profiles = or_header(
         stream_text(dir, schema::profiles::FILE, at.map(|a| a.profiles))?.unwrap_or_default(),
         Profiles::write_header,

@@ -271,15 +271,35 @@ fn spacing(axis: Axis, scene: &ResolvedScene) -> f64 {
 /// # Errors
 /// A bad option, a refined scene that does not resolve, or a run that cannot start.
 pub fn verify(scene: &ResolvedScene, rtol: f64, jobs: usize) -> Result<VerifyReport, VerifyError> {
-    if !(rtol.is_finite() && rtol > 0.0 && rtol < 1.0) {
-        return Err(VerifyError::Option {
+    check_rtol(rtol)?;
+    verify_levels(scene, &level_scenes(scene)?, rtol, jobs)
+}
+
+fn check_rtol(rtol: f64) -> Result<(), VerifyError> {
+    if rtol.is_finite() && rtol > 0.0 && rtol < 1.0 {
+        Ok(())
+    } else {
+        Err(VerifyError::Option {
             option: "rtol",
             value: crate::keys::human(rtol),
             allowed: "finite, > 0 and < 1 (a relative accuracy)",
-        });
+        })
     }
-    let scenes = level_scenes(scene)?;
-    let outcomes = run_all(&scenes, jobs.max(1))?;
+}
+
+/// As [`verify`], with the levels of [`level_scenes`] already resolved (a caller that has
+/// them, e.g. to state their cost first, need not resolve them again).
+///
+/// # Errors
+/// As [`verify`].
+pub fn verify_levels(
+    scene: &ResolvedScene,
+    scenes: &[(Axis, ResolvedScene)],
+    rtol: f64,
+    jobs: usize,
+) -> Result<VerifyReport, VerifyError> {
+    check_rtol(rtol)?;
+    let outcomes = run_all(scenes, jobs.max(1))?;
     let levels = scenes
         .iter()
         .zip(&outcomes)
@@ -417,41 +437,48 @@ pub fn verify(scene: &ResolvedScene, rtol: f64, jobs: usize) -> Result<VerifyRep
     })
 }
 
-/// Runs `scenes`, `jobs` at a time, in order.
+/// Runs `scenes`, `jobs` at a time; the outcomes in their order.
 fn run_all(scenes: &[(Axis, ResolvedScene)], jobs: usize) -> Result<Vec<RunOutcome>, VerifyError> {
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<std::sync::Mutex<Option<Result<RunOutcome, VerifyError>>>> =
-        scenes.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    let mut results: Vec<Option<Result<RunOutcome, StartError>>> =
+        scenes.iter().map(|_| None).collect();
     std::thread::scope(|s| {
+        let (tx, rx) = std::sync::mpsc::channel();
         for _ in 0..jobs.min(scenes.len()) {
-            s.spawn(|| {
+            let (tx, next) = (tx.clone(), &next);
+            s.spawn(move || {
                 loop {
                     let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some((axis, scene)) = scenes.get(i) else {
+                    let Some((_, scene)) = scenes.get(i) else {
                         break;
                     };
-                    let r = crate::driver::run(scene, &mut NullSink, &mut Control::default())
-                        .map_err(|error| VerifyError::Start {
-                            what: format!("{axis:?} level {i}"),
-                            error: Box::new(error),
-                        });
-                    if let Ok(mut slot) = results[i].lock() {
-                        *slot = Some(r);
+                    let r = crate::driver::run(scene, &mut NullSink, &mut Control::default());
+                    if tx.send((i, r)).is_err() {
+                        break;
                     }
                 }
             });
         }
+        drop(tx);
+        for (i, r) in rx {
+            results[i] = Some(r);
+        }
     });
+    // Every index was sent once (a worker that panicked would have ended the scope).
     results
         .into_iter()
-        .map(|m| {
-            m.into_inner().ok().flatten().unwrap_or_else(|| {
-                Err(VerifyError::Option {
-                    option: "jobs",
-                    value: "a worker that stopped".to_string(),
-                    allowed: "workers that run every level",
-                })
-            })
+        .enumerate()
+        .map(|(i, r)| match r {
+            Some(Ok(o)) => Ok(o),
+            Some(Err(error)) => Err(VerifyError::Start {
+                what: format!("{:?} level {i}", scenes[i].0),
+                error: Box::new(error),
+            }),
+            None => Err(VerifyError::Option {
+                option: "jobs",
+                value: jobs.to_string(),
+                allowed: "workers that run every level",
+            }),
         })
         .collect()
 }
