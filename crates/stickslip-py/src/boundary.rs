@@ -1,5 +1,5 @@
-//! `stickslip.boundary`: the run library's bisection of a regime change along one key, with
-//! the GIL released and Ctrl-C seen between runs.
+//! `stickslip.boundary`: the run library's scan and bisection of every regime change along one
+//! key, with the GIL released and Ctrl-C seen while runs go on.
 
 use crate::errors;
 use crate::progress::{Bridge, Report};
@@ -7,24 +7,47 @@ use crate::scene::PyScene;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
-use stickslip_run::boundary::{BoundaryError, Probe, find};
+use stickslip_run::boundary::scan::{Change, DEFAULT_SCAN, ScanOptions, scan as scan_key};
+use stickslip_run::boundary::{BoundaryError, Probe};
 use stickslip_run::summary::RegimeThresholds;
 
 fn probe_dict<'py>(py: Python<'py>, p: &Probe) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("value", p.value)?;
     d.set_item("regime", p.regime.name())?;
+    d.set_item("stage", p.stage.name())?;
     Ok(d)
 }
 
-/// Brackets the regime change of ``scene`` along ``key`` between ``lo`` and ``hi`` and
-/// bisects it to ``rtol``; returns ``{"value", "below", "above", "runs", "lo", "hi",
-/// "probes"}`` (``below``/``above``: the regimes either side; ``lo``/``hi``: the final
-/// bracket; ``probes``: every run as ``{"value", "regime"}``). Internal: use
-/// ``stickslip.boundary``.
+fn change_dict<'py>(py: Python<'py>, c: &Change) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("value", c.value)?;
+    d.set_item("below", c.below.regime.name())?;
+    d.set_item("above", c.above.regime.name())?;
+    d.set_item("lo", c.below.value)?;
+    d.set_item("hi", c.above.value)?;
+    d.set_item("error", c.error)?;
+    d.set_item("bracket", c.bracket)?;
+    let shifts = PyDict::new(py);
+    for s in &c.shifts {
+        shifts.set_item(s.stage.name(), s.moved)?;
+    }
+    d.set_item("moves", shifts)?;
+    d.set_item("third", c.third.map(|r| r.name()))?;
+    d.set_item("runs", c.runs)?;
+    Ok(d)
+}
+
+/// Scans ``scene`` along ``key`` from ``lo`` to ``hi`` (``scan`` points), bisects every
+/// change to ``rtol`` and gives each an error; returns the first change's ``{"value",
+/// "below", "above", "lo", "hi", "error"}`` with ``"changes"`` (each change so), ``"runs"``,
+/// ``"probes"`` (every run as ``{"value", "regime", "stage"}``), ``"scan"`` (the scan's
+/// points) and ``"warnings"``. Internal: use ``stickslip.boundary``.
 #[pyfunction]
-#[pyo3(signature = (scene, key, lo, hi, rtol = 1e-3))]
+#[pyo3(signature = (scene, key, lo, hi, rtol = 1e-3, scan = DEFAULT_SCAN, jobs = 2))]
+#[allow(clippy::too_many_arguments)]
 pub fn boundary<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
@@ -32,49 +55,66 @@ pub fn boundary<'py>(
     lo: f64,
     hi: f64,
     rtol: f64,
+    scan: usize,
+    jobs: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = std::sync::Arc::clone(&scene.get().inner);
     let stop = AtomicBool::new(false);
     let mut bridge = Bridge::new(None);
-    let mut runs = 0_usize;
+    let probes: Mutex<Vec<Probe>> = Mutex::new(Vec::new());
     let result = py.detach(|| {
-        let mut seen = |_: &Probe| {
-            runs += 1;
+        let seen = |p: &Probe| {
+            if let Ok(mut v) = probes.lock() {
+                v.push(*p);
+            }
+        };
+        let mut tick = || {
+            let done = probes.lock().map_or(0, |v| v.len());
             bridge.tick(&stop, || Report::Sweep {
-                done: runs,
+                done,
                 total: 0,
                 skipped: 0,
                 failed: 0,
                 stop: None,
             });
         };
-        find(
+        scan_key(
             &scene,
             key,
             (lo, hi),
             rtol,
+            ScanOptions { points: scan, jobs },
             RegimeThresholds::default(),
             Some(&stop),
-            &mut seen,
+            &seen,
+            &mut tick,
         )
     });
     match result {
-        Ok(b) => {
-            let d = PyDict::new(py);
-            d.set_item("key", &b.key)?;
-            d.set_item("value", b.value)?;
-            d.set_item("below", b.below.regime.name())?;
-            d.set_item("above", b.above.regime.name())?;
-            d.set_item("lo", b.below.value)?;
-            d.set_item("hi", b.above.value)?;
-            d.set_item("runs", b.runs)?;
-            d.set_item("rtol", b.rtol)?;
-            let probes = b
-                .probes
+        Ok(s) => {
+            let d = change_dict(py, &s.changes[0])?;
+            d.set_item("key", &s.key)?;
+            d.set_item("runs", s.runs)?;
+            d.set_item("rtol", s.rtol)?;
+            let changes = s
+                .changes
+                .iter()
+                .map(|c| change_dict(py, c))
+                .collect::<PyResult<Vec<_>>>()?;
+            d.set_item("changes", changes)?;
+            let all = probes.into_inner().unwrap_or_default();
+            let list = all
                 .iter()
                 .map(|p| probe_dict(py, p))
                 .collect::<PyResult<Vec<_>>>()?;
-            d.set_item("probes", probes)?;
+            d.set_item("probes", list)?;
+            let points = s
+                .points
+                .iter()
+                .map(|p| probe_dict(py, p))
+                .collect::<PyResult<Vec<_>>>()?;
+            d.set_item("scan", points)?;
+            d.set_item("warnings", &s.warnings)?;
             Ok(d)
         }
         Err(BoundaryError::Interrupted { .. }) if bridge.error.is_some() => Err(bridge

@@ -1,5 +1,5 @@
-"""stickslip.boundary: the command line's bisection from Python, the same numbers, bad calls
-as exceptions."""
+"""stickslip.boundary: the command line's scan and bisections from Python, the same numbers,
+every change with its error, bad calls as exceptions."""
 
 from __future__ import annotations
 
@@ -27,7 +27,11 @@ def test_boundary_brackets_the_critical_speed_as_the_cli_does() -> None:
     b = stickslip.boundary(rigid(), "drive.velocity", 0.01, 3.0, rtol=1e-3)
     assert b["below"] == "stick_slip" and b["above"] == "partial"
     assert b["lo"] < b["value"] < b["hi"] and b["hi"] - b["lo"] <= 1e-3 * b["hi"] * 1.0001
-    assert b["runs"] == len(b["probes"]) <= 20
+    assert b["runs"] == len(b["probes"]) == sum(c["runs"] for c in b["changes"]) + len(b["scan"])
+    assert b["error"] >= 0.5 * (b["hi"] - b["lo"]) * 0.999
+    assert [(c["below"], c["above"]) for c in b["changes"]] == [("stick_slip", "partial"), ("partial", "smooth")]
+    assert set(b["changes"][0]["moves"]) == {"2N", "tolerance/10"}
+    assert {p["stage"] for p in b["probes"]} >= {"scan", "bisect", "2N", "tolerance/10"}
     # The command line finds the same bracket.
     args = [os.environ["STICKSLIP_BIN"], "boundary", str(ROOT / "validation/scenes/rigid.toml"),
             "--key", "drive.velocity", "--from", "0.01", "--to", "3", "--quiet"]
@@ -39,6 +43,12 @@ def test_boundary_brackets_the_critical_speed_as_the_cli_does() -> None:
     assert float(lo_text) == pytest.approx(b["lo"], rel=1e-5)
 
 
+def test_a_scan_of_the_ends_alone_finds_one_change() -> None:
+    b = stickslip.boundary(rigid(), "drive.velocity", 0.01, 3.0, rtol=1e-2, scan=2, jobs=1)
+    assert len(b["changes"]) == 1 and b["changes"][0]["value"] == b["value"]
+    assert [p["value"] for p in b["scan"]] == [0.01, 3.0]
+
+
 @pytest.mark.parametrize(
     "key, lo, hi, kw, exc, needle",
     [
@@ -46,6 +56,9 @@ def test_boundary_brackets_the_critical_speed_as_the_cli_does() -> None:
         ("drive.speed", 0.01, 3.0, {}, ValueError, "no such scene key"),
         ("contact.nodes", 10, 30, {}, ValueError, "does not take a real number"),
         ("drive.velocity", 0.01, 3.0, {"rtol": 0.0}, ValueError, "rtol"),
+        ("drive.velocity", 0.01, 3.0, {"scan": 1}, ValueError, "scan = 1"),
+        ("drive.velocity", 0.01, 3.0, {"scan": 2.5}, ValueError, "scan"),
+        ("drive.velocity", 0.01, 3.0, {"jobs": 0}, ValueError, "jobs = 0"),
         ("drive.velocity", 0.01, 0.01, {}, ValueError, "--from"),
         ("drive.velocity", float("nan"), 3.0, {}, ValueError, "finite"),
         ("drive.velocity", "0.01", 3.0, {}, TypeError, "lo"),

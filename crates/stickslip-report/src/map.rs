@@ -208,7 +208,7 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
             refined: refined.as_ref(),
             sweep,
         };
-        out.extend(pair(
+        let mut panels = pair(
             sweep.name.as_str(),
             &geometry,
             &rows,
@@ -216,7 +216,33 @@ pub fn panels(json: &MapJson, quantity: &str) -> Result<Vec<Panel>, String> {
             quantity,
             &suffix,
             range,
-        ));
+        );
+        // Checked points whose regime changed at a finer resolution, on the regime panel.
+        if let (Some(spot), Some(regimes)) = (&json.spot_checks, panels.first_mut()) {
+            let changed: Vec<(f64, f64)> = spot
+                .checks
+                .iter()
+                .filter(|c| c.changed)
+                .map(|c| c.values.iter().map(value_text).collect::<Vec<String>>())
+                .filter(|v| in_facet(&v))
+                .map(|v| coords(&lay, &v))
+                .collect();
+            if !changed.is_empty() {
+                regimes.series.push(
+                    Series::new(
+                        format!(
+                            "regime changed at 2N or tolerance/10 ({} of {} checked)",
+                            spot.changed, spot.checked
+                        ),
+                        changed,
+                        RGBColor(0, 0, 0),
+                    )
+                    .points()
+                    .marker(Marker::Square),
+                );
+            }
+        }
+        out.extend(panels);
     }
     Ok(out)
 }

@@ -42,8 +42,21 @@ pub const SHARD_TABLE: Cap = Cap {
     max_bytes: 1 << 30,
 };
 
+/// A sweep's spot-check record (`DIR/checks/<point>.json`): a few runs' summaries.
+pub const CHECK_RECORD: Cap = Cap {
+    what: "sweep spot-check record",
+    max_bytes: 1 << 20,
+};
+
 /// Every cap, for the reference.
-pub const ALL: [Cap; 5] = [SCENE, SWEEP, SWEEP_LOCK, POINT_RECORD, SHARD_TABLE];
+pub const ALL: [Cap; 6] = [
+    SCENE,
+    SWEEP,
+    SWEEP_LOCK,
+    POINT_RECORD,
+    SHARD_TABLE,
+    CHECK_RECORD,
+];
 
 /// Why a file was not read (the size and the cap; callers name the path).
 fn refused(why: String) -> io::Error {

@@ -1,9 +1,10 @@
-//! `stickslip boundary`: the value of one key where the regime changes, by bisection
-//! (the run library's `boundary::find`).
+//! `stickslip boundary`: every value of one key where the regime changes, by a first scan and
+//! a bisection of each change (the run library's `boundary::scan`).
 
 use std::path::Path;
 use std::process::ExitCode;
-use stickslip_run::boundary::{BoundaryError, Probe, find};
+use stickslip_run::boundary::scan::{Change, Scan, ScanOptions, scan};
+use stickslip_run::boundary::{BoundaryError, Probe};
 use stickslip_run::exit::Exit;
 use stickslip_run::scene::Scene;
 use stickslip_run::summary::RegimeThresholds;
@@ -22,62 +23,148 @@ pub struct Args<'a> {
     pub to: f64,
     /// Relative tolerance.
     pub rtol: f64,
+    /// Points of the first scan.
+    pub scan: usize,
+    /// Runs at a time.
+    pub jobs: usize,
     /// No line per run.
     pub quiet: bool,
 }
 
-/// Runs the search and prints its answer; exit 0, 2 for bad input (including ends of the same
-/// regime), 3 for a run that failed numerically, 130 when interrupted.
+/// Digits enough to tell a bracket of relative width `rtol` apart.
+fn digits(rtol: f64) -> usize {
+    (-rtol.log10()).ceil().max(0.0) as usize + 2
+}
+
+/// One change as a line: value ± error, the regimes, and what the error is made of.
+fn change_line(c: &Change, unit: &str, d: usize) -> String {
+    let rel = if c.value == 0.0 {
+        String::new()
+    } else {
+        format!(" ({:.2} %)", 100.0 * c.error / c.value.abs())
+    };
+    let mut parts = vec![format!("bracket ±{:.2e}", c.bracket)];
+    for s in &c.shifts {
+        parts.push(match s.value {
+            Some(_) if s.moved == 0.0 => format!("{}: inside the bracket", s.stage.name()),
+            Some(_) => format!("{}: moves {:.2e}", s.stage.name(), s.moved),
+            None => format!("{}: not found", s.stage.name()),
+        });
+    }
+    format!(
+        "{:.d$e} ± {:.2e} {unit}{rel}: {} → {} [{}; {} runs]",
+        c.value,
+        c.error,
+        c.below.regime.name(),
+        c.above.regime.name(),
+        parts.join("; "),
+        c.runs
+    )
+}
+
+fn print(s: &Scan, unit: &str) {
+    let d = digits(s.rtol);
+    // The first change in the form `boundary` has always printed.
+    let first = &s.changes[0];
+    say!(
+        "{} = {:.d$e} ± {:.2e} (bracket {:.d$e} … {:.d$e}, rtol {})",
+        s.key,
+        first.value,
+        first.error,
+        first.below.value,
+        first.above.value,
+        s.rtol
+    );
+    say!(
+        "below: {} (at {:.d$e}); above: {} (at {:.d$e}); {} runs, {} midpoints",
+        first.below.regime.name(),
+        first.below.value,
+        first.above.regime.name(),
+        first.above.value,
+        s.runs,
+        if s.geometric {
+            "geometric"
+        } else {
+            "arithmetic"
+        }
+    );
+    let scanned: Vec<String> = s
+        .points
+        .iter()
+        .map(|p| format!("{:.3e} {}", p.value, p.regime.name()))
+        .collect();
+    say!(
+        "scan of {} points ({} {}): {}",
+        s.points.len(),
+        if s.geometric { "ratio" } else { "step" },
+        if s.geometric {
+            format!("{:.3}", s.spacing)
+        } else {
+            format!("{:.3e}", s.spacing)
+        },
+        scanned.join(", ")
+    );
+    say!(
+        "{} change{} (value ± error, {unit}):",
+        s.changes.len(),
+        if s.changes.len() == 1 { "" } else { "s" }
+    );
+    for (i, c) in s.changes.iter().enumerate() {
+        say!("  {}. {}", i + 1, change_line(c, unit, d));
+    }
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
+}
+
+/// Runs the search and prints its answer; exit 0, 2 for bad input (including a range whose
+/// scan points all have the same regime), 3 for a run that failed numerically, 130 when
+/// interrupted.
 pub fn main(a: &Args<'_>) -> ExitCode {
     let base = match Scene::from_path(a.scene, a.set) {
         Ok(s) => s,
         Err(e) => return crate::fail(e, Exit::BadInput),
     };
+    if a.jobs == 0 {
+        return crate::fail(
+            "--jobs 0 is invalid; allowed: an integer >= 1",
+            Exit::BadInput,
+        );
+    }
     let flag = match crate::interrupt_flag() {
         Ok(f) => f,
         Err(e) => return crate::fail(format!("cannot install the signal handler: {e}"), Exit::Io),
     };
     let quiet = a.quiet;
     let key = a.key;
-    let mut show = |p: &Probe| {
+    let show = |p: &Probe| {
         if !quiet {
-            eprintln!("boundary: {key} = {:e}: {}", p.value, p.regime.name());
+            eprintln!(
+                "boundary: {key} = {:e}: {} ({})",
+                p.value,
+                p.regime.name(),
+                p.stage.name()
+            );
         }
     };
-    let found = find(
+    let found = scan(
         &base,
         a.key,
         (a.from, a.to),
         a.rtol,
+        ScanOptions {
+            points: a.scan,
+            jobs: a.jobs,
+        },
         RegimeThresholds::default(),
         Some(&flag),
-        &mut show,
+        &show,
+        &mut || {},
     );
     match found {
-        Ok(b) => {
-            // Digits enough to tell the bracket's ends apart.
-            let d = (-b.rtol.log10()).ceil().max(0.0) as usize + 2;
-            say!(
-                "{} = {:.d$e} (bracket {:.d$e} … {:.d$e}, rtol {})",
-                b.key,
-                b.value,
-                b.below.value,
-                b.above.value,
-                b.rtol
-            );
-            say!(
-                "below: {} (at {:.d$e}); above: {} (at {:.d$e}); {} runs, {} midpoints",
-                b.below.regime.name(),
-                b.below.value,
-                b.above.regime.name(),
-                b.above.value,
-                b.runs,
-                if b.geometric {
-                    "geometric"
-                } else {
-                    "arithmetic"
-                }
-            );
+        Ok(s) => {
+            let unit = stickslip_run::keys::find(a.key).map_or("", |k| k.unit);
+            print(&s, unit);
             ExitCode::SUCCESS
         }
         Err(e @ BoundaryError::Failed { .. }) => crate::fail(e, Exit::Numerical),

@@ -32,6 +32,7 @@ mod boundary;
 mod check;
 mod progress;
 mod reference;
+mod spot;
 mod sweep;
 mod verify;
 
@@ -87,10 +88,13 @@ enum Command {
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
     },
-    /// Find where the regime changes along one key: both ends are run, then the bracket is
-    /// halved (geometric midpoints when both ends are > 0) until it is within --rtol; prints
-    /// the value, the regimes on both sides and the runs taken. Exit 2 when both ends have
-    /// the same regime, 3 when a run fails numerically.
+    /// Find where the regime changes along one key: a first scan of --scan points over the
+    /// range (log-spaced when both ends are > 0), then every change between neighbouring
+    /// points is bisected until its bracket is within --rtol and rerun at 2N and at a tenth of
+    /// the tolerance; prints each change with its error (the bracket plus how far the change
+    /// moves at the finer resolution) and warnings about changes the scan may have missed.
+    /// The first two lines give the lowest change (value, bracket, regimes, runs). Exit 2
+    /// when every scan point has the same regime, 3 when a run fails numerically.
     Boundary {
         /// Scene file (TOML).
         scene: PathBuf,
@@ -106,6 +110,12 @@ enum Command {
         /// Relative width of the final bracket: (hi − lo) ≤ rtol·max(|lo|, |hi|).
         #[arg(long, default_value_t = 1e-3)]
         rtol: f64,
+        /// Points of the first scan, the range's ends included (2: the ends only).
+        #[arg(long, value_name = "N", default_value_t = stickslip_run::boundary::scan::DEFAULT_SCAN)]
+        scan: usize,
+        /// Runs at a time.
+        #[arg(long, default_value_t = 2)]
+        jobs: usize,
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
@@ -341,6 +351,8 @@ fn main() -> ExitCode {
             from,
             to,
             rtol,
+            scan,
+            jobs,
             set,
             quiet,
         } => boundary::main(&boundary::Args {
@@ -350,6 +362,8 @@ fn main() -> ExitCode {
             from,
             to,
             rtol,
+            scan,
+            jobs,
             quiet,
         }),
         Command::Verify {

@@ -360,12 +360,19 @@ fn run(
         );
         return ExitCode::SUCCESS;
     }
+    let then_checks = |m: &Merge, code: ExitCode| {
+        if matches!(m, Merge::Complete { .. }) {
+            crate::spot::after_map(&sweep, dir, jobs, &flag, quiet, code)
+        } else {
+            code
+        }
+    };
     if let Some(m) = &report.map {
         // A refined sweep: the shard that found every level complete wrote the map.
-        return report_merge(dir, m, true);
+        return then_checks(m, report_merge(dir, m, true));
     }
     match exec::after_shard(dir, &sweep.fingerprint(), options.shard) {
-        Ok(m) => report_merge(dir, &m, true),
+        Ok(m) => then_checks(&m, report_merge(dir, &m, true)),
         // The shard's points are done and recorded: a merge that cannot write is not a
         // failed shard; `sweep merge` finishes it.
         Err(e @ SweepRunError::Io { .. }) => {
@@ -636,7 +643,23 @@ pub fn main(cmd: SweepCommand) -> ExitCode {
                             }
                         );
                     }
-                    report_merge(&dir, &m, false)
+                    let code = report_merge(&dir, &m, false);
+                    match (&m, exec::load_lock(&dir)) {
+                        (Merge::Complete { .. }, Ok(lock)) if lock.sweep.verify.is_some() => {
+                            let flag = match crate::interrupt_flag() {
+                                Ok(f) => f,
+                                Err(e) => {
+                                    return crate::fail(
+                                        format!("cannot install signal handlers: {e}"),
+                                        Exit::Io,
+                                    );
+                                }
+                            };
+                            let jobs = std::thread::available_parallelism().map_or(1, usize::from);
+                            crate::spot::after_map(&lock.sweep, &dir, jobs, &flag, false, code)
+                        }
+                        _ => code,
+                    }
                 }
                 Err(e) => sweep_error(&e),
             }

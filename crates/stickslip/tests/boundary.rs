@@ -1,5 +1,6 @@
-//! `stickslip boundary`: the critical speed of the rigid drive bracketed and bisected, checked
-//! against runs on both sides of it; bad calls exit 2 naming what is wrong.
+//! `stickslip boundary`: the critical speed of the rigid drive scanned, bracketed and bisected,
+//! checked against runs on both sides of it; every change of a line with several found, each
+//! with an error; bad calls exit 2 naming what is wrong.
 
 use crate::common::{run, scene, texts};
 
@@ -45,8 +46,15 @@ fn regime_at(v: f64) -> String {
     info["summary"]["regime"].as_str().unwrap().to_string()
 }
 
+/// A number printed by `boundary`.
+fn num(s: &str) -> f64 {
+    s.trim()
+        .parse::<f64>()
+        .unwrap_or_else(|e| panic!("{s:?}: {e}"))
+}
+
 #[test]
-fn the_critical_speed_is_bracketed_to_the_tolerance_in_few_runs() {
+fn the_critical_speed_is_bracketed_to_the_tolerance_and_given_an_error() {
     let out = boundary(&[
         "--key",
         "drive.velocity",
@@ -58,10 +66,12 @@ fn the_critical_speed_is_bracketed_to_the_tolerance_in_few_runs() {
     ]);
     let (stdout, stderr) = texts(&out);
     assert!(out.status.success(), "{stderr}");
-    // drive.velocity = 2.32605e-1 (bracket a … b, rtol 0.001)
+    // drive.velocity = 2.32605e-1 ± 1.2e-4 (bracket a … b, rtol 0.001)
     let first = stdout.lines().next().unwrap();
-    let num = |s: &str| s.trim().parse::<f64>().unwrap();
-    let value = num(first.split('=').nth(1).unwrap().split('(').next().unwrap());
+    let after = first.split('=').nth(1).unwrap();
+    let (value, rest) = after.split_once('±').unwrap();
+    let value = num(value);
+    let error = num(rest.split('(').next().unwrap());
     let bracket = first
         .split("bracket ")
         .nth(1)
@@ -75,31 +85,109 @@ fn the_critical_speed_is_bracketed_to_the_tolerance_in_few_runs() {
         lo < value && value < hi && (hi - lo) <= 1e-3 * hi * 1.0001,
         "{first}"
     );
-    let runs: usize = stdout
-        .split(" runs")
-        .next()
-        .unwrap()
-        .rsplit(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    assert!(runs <= 20, "{runs} runs: {stdout}");
+    // The error counts at least the bracket, and here the change stays near it at 2N and at
+    // a tenth of the tolerance.
+    assert!(
+        error >= 0.5 * (hi - lo) * 0.999 && error < 0.05 * value,
+        "{first}"
+    );
     assert!(
         stdout.contains("below: stick_slip") && stdout.contains("above: partial"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("2N:") && stdout.contains("tolerance/10:"),
         "{stdout}"
     );
     // Independently: plain runs a little either side give the two regimes.
     assert_eq!(regime_at(value * 0.99), "stick_slip");
     assert_eq!(regime_at(value * 1.01), "partial");
+    // The scan also finds where partial recovery gives way to smooth sliding, which a
+    // bisection of the ends alone cannot see.
+    assert!(stdout.contains("2 changes (value ± error"), "{stdout}");
+    let second = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("2. "))
+        .unwrap();
+    assert!(second.contains("partial → smooth"), "{second}");
+    let v2 = num(second
+        .split_once(". ")
+        .unwrap()
+        .1
+        .split('±')
+        .next()
+        .unwrap());
+    assert_eq!(regime_at(v2 * 0.99), "partial");
+    assert_eq!(regime_at(v2 * 1.01), "smooth");
+}
+
+#[test]
+fn a_line_with_several_changes_reports_each_with_its_error() {
+    // Temperature through A0 at 0.1 m/s: sliding (A0 <= 0), then partial recovery and stick–
+    // slip as the film grows stiffer: two changes, where a bisection of the ends finds one.
+    let out = boundary(&[
+        "--key",
+        "temperature.A0",
+        "--from",
+        "-3e5",
+        "--to",
+        "1.5e6",
+        "--scan",
+        "7",
+        "--rtol",
+        "1e-2",
+        "--set",
+        "drive.velocity=0.5",
+        "--quiet",
+    ]);
+    let (stdout, stderr) = texts(&out);
+    assert!(out.status.success(), "{stderr}");
+    let changes: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.trim_start().starts_with(|c: char| c.is_ascii_digit()) && l.contains(" → "))
+        .collect();
+    assert!(changes.len() >= 2, "{stdout}");
+    assert!(stdout.contains("scan of 7 points (step"), "{stdout}");
+    for line in &changes {
+        let after = line.split_once(". ").unwrap().1;
+        let (value, rest) = after.split_once('±').unwrap();
+        let error = num(rest.trim_start().split(' ').next().unwrap());
+        assert!(num(value).is_finite() && error > 0.0, "{line}");
+    }
 }
 
 #[test]
 fn bad_calls_exit_2_and_say_why() {
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 7] = [
         (
             &["--key", "drive.velocity", "--from", "0.01", "--to", "0.02"],
-            "both give the regime stick_slip",
+            "both give the regime stick_slip (as do the 7 scan points between them)",
+        ),
+        (
+            &[
+                "--key",
+                "drive.velocity",
+                "--from",
+                "0.01",
+                "--to",
+                "3",
+                "--scan",
+                "1",
+            ],
+            "--scan = 1",
+        ),
+        (
+            &[
+                "--key",
+                "drive.velocity",
+                "--from",
+                "0.01",
+                "--to",
+                "3",
+                "--jobs",
+                "0",
+            ],
+            "--jobs 0",
         ),
         (
             &["--key", "drive.speed", "--from", "0.01", "--to", "3"],

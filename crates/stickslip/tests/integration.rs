@@ -10,6 +10,7 @@ mod boundary;
 mod reference;
 mod resume;
 mod runs;
+mod spot;
 mod sweep;
 mod sweep_safe;
 mod verify;

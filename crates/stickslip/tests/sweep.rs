@@ -313,6 +313,36 @@ struct Bad {
 
 const BAD: &[Bad] = &[
     Bad {
+        name: "verify sample 0",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n[verify]\nsample = 0.0\n",
+        key: "verify.sample",
+        args: &[],
+    },
+    Bad {
+        name: "verify sample and points",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n[verify]\nsample = 0.5\npoints = 3\n",
+        key: "verify.points",
+        args: &[],
+    },
+    Bad {
+        name: "verify points 0",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n[verify]\npoints = 0\n",
+        key: "verify.points",
+        args: &[],
+    },
+    Bad {
+        name: "verify nothing to check",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n[verify]\nboundaries = false\n",
+        key: "verify.boundaries",
+        args: &[],
+    },
+    Bad {
+        name: "verify unknown key",
+        body: "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n[verify]\nfraction = 0.1\n",
+        key: "verify.fraction",
+        args: &[],
+    },
+    Bad {
         name: "unknown key in an axis",
         body: "[[axis]]\nkey = \"drive.speed\"\nvalues = [1.0]\n",
         key: "axis[0].key",

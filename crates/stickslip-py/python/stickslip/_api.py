@@ -316,29 +316,48 @@ def verify(scene: SceneLike, rtol: float = 1e-3, *, jobs: int = 2) -> Dict[str, 
 
 
 def boundary(
-    scene: SceneLike, key: str, lo: float, hi: float, *, rtol: float = 1e-3
+    scene: SceneLike,
+    key: str,
+    lo: float,
+    hi: float,
+    *,
+    rtol: float = 1e-3,
+    scan: int = 9,
+    jobs: int = 2,
 ) -> Dict[str, Any]:
-    """The value of ``key`` (a scene key taking a number, in its unit) between ``lo`` and
-    ``hi`` where the regime changes, as ``stickslip boundary`` finds it: both ends are run,
-    then the bracket is halved (geometric midpoints when both ends are > 0) until
-    ``hi - lo <= rtol * max(|lo|, |hi|)``.
+    """Every value of ``key`` (a scene key taking a number, in its unit) between ``lo`` and
+    ``hi`` where the regime changes, as ``stickslip boundary`` finds them: a first scan of
+    ``scan`` points (the ends included; log-spaced when both ends are > 0), then each change
+    between neighbouring points is bisected until ``hi - lo <= rtol * max(|lo|, |hi|)`` and
+    rerun at 2N and at a tenth of the tolerance. ``jobs`` runs go on at a time.
 
-    Returns a dict: ``value`` (the final bracket's midpoint), ``below`` and ``above`` (the
-    regimes either side), ``lo`` and ``hi`` (the final bracket), ``runs`` (the ends
-    included), ``probes`` (every run as ``{"value", "regime"}``), ``key`` and ``rtol``.
+    Returns a dict for the lowest change: ``value`` (the final bracket's midpoint), ``below``
+    and ``above`` (the regimes either side), ``lo`` and ``hi`` (the final bracket),
+    ``error`` (half the bracket plus how far the change moves at the finer resolution;
+    ``inf`` when it is not found there), and ``changes``: every change as such a dict (also
+    with ``bracket``, ``moves`` per refinement, ``third``: a regime met inside, and ``runs``).
+    Also ``runs`` (all of them), ``probes`` (every run as ``{"value", "regime", "stage"}``),
+    ``scan`` (the scan's points), ``warnings`` (changes closer than the scan's spacing, a
+    third regime, a change lost at the finer resolution), ``key`` and ``rtol``.
 
-    Raises ``ValueError`` when both ends have the same regime, for a key that is not a
-    number and for a bad bracket or tolerance; ``SceneError`` for a value the scene refuses;
-    ``RuntimeError`` when a run fails numerically; ``Interrupted`` on Ctrl-C (seen between
-    runs; ``.result`` is None).
+    Raises ``ValueError`` when every scan point has the same regime, for a key that is not a
+    number and for a bad bracket, tolerance, scan or jobs; ``SceneError`` for a value the
+    scene refuses; ``RuntimeError`` when a run fails numerically; ``Interrupted`` on Ctrl-C
+    (``.result`` is None).
     """
     if isinstance(key, bool) or not isinstance(key, str):
         raise TypeError(f"key: expected a scene key as a str, got {type(key).__name__}")
-    for name, value in (("lo", lo), ("hi", hi), ("rtol", rtol)):
+    for name, value in (("lo", lo), ("hi", hi), ("rtol", rtol), ("scan", scan), ("jobs", jobs)):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise TypeError(f"{name}: expected a number, got {type(value).__name__}")
+    if isinstance(scan, float) or scan < 2:
+        raise ValueError(f"scan = {scan!r} is invalid; allowed: an int >= 2 (the range's ends included)")
+    if isinstance(jobs, float) or jobs < 1:
+        raise ValueError(f"jobs = {jobs!r} is invalid; allowed: an int >= 1")
     try:
-        return dict(_native.boundary(_scene(scene), key, float(lo), float(hi), float(rtol)))
+        return dict(
+            _native.boundary(_scene(scene), key, float(lo), float(hi), float(rtol), int(scan), int(jobs))
+        )
     except KeyboardInterrupt as e:
         if isinstance(e, Interrupted):
             raise

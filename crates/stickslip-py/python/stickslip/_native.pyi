@@ -79,9 +79,9 @@ def load(dir: _Path) -> Dict[str, Any]:
     """Internal: reads the run in ``dir``. Use ``stickslip.load``."""
 
 def boundary(
-    scene: Scene, key: str, lo: float, hi: float, rtol: float = ...
+    scene: Scene, key: str, lo: float, hi: float, rtol: float = ..., scan: int = ..., jobs: int = ...
 ) -> Dict[str, Any]:
-    """Internal: the bisection of ``stickslip.boundary``."""
+    """Internal: the scan and bisections of ``stickslip.boundary``."""
 
 def verify(scene: Scene, rtol: float = ..., jobs: int = ...) -> Dict[str, Any]:
     """Internal: the refinements of ``stickslip.verify``."""

@@ -30,6 +30,22 @@ pub struct SweepFile {
     pub regime: Option<RegimeThresholds>,
     /// Adaptive refinement of the map (docs/reference.md, section Refinement).
     pub refine: Option<RefineFile>,
+    /// Spot checks of the finished map at a refined resolution (docs/reference.md, section
+    /// Spot checks).
+    pub verify: Option<VerifyFile>,
+}
+
+/// `[verify]`: which points of the finished map are rerun at 2N and at a tenth of the
+/// tolerance.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VerifyFile {
+    /// A share of the map's points, 0 < sample ≤ 1.
+    pub sample: Option<f64>,
+    /// Or a number of points.
+    pub points: Option<i64>,
+    /// Also every point next to a regime boundary (default true).
+    pub boundaries: Option<bool>,
 }
 
 /// `[refine]`: split the cells whose corner points differ, `levels` times.

@@ -27,7 +27,10 @@ use thiserror::Error;
 pub const SWEEP_FILE: &str = "sweep.json";
 
 /// Subdirectories of a sweep directory a fresh start removes.
-pub const SWEEP_DIRS: [&str; 3] = ["points", "runs", "shards"];
+pub const SWEEP_DIRS: [&str; 4] = ["points", "runs", "shards", CHECKS_DIR];
+
+/// The spot checks' records under the sweep directory.
+pub const CHECKS_DIR: &str = "checks";
 
 /// Why a sweep could not run or merge.
 #[derive(Debug, Error)]

@@ -349,6 +349,9 @@ pub struct MapJson {
     pub columns: BTreeMap<String, String>,
     /// The table.
     pub table: MapTable,
+    /// What the spot checks found (`[verify]`), once they ran.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spot_checks: Option<super::checks::SpotReport>,
 }
 
 impl MapJson {
@@ -373,6 +376,7 @@ impl MapJson {
             version: env!("CARGO_PKG_VERSION").to_string(),
             columns,
             table,
+            spot_checks: None,
         }
     }
 

@@ -17,6 +17,9 @@
 //! - [`slurm`]: the job-array script;
 //! - [`refine`]: adaptive refinement (`[refine]`): the finest grid, the cells that split, the
 //!   next level's points from the results so far, and a refined map's geometry;
+//! - [`checks`]: the spot checks' records and report (writer and reader);
+//! - [`spot`]: spot checks of the finished map (`[verify]`): the points checked, their
+//!   records (`DIR/checks/`), and what changed at a refined resolution, into map.json;
 //! - [`reference`]: the sweeps part of `docs/reference.md`, from these definitions.
 //!
 //! Points are numbered 0 … P−1 in the order of the cartesian product, the last axis fastest
@@ -24,6 +27,7 @@
 //! N = I (in a refined sweep, every N-th point of each level). Results do not depend on jobs or shards:
 //! each point is a deterministic run of its own scene.
 
+pub mod checks;
 pub mod exec;
 pub mod file;
 pub mod lock;
@@ -33,6 +37,7 @@ pub mod record;
 pub mod reference;
 pub mod refine;
 pub mod slurm;
+pub mod spot;
 
 pub use file::SweepError;
 
@@ -180,6 +185,10 @@ pub struct Sweep {
     /// of the split cells ([`refine`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refine: Option<refine::Refine>,
+    /// `[verify]`, when given: spot checks of the finished map ([`spot`]). Not part of the
+    /// sweep's definition: the points' results do not depend on it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verify: Option<spot::SpotChecks>,
 }
 
 /// Inserts `value` at the dotted `path` of `table`, creating tables on the way.
@@ -523,6 +532,7 @@ impl Sweep {
             }
             None => None,
         };
+        let verify = file.verify.as_ref().map(spot::resolve).transpose()?;
         Scene::resolve_table(base.clone(), &[] as &[&str]).map_err(|error| SweepError::Base {
             path: scene_path.display().to_string(),
             error: Box::new(error),
@@ -538,6 +548,7 @@ impl Sweep {
             points,
             base,
             refine,
+            verify,
         };
         for p in sweep.points_validated_up_front() {
             sweep.scene(p).map_err(|error| SweepError::Point {

@@ -49,6 +49,33 @@ fn refinement() -> String {
     )
 }
 
+/// `### Spot checks`: the `[verify]` table's rules.
+fn spot_checks() -> String {
+    format!(
+        "\n### Spot checks\n\n\
+         ```toml\n[verify]\nsample = 0.1            # a share of the points (or: points = 30)\n\
+         boundaries = true       # and every point next to a regime boundary (default)\n```\n\n\
+         Once the map is complete, `sweep run` (and `sweep merge`) rerun the checked points at \
+         twice the nodes (radial contacts) and at a tenth of `time.tolerance` (half \
+         `time.dt` with fixed steps): the first refinement along each axis that `stickslip \
+         verify` makes. The sample is spread evenly over the points that ran `ok`, in point \
+         order; a boundary point is one whose nearest neighbour along an axis (in a refined \
+         map, the nearest point that ran) has another regime, a failed or refused neighbour \
+         counting as a class of its own. Each check is a record `{dir}/<point>.json` (its \
+         reruns' summaries, whether the regime changed, the largest relative change of \
+         `t_first_onset`, `period_last`, `f_peak_first`, `f_peak_last` or `f_mean`), written \
+         atomically with the sweep's fingerprint: a rerun skips the checks done by this build, \
+         and Ctrl-C keeps the finished ones (exit 130). {json} then gains `spot_checks`: the \
+         settings, the counts (checked, sampled, at boundaries, changed), the largest change \
+         with its column and point, and every check. `[verify]` is not part of the sweep's \
+         definition: adding it to a finished sweep runs only the checks. A changed regime is a \
+         warning, not an exit status: the map's regime at that point is not converged. `sweep \
+         plot` rings the checked points whose regime changed.\n",
+        dir = super::lock::CHECKS_DIR,
+        json = JSON_FILE,
+    )
+}
+
 /// Markdown: `## Sweeps` with the file, the table and the regimes.
 #[must_use]
 pub fn markdown() -> String {
@@ -63,7 +90,7 @@ pub fn markdown() -> String {
          the same integer, are refused.\n\n",
     );
     out.push_str("### Sweep file\n\n| key | meaning |\n|---|---|\n");
-    let rows: [(&str, String); 12] = [
+    let rows: [(&str, String); 15] = [
         ("name", "name of the sweep (required)".into()),
         (
             "scene",
@@ -134,6 +161,20 @@ pub fn markdown() -> String {
              its corners' values a, b have \\|a − b\\| > threshold · max(\\|a\\|, \\|b\\|)"
                 .into(),
         ),
+        (
+            "[verify] sample",
+            "spot checks: a share of the map's points, 0 < sample ≤ 1, spread evenly in point \
+             order, rerun at 2N and at a tenth of the tolerance; see Spot checks below"
+                .into(),
+        ),
+        (
+            "[verify] points",
+            "or a number of points ≥ 1 (not both)".into(),
+        ),
+        (
+            "[verify] boundaries",
+            "also every point next to a regime boundary (default true)".into(),
+        ),
     ];
     for (key, meaning) in rows {
         out.push_str(&format!("| `{key}` | {meaning} |\n"));
@@ -145,6 +186,7 @@ pub fn markdown() -> String {
          of values the scene refuses is a `refused` row.\n"
     ));
     out.push_str(&refinement());
+    out.push_str(&spot_checks());
     out.push_str(
         "\n### Sweep directory\n\n\
          | file | what |\n|---|---|\n\

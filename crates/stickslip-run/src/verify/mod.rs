@@ -214,6 +214,21 @@ pub fn level_scenes(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>,
     Ok(out)
 }
 
+/// The first refinement along each axis: 2N (radial contacts only), then a tenth of the
+/// tolerance (or half the fixed step). What `boundary` and a sweep's spot checks rerun.
+///
+/// # Errors
+/// As [`level_scenes`].
+pub fn refinements(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>, VerifyError> {
+    let mut out: Vec<(Axis, ResolvedScene)> = Vec::new();
+    for (axis, s) in level_scenes(scene)?.into_iter().skip(1) {
+        if !out.iter().any(|(a, _)| *a == axis) {
+            out.push((axis, s));
+        }
+    }
+    Ok(out)
+}
+
 /// A quantity's values in one run: continuous ones as numbers, discrete ones as text.
 #[derive(Debug, Clone, PartialEq)]
 enum Value {
@@ -439,46 +454,15 @@ pub fn verify_levels(
 
 /// Runs `scenes`, `jobs` at a time; the outcomes in their order.
 fn run_all(scenes: &[(Axis, ResolvedScene)], jobs: usize) -> Result<Vec<RunOutcome>, VerifyError> {
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<Option<Result<RunOutcome, StartError>>> =
-        scenes.iter().map(|_| None).collect();
-    std::thread::scope(|s| {
-        let (tx, rx) = std::sync::mpsc::channel();
-        for _ in 0..jobs.min(scenes.len()) {
-            let (tx, next) = (tx.clone(), &next);
-            s.spawn(move || {
-                loop {
-                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some((_, scene)) = scenes.get(i) else {
-                        break;
-                    };
-                    let r = crate::driver::run(scene, &mut NullSink, &mut Control::default());
-                    if tx.send((i, r)).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        drop(tx);
-        for (i, r) in rx {
-            results[i] = Some(r);
-        }
-    });
-    // Every index was sent once (a worker that panicked would have ended the scope).
-    results
+    let work = |i: usize| crate::driver::run(&scenes[i].1, &mut NullSink, &mut Control::default());
+    crate::pool::map(scenes.len(), jobs, &work, &mut || {})
         .into_iter()
         .enumerate()
-        .map(|(i, r)| match r {
-            Some(Ok(o)) => Ok(o),
-            Some(Err(error)) => Err(VerifyError::Start {
+        .map(|(i, r)| {
+            r.map_err(|error| VerifyError::Start {
                 what: format!("{:?} level {i}", scenes[i].0),
                 error: Box::new(error),
-            }),
-            None => Err(VerifyError::Option {
-                option: "jobs",
-                value: jobs.to_string(),
-                allowed: "workers that run every level",
-            }),
+            })
         })
         .collect()
 }

@@ -8,6 +8,11 @@
 //! rtol/2 of every value of the bracket. A midpoint whose regime is neither end's (a third
 //! regime in between) counts as the upper side, and the answer says which regime lies above.
 //! Every run is the driver's, as in a sweep: the scene with `KEY=value` and nothing written.
+//!
+//! [`scan`] scans the bracket first and finds every change between its points, each bisected
+//! and given an error (the bracket and the change's move at a refined resolution).
+
+pub mod scan;
 
 use crate::driver::{Control, NullSink, StartError};
 use crate::keys::{KEYS, ValueType};
@@ -27,6 +32,35 @@ pub struct Probe {
     pub value: f64,
     /// The regime there.
     pub regime: Regime,
+    /// Which part of the search made the run.
+    pub stage: Stage,
+}
+
+/// The part of a search a run belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// A point of the first scan (the bracket's ends without a scan).
+    Scan,
+    /// A midpoint of a bisection at the scene's resolution.
+    Bisect,
+    /// A run at twice the nodes (checking a change).
+    Space,
+    /// A run at a tenth of the tolerance, or half the fixed step (checking a change).
+    Time,
+}
+
+impl Stage {
+    /// The stage's name in the output.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Scan => "scan",
+            Self::Bisect => "bisect",
+            Self::Space => "2N",
+            Self::Time => "tolerance/10",
+        }
+    }
 }
 
 /// The result of a search.
@@ -79,8 +113,9 @@ pub enum BoundaryError {
     Start(#[from] StartError),
     /// Both ends have the same regime: nothing to bracket.
     #[error(
-        "{key} = {lo} and {hi} both give the regime {regime}: no change to bracket; allowed: \
-         ends with different regimes (widen the range, or map it with a sweep first)"
+        "{key} = {lo} and {hi} both give the regime {regime}{}: no change to bracket; \
+         allowed: ends with different regimes (widen the range, or map it with a sweep first)",
+        between(*scanned)
     )]
     SameRegime {
         /// The key.
@@ -91,6 +126,8 @@ pub enum BoundaryError {
         hi: f64,
         /// Their regime.
         regime: &'static str,
+        /// Points run between them (a scan's), all of that regime too.
+        scanned: usize,
     },
     /// A run failed numerically: its regime is unknown.
     #[error("{key} = {value}: the run failed ({message}); the search stops there")]
@@ -112,6 +149,15 @@ pub enum BoundaryError {
         /// Upper side.
         hi: f64,
     },
+}
+
+/// The scan points between the ends, in words.
+fn between(scanned: usize) -> String {
+    match scanned {
+        0 => String::new(),
+        1 => " (as does the scan point between them)".into(),
+        n => format!(" (as do the {n} scan points between them)"),
+    }
 }
 
 /// Checks the key: a scene key taking a real number.
@@ -155,20 +201,8 @@ fn regime_at(
     Ok(Some(outcome.summary.regime))
 }
 
-/// Brackets the regime change of `base` along `key` between `lo` and `hi` and bisects it to
-/// the relative tolerance `rtol`; `on_probe` sees every run as it ends.
-///
-/// # Errors
-/// See [`BoundaryError`].
-pub fn find(
-    base: &ResolvedScene,
-    key: &str,
-    (lo, hi): (f64, f64),
-    rtol: f64,
-    thresholds: RegimeThresholds,
-    interrupt: Option<&AtomicBool>,
-    on_probe: &mut dyn FnMut(&Probe),
-) -> Result<Boundary, BoundaryError> {
+/// Checks the bracket's ends and the tolerance.
+fn check_range(key: &str, lo: f64, hi: f64, rtol: f64) -> Result<(), BoundaryError> {
     check_key(key)?;
     for (name, v) in [("--from", lo), ("--to", hi)] {
         if !v.is_finite() {
@@ -193,51 +227,55 @@ pub fn find(
             allowed: "0 < rtol <= 0.5".into(),
         });
     }
-    let (mut a, mut b) = (lo.min(hi), lo.max(hi));
-    let geometric = a > 0.0;
-    let mut probes = Vec::new();
-    let mut probe =
-        |value: f64, probes: &mut Vec<Probe>| -> Result<Option<Regime>, BoundaryError> {
-            let r = regime_at(base, key, value, thresholds, interrupt)?;
-            if let Some(regime) = r {
-                let p = Probe { value, regime };
-                on_probe(&p);
-                probes.push(p);
-            }
-            Ok(r)
-        };
-    let interrupted = |probes: &Vec<Probe>, a: f64, b: f64| BoundaryError::Interrupted {
-        runs: probes.len(),
-        lo: a,
-        hi: b,
-    };
-    let Some(ra) = probe(a, &mut probes)? else {
-        return Err(interrupted(&probes, a, b));
-    };
-    let Some(mut rb) = probe(b, &mut probes)? else {
-        return Err(interrupted(&probes, a, b));
-    };
-    if ra == rb {
-        return Err(BoundaryError::SameRegime {
-            key: key.to_string(),
-            lo: a,
-            hi: b,
-            regime: ra.name(),
-        });
+    Ok(())
+}
+
+/// The midpoint of `[a, b]`: geometric or arithmetic.
+fn midpoint(a: f64, b: f64, geometric: bool) -> f64 {
+    if geometric {
+        (a * b).sqrt()
+    } else {
+        0.5 * (a + b)
     }
-    while b - a > rtol * a.abs().max(b.abs()) && probes.len() < MAX_RUNS {
-        let mid = if geometric {
-            (a * b).sqrt()
-        } else {
-            0.5 * (a + b)
-        };
+}
+
+/// A bisected bracket: `a` has the lower side's regime, `b` another.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Bisected {
+    a: f64,
+    b: f64,
+    /// The regime at `b`.
+    rb: Regime,
+    /// Midpoints run.
+    runs: usize,
+    /// A regime met inside that is neither end's (a second change nearby).
+    third: Option<Regime>,
+}
+
+/// Bisects `[a, b]` (regimes `ra` ≠ `rb`) until (b − a) ≤ rtol·max(|a|, |b|); `regime` runs
+/// one value (`None`: interrupted; the bisection then gives back its bracket so far).
+fn bisect(
+    (mut a, ra): (f64, Regime),
+    (mut b, mut rb): (f64, Regime),
+    rtol: f64,
+    geometric: bool,
+    max_runs: usize,
+    regime: &mut dyn FnMut(f64) -> Result<Option<Regime>, BoundaryError>,
+) -> Result<Result<Bisected, (f64, f64)>, BoundaryError> {
+    let (rb0, mut runs, mut third) = (rb, 0, None);
+    while b - a > rtol * a.abs().max(b.abs()) && runs < max_runs {
+        let mid = midpoint(a, b, geometric);
         // Rounding can leave no double strictly inside the bracket.
         if !(mid > a && mid < b) {
             break;
         }
-        let Some(r) = probe(mid, &mut probes)? else {
-            return Err(interrupted(&probes, a, b));
+        let Some(r) = regime(mid)? else {
+            return Ok(Err((a, b)));
         };
+        runs += 1;
+        if r != ra && r != rb0 {
+            third.get_or_insert(r);
+        }
         if r == ra {
             a = mid;
         } else {
@@ -245,21 +283,81 @@ pub fn find(
             rb = r;
         }
     }
-    let value = if geometric {
-        (a * b).sqrt()
-    } else {
-        0.5 * (a + b)
+    Ok(Ok(Bisected {
+        a,
+        b,
+        rb,
+        runs,
+        third,
+    }))
+}
+
+/// Brackets the regime change of `base` along `key` between `lo` and `hi` and bisects it to
+/// the relative tolerance `rtol`; `on_probe` sees every run as it ends.
+///
+/// # Errors
+/// See [`BoundaryError`].
+pub fn find(
+    base: &ResolvedScene,
+    key: &str,
+    (lo, hi): (f64, f64),
+    rtol: f64,
+    thresholds: RegimeThresholds,
+    interrupt: Option<&AtomicBool>,
+    on_probe: &mut dyn FnMut(&Probe),
+) -> Result<Boundary, BoundaryError> {
+    check_range(key, lo, hi, rtol)?;
+    let (a, b) = (lo.min(hi), lo.max(hi));
+    let geometric = a > 0.0;
+    let mut probes = Vec::new();
+    let mut probe = |value: f64, stage: Stage| -> Result<Option<Regime>, BoundaryError> {
+        let r = regime_at(base, key, value, thresholds, interrupt)?;
+        if let Some(regime) = r {
+            let p = Probe {
+                value,
+                regime,
+                stage,
+            };
+            on_probe(&p);
+            probes.push(p);
+        }
+        Ok(r)
+    };
+    let interrupted =
+        |runs: usize, a: f64, b: f64| BoundaryError::Interrupted { runs, lo: a, hi: b };
+    let Some(ra) = probe(a, Stage::Scan)? else {
+        return Err(interrupted(0, a, b));
+    };
+    let Some(rb) = probe(b, Stage::Scan)? else {
+        return Err(interrupted(1, a, b));
+    };
+    if ra == rb {
+        return Err(BoundaryError::SameRegime {
+            key: key.to_string(),
+            lo: a,
+            hi: b,
+            regime: ra.name(),
+            scanned: 0,
+        });
+    }
+    let mut mid = |v: f64| probe(v, Stage::Bisect);
+    let found = bisect((a, ra), (b, rb), rtol, geometric, MAX_RUNS - 2, &mut mid)?;
+    let found = match found {
+        Ok(found) => found,
+        Err((a, b)) => return Err(interrupted(probes.len(), a, b)),
     };
     Ok(Boundary {
         key: key.to_string(),
-        value,
+        value: midpoint(found.a, found.b, geometric),
         below: Probe {
-            value: a,
+            value: found.a,
             regime: ra,
+            stage: Stage::Bisect,
         },
         above: Probe {
-            value: b,
-            regime: rb,
+            value: found.b,
+            regime: found.rb,
+            stage: Stage::Bisect,
         },
         runs: probes.len(),
         probes,
