@@ -16,7 +16,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use stickslip_run::scene::toml_text;
 use stickslip_run::sweep::exec::{self, MapRead, SweepOptions, SweepProgress, SweepRunError};
-use stickslip_run::sweep::map::MapTable;
+use stickslip_run::sweep::map::{MapJson, MapTable};
+use stickslip_run::sweep::spot;
 use stickslip_run::sweep::{Sweep, SweepError, file, value_number};
 
 /// Resolves a sweep given as a dict; `scratch` receives the scene file of a `Scene` object.
@@ -226,12 +227,28 @@ pub fn sweep<'py>(
                 stop: None,
             });
         };
-        let report = exec::run_shard(&resolved, &dir, &options, Some(&stop), &mut progress)?;
-        if report.interrupted {
+        let mut report = exec::run_shard(&resolved, &dir, &options, Some(&stop), &mut progress)?;
+        let merged = if report.interrupted {
             // Writes the map only if every point has its row after all.
-            exec::merge(&dir)?;
+            exec::merge(&dir)?
         } else {
-            exec::after_shard(&dir, &resolved.fingerprint(), options.shard)?;
+            exec::after_shard(&dir, &resolved.fingerprint(), options.shard)?
+        };
+        // Spot checks once the map is complete (`[verify]`).
+        if let (Some(spot), exec::Merge::Complete { .. }) = (&resolved.verify, &merged)
+            && !report.interrupted
+        {
+            let mut checked = |done: usize, total: usize| {
+                bridge.tick(&stop, || Report::Sweep {
+                    done,
+                    total,
+                    skipped: 0,
+                    failed: 0,
+                    stop: None,
+                });
+            };
+            let found = spot::run_checks(&resolved, spot, &dir, jobs, Some(&stop), &mut checked)?;
+            report.interrupted |= found.is_none();
         }
         Ok((exec::read_map(&dir)?, report))
     });
@@ -251,6 +268,7 @@ pub fn sweep<'py>(
         },
     );
     let d = map_dict(py, &read)?;
+    spot_checks(py, &d, &dir)?;
     d.set_item("error", bridge.error.take().map(|e| e.into_value(py)))?;
     d.set_item("warning", report.recomputed_text())?;
     Ok(d)
@@ -264,7 +282,23 @@ pub fn load_sweep<'py>(py: Python<'py>, dir: &Bound<'py, PyAny>) -> PyResult<Bou
     let read = py
         .detach(|| exec::read_map(&dir))
         .map_err(|e| sweep_run_error(&e))?;
-    map_dict(py, &read)
+    let d = map_dict(py, &read)?;
+    spot_checks(py, &d, &dir)?;
+    Ok(d)
+}
+
+/// Sets `d["spot_checks"]`: map.json's spot checks as a dict, or None (no `[verify]`, or the
+/// checks not made yet).
+fn spot_checks(py: Python<'_>, d: &Bound<'_, PyDict>, dir: &Path) -> PyResult<()> {
+    let report = MapJson::read(dir).ok().and_then(|m| m.spot_checks);
+    let value = match report {
+        Some(r) => {
+            let v = serde_json::to_value(&r).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            Some(crate::json::json_to_py(py, &v)?)
+        }
+        None => None,
+    };
+    d.set_item("spot_checks", value)
 }
 
 /// A sweep that could not run or be read, as a Python exception.

@@ -184,6 +184,24 @@ def test_a_refined_sweep_has_levels() -> None:
     assert set(table["drive.velocity"][table["level"] == 0]) == {1e-3, 3e-3}
 
 
+def test_spot_checks_rerun_points_at_a_finer_resolution(tmp_path: Path) -> None:
+    d = sweep_dict((SCENES / "rigid.toml").as_posix())
+    d["verify"] = {"points": 2}
+    table = stickslip.sweep(d, jobs=2, out=tmp_path / "spot")
+    spot = table.spot_checks
+    assert spot is not None and spot["sampled"] == 2 and spot["checked"] == len(spot["checks"])
+    regimes = dict(zip(table["point"], table["regime"]))
+    for check in spot["checks"]:
+        assert [r["refinement"] for r in check["runs"]] == ["2N", "tolerance/10"]
+        assert check["regime"] == regimes[check["point"]]
+        assert check["changed"] == any(r["summary"]["regime"] != check["regime"] for r in check["runs"])
+    # load_sweep reads them back; a sweep without [verify] has none.
+    assert stickslip.load_sweep(tmp_path / "spot").spot_checks == spot
+    assert stickslip.sweep(sweep_dict((SCENES / "rigid.toml").as_posix()), jobs=2).spot_checks is None
+    with pytest.raises(stickslip.SweepError, match="verify.sample"):
+        stickslip.sweep({**d, "verify": {"sample": 1.5}})
+
+
 def test_argument_errors_are_type_and_value_errors(sweep_file: Path) -> None:
     with pytest.raises(ValueError, match=r"jobs = -1 is invalid; allowed: an int >= 1"):
         stickslip.sweep(sweep_file, jobs=-1)

@@ -230,7 +230,9 @@ def sweep(
     (None while running, then ``"end"`` or ``"interrupted"``).
 
     Columns, in map.csv's order: see ``MapTable``. A failing point is a row with its status
-    and message; the sweep goes on.
+    and message; the sweep goes on. A sweep with ``[verify]`` (``"verify": {"sample": 0.1}``
+    in a dict) reruns its spot checks at 2N and at a tenth of the tolerance once the map is
+    complete; the table's ``spot_checks`` says what changed.
 
     Every point's record in ``out`` carries the sweep's fingerprint (the sweep and the build
     of the numerics) and its values: points another build computed are recomputed (a
@@ -257,7 +259,9 @@ def sweep(
     finally:
         if bar is not None:
             bar.close()
-    table = MapTable(parts["table"], points=parts["points"], complete=parts["complete"])
+    table = MapTable(
+        parts["table"], points=parts["points"], complete=parts["complete"], spot_checks=parts["spot_checks"]
+    )
     if parts["warning"]:
         warnings.warn(f"stickslip.sweep: {parts['warning']}", RuntimeWarning, stacklevel=2)
     error = parts["error"]
@@ -287,7 +291,9 @@ def load_sweep(dir: PathLike) -> MapTable:
     a record of another sweep.
     """
     parts = _native.load_sweep(dir)
-    return MapTable(parts["table"], points=parts["points"], complete=parts["complete"])
+    return MapTable(
+        parts["table"], points=parts["points"], complete=parts["complete"], spot_checks=parts["spot_checks"]
+    )
 
 
 def verify(scene: SceneLike, rtol: float = 1e-3, *, jobs: int = 2) -> Dict[str, Any]:

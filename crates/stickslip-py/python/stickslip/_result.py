@@ -122,14 +122,25 @@ class MapTable(Dict[str, np.ndarray]):
         points: the number of points of the sweep (of a refined sweep: of the levels
             reached so far).
         complete: every point has its row.
+        spot_checks: what a sweep's ``[verify]`` spot checks found (map.json's
+            ``spot_checks``: ``checked``, ``sampled``, ``at_boundaries``, ``changed``,
+            ``max_change`` as ``[column, relative change, point]``, ``checks`` with each
+            point's reruns at 2N and tolerance/10), or None (no ``[verify]``, or the map not
+            complete yet).
     """
 
     def __init__(
-        self, columns: Dict[str, np.ndarray], *, points: int, complete: bool
+        self,
+        columns: Dict[str, np.ndarray],
+        *,
+        points: int,
+        complete: bool,
+        spot_checks: Optional[Dict[str, Any]] = None,
     ) -> None:
         super().__init__(columns)
         self.points = points
         self.complete = complete
+        self.spot_checks = spot_checks
 
     @property
     def rows(self) -> int:
