@@ -514,7 +514,7 @@ pub fn markdown(checks: &[VerifyCheck]) -> String {
          scene itself (N, 2N, 4N; the tolerance, /10, /100). Here it runs at N = \
          {VERIFY_NODES} on scenes whose converged values are known from a much finer run, and \
          each continuous quantity's true error |value − reference| is set against verify's \
-         uncertainty. A quantity is covered when the uncertainty is at least the true error, or \
+         uncertainty (the reference keeps the scene's time stepping, stated with it below). A quantity is covered when the uncertainty is at least the true error, or \
          when verify's verdict is `not_converged` or `changed` (saying that no small number can \
          be given is honest). `validate` fails unless every quantity is covered. {}\n",
         if all_covered(checks) {
