@@ -14,7 +14,9 @@
 //! settings with the old merge gap; [`report`] and [`findings`] write `reports/index.md` and
 //! `reports/summary.json`; [`reduced`] is the small fig2 run whose features the fast test
 //! recomputes in-process; [`hard`] runs the hard cases of `validation/hard/` and writes
-//! `reports/hard-cases.md`; [`validate`] ties it together.
+//! `reports/hard-cases.md`; [`verify_check`] runs `stickslip verify` at a coarse N and checks
+//! its uncertainties against the true errors known from much finer runs; [`validate`] ties it
+//! together.
 //!
 //! Invariants: the claims read output files only (through the schema; C11's loop takes only the
 //! film's parameters from a run's run.json); every number in the
@@ -36,3 +38,4 @@ pub mod report;
 pub mod runner;
 pub mod sizes;
 pub mod validate;
+pub mod verify_check;

@@ -10,6 +10,7 @@ use crate::facts::{Facts, word};
 use crate::figures::Figure;
 use crate::reduced::Features;
 use crate::runner::{NODES, RunResult, old_merge_gap};
+use crate::verify_check::{self, VerifyCheck};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -78,6 +79,8 @@ pub struct Outcome<'a> {
     pub event_rule: &'a [RuleRow],
     /// Event-rule runs that could not be compared, with why.
     pub event_rule_missing: &'a [String],
+    /// verify against known errors.
+    pub verify_check: &'a [VerifyCheck],
 }
 
 fn round(x: f64, digits: i32) -> f64 {
@@ -132,6 +135,7 @@ pub fn summary_json(o: &Outcome<'_>) -> Value {
             "max_onset_diff_us": r.max_diff_us, "event_counts_equal": r.counts_equal,
         })),
         "event_rule": events_rule::to_json(o.event_rule),
+        "verify_check": verify_check::to_json(o.verify_check),
         "reduced": match &o.reduced {
             Ok(f) => json!(f),
             Err(e) => json!({ "error": e }),
@@ -140,7 +144,8 @@ pub fn summary_json(o: &Outcome<'_>) -> Value {
 }
 
 /// Differences between a fresh summary and the committed one that matter: claim verdicts,
-/// event counts per scene, and the reduced block. Empty when they agree.
+/// event counts per scene, verify's coverage of known errors, and the reduced block. Empty
+/// when they agree.
 pub fn compare(fresh: &Value, committed: &Value) -> Vec<String> {
     let mut out = Vec::new();
     let ids = |v: &Value| -> Vec<String> {
@@ -181,6 +186,7 @@ pub fn compare(fresh: &Value, committed: &Value) -> Vec<String> {
             out.push(format!("scene {name}: {a} events now, committed {b}"));
         }
     }
+    out.extend(verify_check::compare(fresh, committed));
     if fresh["reduced"] != committed["reduced"] {
         out.push(format!(
             "reduced block differs:\n  now       {}\n  committed {}",
@@ -294,8 +300,8 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
          output files through the run library's schema and checked each claim of the paper \
          ([docs/model.md](../docs/model.md#the-papers-claims)) as a measured criterion. \
          **{passed} of {} claims pass.** `cargo xtask validate --check` reruns everything and \
-         compares verdicts, event counts and the reduced block with `summary.json` without \
-         writing.\n",
+         compares verdicts, event counts, verify's coverage of known errors and the reduced \
+         block with `summary.json` without writing.\n",
         o.results.len(),
         o.claims.len()
     );
@@ -334,6 +340,7 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
          sample ones (n − 1).\n"
     );
     resolution_section(&mut s, o);
+    s.push_str(&verify_check::markdown(o.verify_check));
     let _ = writeln!(s, "## Melting events: what the event rule changes\n");
     let (k, gap) = o.runs.get("fig2").map_or((f64::NAN, f64::NAN), |r| {
         (

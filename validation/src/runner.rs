@@ -3,7 +3,8 @@
 //! `stickslip` binary as a user would, a few at a time. Building and invoking the binary go
 //! through `stickslip_report::binary`; what a run wrote is read through the run library's
 //! schema (a failure from run.json's typed `failure` record, never from stderr). The hard
-//! cases ([`crate::hard::Bench`]) use the same [`Runner`].
+//! cases ([`crate::hard::Bench`]) use the same [`Runner`]. Work other than a `stickslip run`
+//! (the `stickslip verify` runs of [`crate::verify_check`]) joins the same pool as a [`Task`].
 
 use std::collections::{BTreeMap, VecDeque};
 use std::path::{Path, PathBuf};
@@ -65,6 +66,11 @@ impl Runner {
     /// The binary.
     pub fn bin(&self) -> &Path {
         &self.bin
+    }
+
+    /// The directory the runs write under.
+    pub fn out_root(&self) -> &Path {
+        &self.out_root
     }
 
     /// The workspace root.
@@ -192,7 +198,8 @@ pub struct RunSpec {
 }
 
 impl RunSpec {
-    fn new(name: &str, scene: &'static str, purpose: &str) -> Self {
+    /// A run of `scene` at N = [`NODES`] without other overrides.
+    pub fn new(name: &str, scene: &'static str, purpose: &str) -> Self {
         Self {
             name: name.to_string(),
             scene,
@@ -378,6 +385,21 @@ impl RunResult {
     }
 }
 
+/// Work that [`run_all_with`] schedules among the runs: its name for the progress line, and a
+/// closure that does it (it keeps its own results) and says in a line what it did.
+pub struct Task<'a> {
+    /// Name shown in the progress line.
+    pub name: String,
+    /// The work; returns the progress line's text.
+    pub work: Box<dyn FnOnce() -> String + Send + 'a>,
+}
+
+impl std::fmt::Debug for Task<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Task").field("name", &self.name).finish()
+    }
+}
+
 /// Runs all `specs` of `scenes` with `jobs` workers, printing progress; results by run name.
 pub fn run_all(
     runner: &Runner,
@@ -385,9 +407,31 @@ pub fn run_all(
     specs: Vec<RunSpec>,
     jobs: usize,
 ) -> BTreeMap<String, RunResult> {
-    let total = specs.len();
-    let queue: Mutex<VecDeque<(usize, RunSpec)>> =
-        Mutex::new(specs.into_iter().enumerate().collect());
+    run_all_with(runner, scenes, specs, Vec::new(), jobs)
+}
+
+/// What a worker takes from the queue.
+enum Job<'a> {
+    Run(RunSpec),
+    Task(Task<'a>),
+}
+
+/// As [`run_all`], with `tasks` in the same pool: they start right after the first run of
+/// `specs` (the longest) and before the others, so that a few long tasks overlap the many
+/// short runs.
+pub fn run_all_with<'a>(
+    runner: &Runner,
+    scenes: &Path,
+    specs: Vec<RunSpec>,
+    tasks: Vec<Task<'a>>,
+    jobs: usize,
+) -> BTreeMap<String, RunResult> {
+    let total = specs.len() + tasks.len();
+    let mut jobs_list: Vec<Job<'a>> = specs.into_iter().map(Job::Run).collect();
+    let at = jobs_list.len().min(1);
+    jobs_list.splice(at..at, tasks.into_iter().map(Job::Task));
+    let queue: Mutex<VecDeque<(usize, Job<'a>)>> =
+        Mutex::new(jobs_list.into_iter().enumerate().collect());
     let results: Mutex<BTreeMap<String, RunResult>> = Mutex::new(BTreeMap::new());
     std::thread::scope(|scope| {
         for _ in 0..jobs.max(1) {
@@ -399,25 +443,41 @@ pub fn run_all(
                             break;
                         }
                         let done = results.lock().expect("results lock");
-                        let ready = q.iter().position(|(_, s)| {
-                            s.after
+                        let ready = q.iter().position(|(_, j)| match j {
+                            Job::Run(s) => s
+                                .after
                                 .as_ref()
-                                .is_none_or(|(dep, _)| done.contains_key(dep))
+                                .is_none_or(|(dep, _)| done.contains_key(dep)),
+                            Job::Task(_) => true,
                         });
-                        ready.and_then(|p| q.remove(p)).map(|(i, mut spec)| {
-                            let mut blocked = None;
-                            if let Some((dep, derive)) = spec.after.clone() {
-                                match done.get(&dep).map(RunResult::output) {
-                                    Some(Ok(o)) => spec.sets.extend(derive(&o)),
-                                    _ => blocked = Some(format!("needs run `{dep}`, which failed")),
+                        ready.and_then(|p| q.remove(p)).map(|(i, job)| match job {
+                            Job::Task(t) => (i, Job::Task(t), None),
+                            Job::Run(mut spec) => {
+                                let mut blocked = None;
+                                if let Some((dep, derive)) = spec.after.clone() {
+                                    match done.get(&dep).map(RunResult::output) {
+                                        Some(Ok(o)) => spec.sets.extend(derive(&o)),
+                                        _ => {
+                                            blocked =
+                                                Some(format!("needs run `{dep}`, which failed"));
+                                        }
+                                    }
                                 }
+                                (i, Job::Run(spec), blocked)
                             }
-                            (i, spec, blocked)
                         })
                     };
-                    let Some((i, spec, blocked)) = next else {
+                    let Some((i, job, blocked)) = next else {
                         std::thread::sleep(std::time::Duration::from_millis(50));
                         continue;
+                    };
+                    let spec = match job {
+                        Job::Run(spec) => spec,
+                        Job::Task(task) => {
+                            let line = (task.work)();
+                            println!("  [{:>2}/{total}] done    {:<28} {line}", i + 1, task.name);
+                            continue;
+                        }
                     };
                     let result = if let Some(e) = blocked {
                         println!("  [{:>2}/{total}] SKIPPED {:<28} {e}", i + 1, spec.name);

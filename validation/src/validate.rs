@@ -5,7 +5,7 @@
 use crate::claims::{Runs, evaluate};
 use crate::hard::HardSummary;
 use crate::report::{Outcome, Resolution, claims_table_text, compare, index_md, summary_json};
-use crate::runner::{Runner, run_all, specs};
+use crate::runner::{Runner, run_all_with, specs as specs_list};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use stickslip_report::{binary, write_atomic};
@@ -27,8 +27,9 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     write_atomic(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Runs the validation. `Ok(true)` when every claim passes (and, with `--check`, the fresh
-/// verdicts, event counts and reduced block equal the committed ones). Unmet hard-case
+/// Runs the validation. `Ok(true)` when every claim passes and verify covers every known error
+/// (and, with `--check`, the fresh verdicts, event counts, reduced block and verify coverage
+/// equal the committed ones). Unmet hard-case
 /// expectations are printed and shown in reports/hard-cases.md.
 ///
 /// # Errors
@@ -44,15 +45,21 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     let scenes = root.join("validation").join("scenes");
     let out_root = root.join("target").join("validation");
     std::fs::create_dir_all(&out_root).map_err(|e| format!("{}: {e}", out_root.display()))?;
-    let specs = specs();
+    // The verify check's references first: the sfa one is the longest run.
+    let mut specs = crate::verify_check::reference_specs();
+    specs.extend(specs_list());
     println!(
-        "validate: {} runs, {} at a time, outputs in {}",
+        "validate: {} runs and {} verify runs, {} at a time, outputs in {}",
         specs.len(),
+        crate::verify_check::SUBJECTS.len(),
         opts.jobs,
         out_root.display()
     );
     let runner = Runner::new(bin.clone(), root.clone(), out_root);
-    let results = run_all(&runner, &scenes, specs, opts.jobs);
+    let verify_runs = std::sync::Mutex::new(std::collections::BTreeMap::new());
+    let tasks = crate::verify_check::tasks(&runner, &scenes, &verify_runs);
+    let results = run_all_with(&runner, &scenes, specs, tasks, opts.jobs);
+    let verify_runs = verify_runs.into_inner().map_err(|e| e.to_string())?;
     let mut runs = Runs::default();
     for (name, r) in &results {
         runs.map.insert(name.clone(), r.output());
@@ -62,6 +69,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     let mut claims = evaluate(&runs);
     claims.extend(crate::claims_first_order::evaluate(&runs));
     let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
+    let verify_check = crate::verify_check::evaluate(&verify_runs, &runs);
     let outcome = Outcome {
         claims: &claims,
         runs: &runs,
@@ -70,11 +78,18 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         resolution: resolution.as_ref(),
         event_rule: &event_rule,
         event_rule_missing: &event_rule_missing,
+        verify_check: &verify_check,
     };
     let summary = summary_json(&outcome);
     println!("\nclaims:\n{}", claims_table_text(&claims));
     println!("{}", crate::events_rule::sentence(&event_rule));
-    let all_pass = claims.iter().all(|c| c.pass);
+    print!(
+        "verify against known errors:\n{}",
+        crate::verify_check::terminal(&verify_check, &verify_runs)
+    );
+    // Every claim passes and verify's uncertainty covers every known error (or says not
+    // converged).
+    let all_pass = claims.iter().all(|c| c.pass) && crate::verify_check::all_covered(&verify_check);
     let reports = root.join("reports");
     if opts.check {
         let path = reports.join("summary.json");
@@ -85,7 +100,8 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         let diffs = compare(&summary, &committed);
         if diffs.is_empty() {
             println!(
-                "check: verdicts, event counts and the reduced block match reports/summary.json"
+                "check: verdicts, event counts, the reduced block and verify's coverage match \
+                 reports/summary.json"
             );
         } else {
             println!("check: reports/summary.json is stale (run `cargo xtask validate`):");

@@ -15,8 +15,9 @@ use crate::driver::{Control, NullSink, StartError};
 use crate::keys::{contact, time};
 use crate::outcome::RunOutcome;
 use crate::scene::{ResolvedScene, SceneError};
+use crate::summary::RunSummary;
 use estimate::Estimate;
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 use stickslip_core::config::{ContactModel, Scheme};
 
 /// Onsets reported one by one, at most (the rest are summarised by the last period).
@@ -45,7 +46,7 @@ fn space_order(name: &str) -> f64 {
 }
 
 /// What is refined.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Axis {
     /// The nodes: N, 2N, 4N.
@@ -55,7 +56,7 @@ pub enum Axis {
 }
 
 /// One run of the refinement.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Level {
     /// What it refines (the scene's own run is the first of each axis).
     pub axis: Axis,
@@ -74,7 +75,7 @@ pub struct Level {
 }
 
 /// Verdict of one quantity.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
     /// The uncertainty is within the requested relative accuracy.
@@ -89,19 +90,21 @@ pub enum Verdict {
 }
 
 /// One quantity's error.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Quantity {
     /// Its name (`t_first_onset`, `onset_3`, `n_events`, `regime`, …).
     pub name: String,
     /// Its unit.
-    pub unit: &'static str,
+    pub unit: String,
     /// The value at the scene's own settings (for `regime`, 0; see `text`).
     pub value: f64,
     /// A discrete quantity's value as text (`regime`: its name).
     pub text: Option<String>,
     /// Extrapolated value: the scene's value corrected by both refinements' extrapolations.
     pub extrapolated: Option<f64>,
-    /// Uncertainty of `value` (space and time added), in its unit.
+    /// Uncertainty of `value` (space and time added), in its unit; infinite for a quantity a
+    /// level did not have (written as null in verify.json, read back as infinite).
+    #[serde(deserialize_with = "infinite_if_null")]
     pub uncertainty: f64,
     /// The spatial refinement's estimate (none for one node).
     pub space: Option<Estimate>,
@@ -118,8 +121,15 @@ pub struct Quantity {
     pub values: Vec<Option<f64>>,
 }
 
-/// What `verify` found.
-#[derive(Debug, Clone, Serialize)]
+/// A number that verify.json may hold as null (JSON has no infinity: serde_json writes a
+/// non-finite number as null): null reads back as infinite.
+fn infinite_if_null<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+}
+
+/// What `verify` found (verify.json: written by the command line with serde, and read back
+/// through this type).
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VerifyReport {
     /// The scene's name.
     pub scene: String,
@@ -236,10 +246,30 @@ enum Value {
     Text(String),
 }
 
-/// The quantities of a run, by name, with their units.
+/// The continuous quantities of a run by name, with their units, from its summary and its
+/// onsets (the first [`MAX_ONSETS`]): the names and values verify reports, so that a run read
+/// back from its files (run.json's summary, events.csv) gives the numbers verify compares.
+#[must_use]
+pub fn numbers(s: &RunSummary, onsets_s: &[f64]) -> Vec<(String, &'static str, Option<f64>)> {
+    let mut out = vec![
+        ("t_first_onset".to_string(), "s", s.t_first_onset),
+        ("period_last".to_string(), "s", s.period_last),
+        ("x_period_last".to_string(), "m", s.x_period_last),
+        ("f_peak_first".to_string(), "N", s.f_peak_first),
+        ("f_peak_last".to_string(), "N", s.f_peak_last),
+        ("f_mean".to_string(), "N", s.f_mean),
+        ("recovery".to_string(), "–", s.recovery),
+    ];
+    for (k, t) in onsets_s.iter().take(MAX_ONSETS).enumerate() {
+        out.push((format!("onset_{}", k + 1), "s", Some(*t)));
+    }
+    out
+}
+
+/// The quantities of a run, by name, with their units: the discrete ones (event count,
+/// regime) and [`numbers`].
 fn quantities(o: &RunOutcome) -> Vec<(String, &'static str, Option<Value>)> {
     let s = &o.summary;
-    let num = |v: Option<f64>| v.map(Value::Number);
     let mut out = vec![
         (
             "n_events".to_string(),
@@ -251,21 +281,13 @@ fn quantities(o: &RunOutcome) -> Vec<(String, &'static str, Option<Value>)> {
             "–",
             Some(Value::Text(s.regime.name().to_string())),
         ),
-        ("t_first_onset".to_string(), "s", num(s.t_first_onset)),
-        ("period_last".to_string(), "s", num(s.period_last)),
-        ("x_period_last".to_string(), "m", num(s.x_period_last)),
-        ("f_peak_first".to_string(), "N", num(s.f_peak_first)),
-        ("f_peak_last".to_string(), "N", num(s.f_peak_last)),
-        ("f_mean".to_string(), "N", num(s.f_mean)),
-        ("recovery".to_string(), "–", num(s.recovery)),
     ];
-    for (k, e) in o.events.iter().take(MAX_ONSETS).enumerate() {
-        out.push((
-            format!("onset_{}", k + 1),
-            "s",
-            Some(Value::Number(e.t_onset_s)),
-        ));
-    }
+    let onsets: Vec<f64> = o.events.iter().map(|e| e.t_onset_s).collect();
+    out.extend(
+        numbers(s, &onsets)
+            .into_iter()
+            .map(|(name, unit, v)| (name, unit, v.map(Value::Number))),
+    );
     out
 }
 
@@ -370,7 +392,7 @@ pub fn verify_levels(
                 let changed = all.iter().any(|v| v.as_ref() != Some(base));
                 Quantity {
                     name: name.clone(),
-                    unit,
+                    unit: (*unit).to_string(),
                     value: t.parse().unwrap_or(0.0),
                     text: Some(t.clone()),
                     extrapolated: None,
@@ -428,7 +450,7 @@ pub fn verify_levels(
                 };
                 Quantity {
                     name: name.clone(),
-                    unit,
+                    unit: (*unit).to_string(),
                     value: *v,
                     text: None,
                     extrapolated,
@@ -509,6 +531,36 @@ mod tests {
                 Verdict::Within
             }
         );
+    }
+
+    #[test]
+    fn verify_json_reads_back_through_the_report_type() {
+        let scene = homogeneous();
+        let mut r = verify(&scene, 1e-3, 2).unwrap();
+        // A quantity a level did not have: infinite, written as null.
+        r.quantities[2].uncertainty = f64::INFINITY;
+        let json = serde_json::to_string(&r).unwrap();
+        let back: VerifyReport = serde_json::from_str(&json).unwrap();
+        assert_eq!(back.quantities.len(), r.quantities.len());
+        assert_eq!(back.levels.len(), r.levels.len());
+        for (a, b) in back.quantities.iter().zip(&r.quantities) {
+            assert_eq!((&a.name, &a.unit, a.verdict), (&b.name, &b.unit, b.verdict));
+            assert_eq!(
+                a.uncertainty.to_bits(),
+                b.uncertainty.to_bits(),
+                "{}",
+                a.name
+            );
+            assert_eq!(a.value.to_bits(), b.value.to_bits(), "{}", a.name);
+        }
+        // The numbers verify compares are those of the run's files: run.json's summary and
+        // events.csv's onsets.
+        let (_, files) = crate::run_in_memory(&scene, &mut Control::default()).unwrap();
+        let summary = files.info.summary.as_ref().expect("a summary");
+        for (name, _, v) in numbers(summary, &files.events.onsets_s()) {
+            let q = r.quantities.iter().find(|q| q.name == name);
+            assert_eq!(q.map(|q| q.value), v, "{name}");
+        }
     }
 
     #[test]
