@@ -36,6 +36,7 @@ pub mod refine;
 pub mod report;
 pub mod sweep;
 mod targets;
+pub mod verify_cost;
 
 pub use report::write_report;
 
@@ -476,6 +477,8 @@ pub struct Performance {
     pub sweep: sweep::SweepBench,
     /// M1–M2: the refined map and the critical speed by bisection.
     pub refine: refine::RefineBench,
+    /// V1–V2: what verify and a map's spot checks cost.
+    pub verify_cost: verify_cost::VerifyCost,
     /// Total time of the benchmark, s.
     pub total_s: f64,
     /// Machine note.
@@ -747,6 +750,8 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let sweep = sweep::measure(s, &rigid_scene)?;
     progress("M1-M2: the refined rigid map against a uniform sample, the critical speed");
     let refine = refine::measure(s, &rigid_scene)?;
+    progress("V1-V2: verify of fig2 at N = 200, a map with spot checks");
+    let verify_cost = verify_cost::measure(s)?;
     let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
     let shipped_speedup = fig2_literal_extrapolated_s / shipped.wall_s;
@@ -762,6 +767,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         build,
         sweep,
         refine,
+        verify_cost,
         paper_nodes,
         paper_dt_s,
         scene_end_s,

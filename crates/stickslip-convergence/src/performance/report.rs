@@ -462,6 +462,16 @@ mod tests {
                 boundary_regimes: ("stick_slip".into(), "partial".into()),
                 ..Default::default()
             },
+            verify_cost: super::super::verify_cost::VerifyCost {
+                verify_wall_s: 6.0,
+                finest_space_s: 2.0,
+                finest_time_s: 1.5,
+                map_points: 289,
+                map_s: 2.0,
+                map_sampled_s: 2.4,
+                sampled_checked: 29,
+                ..Default::default()
+            },
             total_s: 97.0,
             machine: "2 logical CPUs".into(),
         };
@@ -475,6 +485,9 @@ mod tests {
         // M1: 5000 / 66049 points; M2: 15 runs to 9e-4.
         assert!(md.contains("| 5000 points = 7.6 %"), "{md}");
         assert!(md.contains("| 15 runs ("), "{md}");
+        // V1: 6 s against the finer of 2 s and 1.5 s; V2: 2.4 s against 2 s.
+        assert!(md.contains("| ≤ 5× | 3.00× (6.00 s against 2.00 s at 4N"), "{md}");
+        assert!(md.contains("| ≤ 1.3× | 1.20× (2.40 s against 2.00 s; 29 points"), "{md}");
         // P6: 0.12 s / 0.15 s; per evaluation (0.9·0.12/1820)/(0.9·0.15/3374).
         assert!(
             md.contains("| 0.800× (0.120 s against 0.150 s); per step evaluation 1.48×"),

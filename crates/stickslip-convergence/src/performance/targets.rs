@@ -21,7 +21,7 @@ pub(super) fn seconds(ws: &[f64]) -> String {
     ws.iter().map(|w| sig(*w, 3)).collect::<Vec<_>>().join(", ")
 }
 
-/// The rows P1–P6 and M1–M2 of the targets table.
+/// The rows P1–P6, M1–M2 and V1–V2 of the targets table.
 pub(super) fn targets_table(m: &mut String, p: &Performance) {
     let sh = &p.shipped;
     let _ = writeln!(
@@ -174,6 +174,39 @@ pub(super) fn targets_table(m: &mut String, p: &Performance) {
             rf.boundary_runs <= super::refine::M2_RUNS_GOAL
                 && rf.bracket_rel <= super::refine::M2_RTOL
         )
+    );
+    let v = &p.verify_cost;
+    let _ = writeln!(
+        m,
+        "| V1 `stickslip verify` of fig2 at N = {} (5 levels, 2 jobs) against the finest run it \
+         makes | ≤ {}× | {}× ({} s against {} s at 4N and {} s at a hundredth of the tolerance, \
+         each alone) | {} |",
+        super::verify_cost::V1_NODES,
+        tick(super::verify_cost::V1_RATIO_GOAL),
+        sig(v.v1_ratio(), 3),
+        sig(v.verify_wall_s, 3),
+        sig(v.finest_space_s, 3),
+        sig(v.finest_time_s, 3),
+        verdict(v.v1_ratio() <= super::verify_cost::V1_RATIO_GOAL)
+    );
+    let _ = writeln!(
+        m,
+        "| V2 a {side} × {side} map ({} points, N = 50) with `[verify] sample = {}` against the \
+         map alone, 2 jobs | ≤ {}× | {}× ({} s against {} s; {} points checked, {} changed \
+         regime; with every boundary point too: {} checked, {} changed, {}×) | {} |",
+        v.map_points,
+        super::verify_cost::V2_SAMPLE,
+        tick(super::verify_cost::V2_RATIO_GOAL),
+        sig(v.v2_ratio(), 3),
+        sig(v.map_sampled_s, 3),
+        sig(v.map_s, 3),
+        v.sampled_checked,
+        v.sampled_changed,
+        v.boundaries_checked,
+        v.boundaries_changed,
+        sig(v.map_boundaries_s / v.map_s, 3),
+        verdict(v.v2_ratio() <= super::verify_cost::V2_RATIO_GOAL),
+        side = super::verify_cost::V2_SIDE,
     );
     let (fo, so) = (&p.first_order, &p.fig2_accurate_runs[0]);
     let ratio = fo.wall_s / so.wall_s;

@@ -256,16 +256,24 @@ pub fn run_checks(
         done.fetch_add(1, Ordering::Relaxed);
         Ok(Some(record))
     };
-    let results = crate::pool::map(total, jobs, &check, &mut || {
+    // The costliest points first (by their own run's time), so that no long check is left
+    // for one worker at the end while the others idle.
+    let mut order: Vec<usize> = (0..total).collect();
+    order.sort_by(|&a, &b| {
+        let cost = |k: usize| rows[&chosen[k].0].wall_s;
+        cost(b).total_cmp(&cost(a))
+    });
+    let results = crate::pool::map(total, jobs, &|k| check(order[k]), &mut || {
         progress(done.load(Ordering::Relaxed), total);
     });
-    let mut checks = Vec::with_capacity(total);
-    for r in results {
+    let mut by_item: Vec<Option<CheckRecord>> = (0..total).map(|_| None).collect();
+    for (k, r) in order.into_iter().zip(results) {
         match r? {
-            Some(c) => checks.push(c),
+            Some(c) => by_item[k] = Some(c),
             None => return Ok(None),
         }
     }
+    let checks: Vec<CheckRecord> = by_item.into_iter().flatten().collect();
     let max = checks
         .iter()
         .flat_map(|c| {

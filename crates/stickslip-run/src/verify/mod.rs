@@ -186,6 +186,26 @@ pub enum VerifyError {
 /// # Errors
 /// [`VerifyError::Scene`] when a refined scene does not resolve.
 pub fn level_scenes(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>, VerifyError> {
+    let mut out = vec![(Axis::Space, scene.clone())];
+    out.extend(refined_levels(scene, 2)?);
+    Ok(out)
+}
+
+/// The first refinement along each axis: 2N (radial contacts only), then a tenth of the
+/// tolerance (or half the fixed step). What `boundary` and a sweep's spot checks rerun.
+///
+/// # Errors
+/// As [`level_scenes`].
+pub fn refinements(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>, VerifyError> {
+    refined_levels(scene, 1)
+}
+
+/// The first `depth` refinements along space, then along time (only what is resolved is
+/// asked for: a spot check resolves two scenes, not four).
+fn refined_levels(
+    scene: &ResolvedScene,
+    depth: i32,
+) -> Result<Vec<(Axis, ResolvedScene)>, VerifyError> {
     let c = &scene.config;
     let with = |what: String, settings: Vec<crate::keys::Setting>| {
         scene
@@ -195,17 +215,17 @@ pub fn level_scenes(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>,
                 error: Box::new(error),
             })
     };
-    let mut out = vec![(Axis::Space, scene.clone())];
+    let mut out = Vec::new();
     if c.contact.model == ContactModel::Radial {
-        for k in [2, 4] {
-            let n = c.contact.nodes * k;
+        for k in 1..=depth {
+            let n = c.contact.nodes << k;
             out.push((
                 Axis::Space,
                 with(format!("N = {n}"), vec![contact::NODES.set(n as i64)])?,
             ));
         }
     }
-    for k in [1, 2] {
+    for k in 1..=depth {
         let (what, settings) = match c.time.adaptive {
             Some(a) => {
                 let tol = a.tolerance / TOLERANCE_RATIO.powi(k);
@@ -220,21 +240,6 @@ pub fn level_scenes(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>,
             }
         };
         out.push((Axis::Time, with(what, settings)?));
-    }
-    Ok(out)
-}
-
-/// The first refinement along each axis: 2N (radial contacts only), then a tenth of the
-/// tolerance (or half the fixed step). What `boundary` and a sweep's spot checks rerun.
-///
-/// # Errors
-/// As [`level_scenes`].
-pub fn refinements(scene: &ResolvedScene) -> Result<Vec<(Axis, ResolvedScene)>, VerifyError> {
-    let mut out: Vec<(Axis, ResolvedScene)> = Vec::new();
-    for (axis, s) in level_scenes(scene)?.into_iter().skip(1) {
-        if !out.iter().any(|(a, _)| *a == axis) {
-            out.push((axis, s));
-        }
     }
     Ok(out)
 }
