@@ -191,7 +191,7 @@ fn spot_checks_markdown(maps: &[(&str, &Map)]) -> String {
          an even sample in point order, and for maps without refinement every point next to a \
          regime boundary too (a refined map's boundary points are most of its points). A \
          regime that changes there is not converged at the map's resolution.\n\n\
-         | map | checked (sampled, at boundaries) | regime changed | largest change of a number | \
+         | map | checked (sampled, at boundaries) | regime changed | largest change of a number where the regime held | \
          checks' cost / map's |\n|---|---|---|---|---|\n",
     );
     for (title, m) in maps {

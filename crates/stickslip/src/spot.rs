@@ -26,7 +26,7 @@ fn summary(r: &SpotReport) -> String {
     };
     let largest = r.max_change.as_ref().map_or(String::new(), |(c, v, p)| {
         format!(
-            "; largest change of a number {:.3} % ({c}, point {p})",
+            "; largest change of a number where the regime held {:.3} % ({c}, point {p})",
             100.0 * v
         )
     });

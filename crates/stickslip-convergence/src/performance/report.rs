@@ -165,6 +165,7 @@ fn markdown(p: &Performance) -> String {
     t1_section(&mut m, p);
     super::targets::p4_section(&mut m, p);
     super::targets::p5_section(&mut m, p);
+    super::targets::v_section(&mut m, p);
     let _ = writeln!(
         m,
         "## T3 — cost per step against N\n\n![cost](performance_cost.svg)\n\n\
@@ -486,8 +487,14 @@ mod tests {
         assert!(md.contains("| 5000 points = 7.6 %"), "{md}");
         assert!(md.contains("| 15 runs ("), "{md}");
         // V1: 6 s against the finer of 2 s and 1.5 s; V2: 2.4 s against 2 s.
-        assert!(md.contains("| ≤ 5× | 3.00× (6.00 s against 2.00 s at 4N"), "{md}");
-        assert!(md.contains("| ≤ 1.3× | 1.20× (2.40 s against 2.00 s; 29 points"), "{md}");
+        assert!(
+            md.contains("| ≤ 5× | 3.00× (6.00 s against 2.00 s at 4N"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| ≤ 1.3× | 1.20× (2.40 s against 2.00 s; 29 points"),
+            "{md}"
+        );
         // P6: 0.12 s / 0.15 s; per evaluation (0.9·0.12/1820)/(0.9·0.15/3374).
         assert!(
             md.contains("| 0.800× (0.120 s against 0.150 s); per step evaluation 1.48×"),

@@ -7,13 +7,15 @@
 //! - **V2** a [`V2_SIDE`] × [`V2_SIDE`] friction map of the rigid drive (P5's axes and settings,
 //!   N = 50) by `stickslip sweep run` with 2 jobs, without and with `[verify] sample = 0.1`
 //!   (`boundaries = false`: the sample alone), and once more with the boundary points too,
-//!   for information.
+//!   for information; each variant run `repeats` times (at most 5), interleaved, medians
+//!   compared.
 
 use super::BenchSettings;
 use super::sweep::run_sweep;
 use serde::Serialize;
 use stickslip_report::binary;
 use stickslip_report::fmt::first_line;
+use stickslip_report::stats::median;
 use stickslip_run::keys::{contact, time};
 use stickslip_run::sweep::map::MapJson;
 use stickslip_run::verify::VerifyReport;
@@ -44,6 +46,8 @@ pub struct VerifyCost {
     pub within: (usize, usize),
     /// V2: points of the map.
     pub map_points: usize,
+    /// V2: runs of each variant (the wall times are their medians).
+    pub repeats: usize,
     /// V2: wall time of the map without spot checks, s.
     pub map_s: f64,
     /// V2: wall time with the sample, s.
@@ -188,29 +192,33 @@ pub fn measure(s: &BenchSettings) -> Result<VerifyCost, String> {
             format!("\n[verify]\nsample = {V2_SAMPLE}\nboundaries = true\n"),
         ),
     ];
-    for (tag, verify) in variants {
-        let file = dir.join(format!("{tag}.toml"));
-        std::fs::write(&file, map_toml(s, &verify))
-            .map_err(|e| format!("{}: {e}", file.display()))?;
-        let out = dir.join(tag);
-        let inv = run_sweep(s, &file, &out, 2)?;
-        let json = MapJson::read(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-        let spot = json.spot_checks.as_ref();
-        let counts = spot.map_or((0, 0), |r| (r.checked, r.changed));
-        match tag {
-            "plain" => {
-                m.map_s = inv.wall_s;
-                m.map_points = json.table.rows.len();
-            }
-            "sampled" => {
-                m.map_sampled_s = inv.wall_s;
-                (m.sampled_checked, m.sampled_changed) = counts;
-            }
-            _ => {
-                m.map_boundaries_s = inv.wall_s;
-                (m.boundaries_checked, m.boundaries_changed) = counts;
+    // Each variant `repeats` times, interleaved so that a change of the host's speed falls on
+    // all of them alike; the medians are compared.
+    let repeats = if s.quick { 1 } else { s.repeats.clamp(1, 5) };
+    let mut walls: [Vec<f64>; 3] = Default::default();
+    for _ in 0..repeats {
+        for (k, (tag, verify)) in variants.iter().enumerate() {
+            let file = dir.join(format!("{tag}.toml"));
+            std::fs::write(&file, map_toml(s, verify))
+                .map_err(|e| format!("{}: {e}", file.display()))?;
+            let out = dir.join(tag);
+            let inv = run_sweep(s, &file, &out, 2)?;
+            walls[k].push(inv.wall_s);
+            let json = MapJson::read(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+            let counts = json
+                .spot_checks
+                .as_ref()
+                .map_or((0, 0), |r| (r.checked, r.changed));
+            match k {
+                0 => m.map_points = json.table.rows.len(),
+                1 => (m.sampled_checked, m.sampled_changed) = counts,
+                _ => (m.boundaries_checked, m.boundaries_changed) = counts,
             }
         }
     }
+    m.repeats = repeats;
+    m.map_s = median(&walls[0]);
+    m.map_sampled_s = median(&walls[1]);
+    m.map_boundaries_s = median(&walls[2]);
     Ok(m)
 }

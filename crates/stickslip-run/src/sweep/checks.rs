@@ -111,8 +111,8 @@ pub struct SpotReport {
     pub at_boundaries: usize,
     /// Points whose regime changed at a refined resolution.
     pub changed: usize,
-    /// The largest relative change of a summary number over every check, its column and
-    /// point.
+    /// The largest relative change of a summary number over the checks whose regime held,
+    /// its column and point.
     pub max_change: Option<(String, f64, usize)>,
     /// Every check.
     pub checks: Vec<CheckRecord>,

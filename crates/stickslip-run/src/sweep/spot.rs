@@ -274,8 +274,11 @@ pub fn run_checks(
         }
     }
     let checks: Vec<CheckRecord> = by_item.into_iter().flatten().collect();
+    // Among the checks whose regime held: a changed regime changes its numbers wholesale,
+    // and is counted apart.
     let max = checks
         .iter()
+        .filter(|c| !c.changed)
         .flat_map(|c| {
             c.runs
                 .iter()
