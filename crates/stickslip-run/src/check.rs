@@ -76,6 +76,8 @@ pub struct CheckReport {
     pub cost: CostEstimate,
     /// The first event at N and at 2N.
     pub resolution: ResolutionProbe,
+    /// The output's expected size.
+    pub output: crate::output_size::OutputSize,
 }
 
 /// Steps each run of the resolution probe may take (a count, not a time, so that what `check`
@@ -221,11 +223,30 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
             ),
         });
     }
+    let cost = cost_of(scene, &mut driver)?;
+    let output = crate::output_size::estimate(scene, cost.steps);
+    if let Some(interval) = output.interval_for_limit_s {
+        warnings.push(Finding {
+            severity: stickslip_core::preflight::Severity::Warning,
+            key: crate::keys::output::SERIES_INTERVAL.path.to_string(),
+            message: format!(
+                "the output will be about {:.0} MB ({:.3e} rows of series.csv at \
+                 output.series_interval = {} s); output.series_interval = {} s keeps it under \
+                 {:.0} MB",
+                output.bytes / 1e6,
+                output.series_rows,
+                crate::keys::human(scene.output.series_interval_s),
+                crate::keys::human(interval),
+                crate::output_size::LARGE_BYTES / 1e6
+            ),
+        });
+    }
     Ok(CheckReport {
-        cost: cost_of(scene, &mut driver)?,
+        cost,
         preflight,
         warnings,
         resolution,
+        output,
     })
 }
 

@@ -31,6 +31,7 @@ pub mod driver;
 pub mod exit;
 pub mod keys;
 pub mod outcome;
+pub mod output_size;
 pub mod pool;
 pub mod scene;
 pub mod schema;

@@ -136,7 +136,7 @@ impl RunOutcome {
     #[must_use]
     pub fn summary_line(&self) -> String {
         let s = &self.summary;
-        let us = |t: f64| format!("{:.4} µs", t * 1e6);
+        let us = show_time;
         let mut parts = vec![format!("{} events, regime {}", s.n_events, s.regime.name())];
         if let Some(t) = s.t_first_onset {
             parts.push(format!("first onset {}", us(t)));
@@ -152,5 +152,50 @@ impl RunOutcome {
             parts.push(format!("peak force {:.4e} … {:.4e} N", lo, hi));
         }
         parts.join(", ")
+    }
+}
+
+/// A time in the unit that fits it (s, ms, µs, ns) with six significant digits: "2.50000 s",
+/// "944.464 ms", "13.4302 µs".
+#[must_use]
+pub fn show_time(t_s: f64) -> String {
+    let a = t_s.abs();
+    let (scale, unit) = if a >= 1.0 || a == 0.0 || !a.is_finite() {
+        (1.0, "s")
+    } else if a >= 1e-3 {
+        (1e3, "ms")
+    } else if a >= 1e-6 {
+        (1e6, "µs")
+    } else {
+        (1e9, "ns")
+    };
+    let v = t_s * scale;
+    // Six significant digits: the decimals left after the integer part's digits.
+    let digits = if v == 0.0 || !v.is_finite() {
+        0
+    } else {
+        (v.abs().log10().floor() as i32 + 1).clamp(1, 6)
+    };
+    let decimals = if digits == 0 {
+        0
+    } else {
+        usize::try_from(6 - digits).unwrap_or(0)
+    };
+    format!("{v:.decimals$} {unit}")
+}
+
+#[cfg(test)]
+mod time_tests {
+    use super::show_time;
+
+    #[test]
+    fn times_print_in_the_unit_that_fits_them() {
+        assert_eq!(show_time(0.9444635584), "944.464 ms");
+        assert_eq!(show_time(2.5), "2.50000 s");
+        assert_eq!(show_time(14.798e-3), "14.7980 ms");
+        assert_eq!(show_time(13.4302e-6), "13.4302 µs");
+        assert_eq!(show_time(2.2e-8), "22.0000 ns");
+        assert_eq!(show_time(1234.5), "1234.50 s");
+        assert_eq!(show_time(0.0), "0 s");
     }
 }

@@ -178,6 +178,22 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
             cost.probe_pace_seconds
         ),
     }
+    let out = &report.output;
+    say!();
+    say!("# output (expected)");
+    say!(
+        "series_rows = {:.0} (series.csv{}), profile_rows = {:.0} (profiles.csv), bytes = {:.3e} \
+         ({:.1} MB)",
+        out.series_rows,
+        if out.probes > 0 {
+            format!(" and probes.csv, {} probes", out.probes)
+        } else {
+            ", no probes.csv".to_string()
+        },
+        out.profile_rows,
+        out.bytes,
+        out.bytes / 1e6
+    );
     if !report.warnings.is_empty() {
         say!();
         say!("# warnings");

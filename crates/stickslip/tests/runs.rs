@@ -432,3 +432,61 @@ fn literal_scheme_beyond_eulers_limit_is_warned_about() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_runaway_stress_at_a_high_strain_rate_names_the_knob_not_the_step() {
+    // A 1 nm film sheared at 3 m/s: 3e9 1/s against the film's 3e7 1/s. The stress overshoot
+    // is the film's lag, which error-controlled steps cannot remove.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run_scene(
+        "rigid",
+        tmp.path(),
+        &[
+            "--set",
+            "contact.film_thickness=1e-9",
+            "--set",
+            "drive.velocity=3",
+            "--set",
+            "contact.nodes=50",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("raise numerics.runaway_stress_factor (now 10)")
+            && stderr.contains("strain rate |V0|/h0 = 3.000e9 1/s")
+            && !stderr.contains("Reduce time.dt"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_scene_without_probes_writes_no_probes_csv_and_reads_back() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run_scene(
+        "rigid",
+        tmp.path(),
+        &[
+            "--set",
+            "contact.nodes=50",
+            "--set",
+            "output.probe_radii=[]",
+            "--quiet",
+        ],
+    );
+    assert_ok(&out);
+    assert!(!tmp.path().join("probes.csv").exists());
+    assert!(!tmp.path().join(".probes.csv.tmp").exists());
+    let read = stickslip_run::schema::RunOutput::read(tmp.path()).unwrap();
+    assert!(read.probes.radii_m.is_empty());
+    assert_eq!(read.probes.t_s, read.series.t_s);
+    assert!(read.series.t_s.len() > 10);
+    // With probes the file is there.
+    let with = tempfile::tempdir().unwrap();
+    assert_ok(&run_scene(
+        "rigid",
+        with.path(),
+        &["--set", "contact.nodes=50", "--quiet"],
+    ));
+    assert!(with.path().join("probes.csv").is_file());
+}

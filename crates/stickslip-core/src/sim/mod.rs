@@ -697,12 +697,38 @@ impl Simulation {
                     } else {
                         "the stationary curve's peak"
                     },
-                    non_finite_advice(&self.config)
+                    runaway_advice(&self.config)
                 ),
             );
         }
         Ok(())
     }
+}
+
+/// Advice on a stress beyond the runaway limit: with error-controlled steps a smaller step
+/// changes nothing; the overshoot is the film lagging behind its equilibrium when sheared
+/// faster than it relaxes, which the drive's strain rate against the film's rate says.
+fn runaway_advice(config: &SimConfig) -> String {
+    if config.time.scheme == Scheme::Literal || config.time.adaptive.is_none() {
+        return non_finite_advice(config);
+    }
+    let l = &config.lubricant;
+    let v0 = match config.drive {
+        crate::drive::Drive::Spring(s) => s.velocity_m_per_s,
+        crate::drive::Drive::Rigid(r) => r.velocity_m_per_s,
+    };
+    let strain_rate = v0.abs() / config.contact.film_thickness_m;
+    let a = config.temperature.a_coeff_pa(0.0).abs();
+    let relaxation = l.gamma_per_pa_s * a * crate::config::Derived::of(config).b_pa / l.a_pa;
+    format!(
+        "The steps are error-controlled, so a smaller time.dt changes nothing. A stress above \
+         tau_max is the film lagging behind its equilibrium when it is sheared faster than it \
+         relaxes: here the drive's strain rate |V0|/h0 = {strain_rate:.3e} 1/s against the \
+         film's relaxation rate gamma*|A|*b/a = {relaxation:.3e} 1/s. If that overshoot is the \
+         physics you want, raise numerics.runaway_stress_factor (now {}); otherwise check the \
+         scene's parameters.",
+        config.numerics.runaway_stress_factor
+    )
 }
 
 fn non_finite_advice(config: &SimConfig) -> String {

@@ -355,7 +355,9 @@ section! {
     TimeSection in time, "time" {
         END end "end" @ bounds::END: f64 =
             "end of the simulated interval"
-            { usual: Some((1e-12, 10.0)) }
+            // Up to 1e3 s: a surface-force-apparatus experiment at µm/s sticks for seconds and
+            // is watched for minutes.
+            { usual: Some((1e-12, 1e3)) }
         DT dt "dt" @ bounds::DT: f64 =
             "time step: the fixed step, or the first step tried when adaptive"
             {

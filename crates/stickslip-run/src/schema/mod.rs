@@ -88,12 +88,29 @@ impl RunOutput {
     /// # Errors
     /// The first file that is missing or does not match its schema.
     pub fn read(dir: &Path) -> Result<Self, SchemaError> {
+        let info = run_info::RunInfo::read(dir)?;
+        let series = series::Series::read(dir)?;
+        let no_probes = info
+            .scene
+            .output
+            .as_ref()
+            .and_then(|o| o.probe_radii.as_ref())
+            .is_none_or(Vec::is_empty);
+        // A scene without probes writes no probes.csv: its table is the series' times alone,
+        // as the file held before it was left out.
+        let probes = if no_probes && !dir.join(probes::FILE).is_file() {
+            let mut p = probes::Probes::new(&[]);
+            p.t_s.clone_from(&series.t_s);
+            p
+        } else {
+            probes::Probes::read(dir)?
+        };
         Ok(Self {
-            info: run_info::RunInfo::read(dir)?,
-            series: series::Series::read(dir)?,
+            series,
             events: events::Events::read(dir)?,
             profiles: profiles::Profiles::read(dir)?,
-            probes: probes::Probes::read(dir)?,
+            probes,
+            info,
         })
     }
 }
@@ -105,6 +122,7 @@ pub fn markdown() -> String {
         "## Output files\n\nNumbers are written in shortest round-trip `{:e}` form (read \
          back, they keep their bits); an empty cell means no value. Columns may be added at \
          the end of a row, never renamed or dropped.\n\n\
+         A scene without probes (`output.probe_radii = []`) writes no probes.csv. \
          While a run goes on, run.json says `running` and series.csv, probes.csv and \
          profiles.csv grow under temporary names (`.series.csv.tmp`, …); they are renamed into \
          place, with events.csv written, when the run ends (`ok` or `failed`). An interrupted \

@@ -165,6 +165,10 @@ struct Streams {
     series: AtomicFile,
     probes: AtomicFile,
     profiles: AtomicFile,
+    /// Whether the scene has probes: without, probes.csv (its time column alone) is not
+    /// published. Its stream is still written while the run goes on, so a checkpoint's stream
+    /// positions stay those of every run.
+    with_probes: bool,
 }
 
 impl Streams {
@@ -345,6 +349,7 @@ impl Sink for DirSink {
             series,
             probes,
             profiles,
+            with_probes: !start.scene.output.probe_radii_m.is_empty(),
         });
         self.info = Some(info);
         Ok(())
@@ -381,16 +386,23 @@ impl Sink for DirSink {
             if let Some(mut s) = self.streams.take() {
                 // The data so far under the documented names, for any reader; the temporary
                 // files stay for the resumed run, whose commit replaces these copies.
-                for f in [&mut s.series, &mut s.probes, &mut s.profiles] {
-                    f.publish_copy()?;
+                s.series.publish_copy()?;
+                if s.with_probes {
+                    s.probes.publish_copy()?;
                 }
+                s.profiles.publish_copy()?;
                 s.series.keep_for_resume()?;
                 s.probes.keep_for_resume()?;
                 s.profiles.keep_for_resume()?;
             }
         } else if let Some(s) = self.streams.take() {
             s.series.commit()?;
-            s.probes.commit()?;
+            if s.with_probes {
+                s.probes.commit()?;
+            } else {
+                // Dropped: its temporary file is removed.
+                drop(s.probes);
+            }
             s.profiles.commit()?;
         }
         // The events so far (the last one may still be open when interrupted); an ended run's
@@ -494,6 +506,7 @@ pub fn resume(
         series: reopen(schema::series::FILE, c.streams.series)?,
         probes: reopen(schema::probes::FILE, c.streams.probes)?,
         profiles: reopen(schema::profiles::FILE, c.streams.profiles)?,
+        with_probes: !scene.output.probe_radii_m.is_empty(),
     };
     let mut sink = DirSink::with_interval(
         dir,
