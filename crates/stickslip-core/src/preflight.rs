@@ -58,11 +58,17 @@ pub struct Preflight {
     pub lagged_sweep_contraction: f64,
     /// Stamp position at `time.end` if friction did not slow it, m.
     pub stamp_travel_m: f64,
-    /// Quasi-static estimate of the first melting: the first time the free stamp has advanced
-    /// the melting strain times h0 (εc(t)·h0, or ε₊(t)·h0 for the first-order film), s; 0 when
-    /// the film is liquid from the start; none when that does not happen before `time.end`.
-    /// Real onsets come later at high speed (φ lags behind its equilibrium).
+    /// Estimate of the first melting, s: with [`Preflight::contact_spring`] the linearised
+    /// problem's (the stamp on its drive against the contact as a linear spring, quasi-static
+    /// and inertial loading alike), else the first time the free stamp has advanced the
+    /// melting strain times h0; 0 when the film is liquid from the start; none when that does
+    /// not happen before `time.end`. Real onsets come later at high speed (φ lags behind its
+    /// equilibrium).
     pub first_onset_estimate_s: Option<f64>,
+    /// The contact as a linear spring up to the first melting, when the simulation computed
+    /// it (none in a preflight made from the configuration alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_spring: Option<ContactSpring>,
     /// Notes, warnings and refusals, in this order of appearance.
     pub findings: Vec<Finding>,
     /// The first-order film's thresholds (none for the second-order film, b₃ = 0).
@@ -127,11 +133,77 @@ pub fn free_stamp_position_m(drive: &Drive, t_s: f64) -> f64 {
     }
 }
 
+/// The contact as a linear spring up to the first melting (the film at its secant stiffness at
+/// melting in series with the substrate's static response; the simulation computes it).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactSpring {
+    /// Stamp displacement at which the first node reaches the melting strain, m.
+    pub x_melt_m: f64,
+    /// The friction force then, N.
+    pub f_melt_n: f64,
+}
+
+impl ContactSpring {
+    /// Its stiffness F_m / X_m, N/m.
+    #[must_use]
+    pub fn stiffness_n_per_m(&self) -> f64 {
+        self.f_melt_n / self.x_melt_m
+    }
+}
+
+/// t − sin(Ω·t)/Ω without cancellation at small Ω·t.
+fn t_minus_sin(t: f64, omega: f64) -> f64 {
+    let x = omega * t;
+    if x.abs() < 1e-2 {
+        // x³/6 − x⁵/120 + x⁷/5040, over Ω.
+        let x2 = x * x;
+        x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0)) / omega
+    } else {
+        t - x.sin() / omega
+    }
+}
+
+/// The first onset of the linearised problem: the stamp on its drive against the contact as
+/// the spring `k` (rigid drive: X = V0·t; spring drive from rest: m·Ẍ = K(V0·t − X) − k·X,
+/// X = K·V0/(K + k)·(t − sin(Ω·t)/Ω) with Ω² = (K + k)/m), reaching the melting displacement
+/// (scaled with the melting strain when the temperature changes); none within time.end.
+fn linear_onset(config: &SimConfig, k: ContactSpring) -> Option<f64> {
+    let end = config.time.end_s;
+    let l = &config.lubricant;
+    let eps0 = l.melting_strain(config.temperature.a_coeff_pa(0.0));
+    let stamp = |t: f64| match config.drive {
+        Drive::Rigid(r) => (r.velocity_m_per_s * t).abs(),
+        Drive::Spring(s) => {
+            let ks = k.stiffness_n_per_m();
+            let kk = s.stiffness_n_per_m;
+            let omega = ((kk + ks) / s.mass_kg).sqrt();
+            (kk * s.velocity_m_per_s / (kk + ks) * t_minus_sin(t, omega)).abs()
+        }
+    };
+    let gap = |t: f64| {
+        let eps = l.melting_strain(config.temperature.a_coeff_pa(t));
+        stamp(t) - k.x_melt_m * eps / eps0
+    };
+    crossing(end, gap)
+}
+
 impl Preflight {
     /// The preflight of `config`; `lagged_sweep_contraction` comes from the operators
-    /// ([`crate::sim::Simulation::lagged_sweep_contraction`]).
+    /// ([`crate::sim::Simulation::lagged_sweep_contraction`]). The first-onset estimate is the
+    /// free stamp's reaching the melting strain times h0.
     #[must_use]
     pub fn of(config: &SimConfig, lagged_sweep_contraction: f64) -> Self {
+        Self::with_contact(config, lagged_sweep_contraction, None)
+    }
+
+    /// As [`Preflight::of`], with the first-onset estimate of the linearised problem when the
+    /// contact's spring `contact` is known ([`crate::sim::Simulation::contact_spring`]).
+    #[must_use]
+    pub fn with_contact(
+        config: &SimConfig,
+        lagged_sweep_contraction: f64,
+        contact: Option<ContactSpring>,
+    ) -> Self {
         let derived = Derived::of(config);
         let l = &config.lubricant;
         let c = &config.contact;
@@ -237,7 +309,7 @@ impl Preflight {
                     ),
                 });
             }
-            onset
+            contact.and_then(|k| linear_onset(config, k)).or(onset)
         };
         if let Some(period) = spring_period_s.filter(|&p| end > 0.25 * p) {
             findings.push(Finding {
@@ -259,6 +331,7 @@ impl Preflight {
             lagged_sweep_contraction,
             stamp_travel_m,
             first_onset_estimate_s,
+            contact_spring: contact,
             findings,
             first_order: FirstOrderFilm::of(config),
         }
@@ -300,15 +373,18 @@ fn lagged_sweep_message(rho: f64) -> String {
 }
 
 /// First time in [0, end] at which the free stamp has advanced the melting strain times h0
-/// (εc(t)·h0, ε₊(t)·h0 for the first-order film), located by a scan of 4096 intervals and
-/// bisection; none if it never does.
+/// (εc(t)·h0, ε₊(t)·h0 for the first-order film); none if it never does.
 fn first_crossing(config: &SimConfig) -> Option<f64> {
-    let end = config.time.end_s;
     let h0 = config.contact.film_thickness_m;
-    let gap = |t: f64| {
+    crossing(config.time.end_s, |t: f64| {
         let a = config.temperature.a_coeff_pa(t);
         free_stamp_position_m(&config.drive, t).abs() - config.lubricant.melting_strain(a) * h0
-    };
+    })
+}
+
+/// The first t in [0, end] with gap(t) ≥ 0, located by a scan of 4096 intervals and
+/// bisection; none if there is none.
+fn crossing(end: f64, gap: impl Fn(f64) -> f64) -> Option<f64> {
     const SCAN: usize = 4096;
     let mut lo = 0.0;
     for j in 1..=SCAN {

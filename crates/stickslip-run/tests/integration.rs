@@ -9,6 +9,7 @@ mod dir_states;
 mod events;
 mod first_order;
 mod keys;
+mod onset_estimate;
 mod refine;
 mod scene_fuzz;
 mod scene_resolution;

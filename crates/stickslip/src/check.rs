@@ -132,8 +132,17 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
         "stamp_travel = {:e} m (free stamp at time.end, no friction)",
         p.stamp_travel_m
     );
-    match p.first_onset_estimate_s {
-        Some(t) => say!(
+    match (p.first_onset_estimate_s, p.contact_spring) {
+        (Some(t), Some(k)) if t > 0.0 => say!(
+            "first_onset_estimate = {t:e} s (the linearised problem: the stamp on its drive \
+             against the contact as a spring of {:.4e} N/m, the film at its secant stiffness at \
+             melting in series with the substrate; the first node melts at X = {:.4e} m, F = \
+             {:.4e} N; later at high speed, where the film lags)",
+            k.stiffness_n_per_m(),
+            k.x_melt_m,
+            k.f_melt_n
+        ),
+        (Some(t), _) => say!(
             "first_onset_estimate = {t:e} s (quasi-static: the free stamp reaches {}*h0; \
              later at high speed)",
             if p.first_order.is_some() {
@@ -142,7 +151,7 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
                 "eps_c"
             }
         ),
-        None => say!("first_onset_estimate = none before time.end"),
+        (None, _) => say!("first_onset_estimate = none before time.end"),
     }
     let r = &report.resolution;
     say!();

@@ -24,6 +24,7 @@
 
 mod accurate;
 mod adaptive;
+mod contact_spring;
 pub mod coupling;
 pub mod error_estimate;
 pub mod events;
@@ -503,7 +504,8 @@ impl Simulation {
         } else {
             self.lagged_sweep_contraction()
         };
-        crate::preflight::Preflight::of(&self.config, rho)
+        let contact = self.contact_spring();
+        crate::preflight::Preflight::with_contact(&self.config, rho, contact)
     }
 
     /// Scalar observables now (computes F from 2∫q dx with one forward transform).
