@@ -241,6 +241,7 @@ impl SimConfig {
                 bounds::STIFFNESS.check(s.stiffness_n_per_m)?;
                 bounds::MASS.check(s.mass_kg)?;
                 bounds::VELOCITY.check(s.velocity_m_per_s)?;
+                bounds::DAMPING.check(s.damping_n_s_per_m)?;
             }
             Drive::Rigid(r) => {
                 bounds::VELOCITY.check(r.velocity_m_per_s)?;
@@ -401,6 +402,7 @@ impl SimConfig {
                 stiffness_n_per_m: 500.0,
                 mass_kg: 0.1,
                 velocity_m_per_s: 1.0,
+                damping_n_s_per_m: 0.0,
             }),
             integrator: Integrator::Split,
             time: TimeConfig {

@@ -1,8 +1,10 @@
-//! Drive of the stamp: the spring of Eq. 10 (m·Ẍ = K(V0·t − X) − F) with velocity-Verlet and
-//! RK4 integrators, the rigid coupler X = V0·t, and the exact friction-free spring motion.
+//! Drive of the stamp: the spring of Eq. 10 (m·Ẍ = K(V0·t − X) + c_d·(V0 − Ẋ) − F, with an
+//! optional dashpot c_d parallel to the spring; c_d = 0 is the paper's model) with the split,
+//! velocity-Verlet and RK4 integrators, the rigid coupler X = V0·t, and the exact
+//! friction-free spring motion.
 //!
-//! In the co-moving coordinate ξ = X − V0·t the spring equation is the harmonic oscillator
-//! ξ̈ = −ω²ξ − F/m with ω = √(K/m). Both integrators are invariant under this change of
+//! In the co-moving coordinate ξ = X − V0·t the spring equation is the (damped) harmonic
+//! oscillator ξ̈ = −ω²ξ − 2ζω·ξ̇ − F/m with ω = √(K/m), ζ = c_d/(2√(K·m)). Both integrators are invariant under this change of
 //! variable, so for F = 0 velocity Verlet conserves a modified co-moving energy (bounded
 //! energy error) while RK4 slowly dissipates it (|R(iωΔt)| < 1).
 
@@ -32,6 +34,18 @@ fn require_positive(field: &'static str, value: f64) -> Result<(), DriveParamErr
             field,
             value,
             allowed: "finite and > 0",
+        })
+    }
+}
+
+fn require_non_negative(field: &'static str, value: f64) -> Result<(), DriveParamError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(DriveParamError {
+            field,
+            value,
+            allowed: "finite and >= 0",
         })
     }
 }
@@ -87,8 +101,8 @@ pub enum Integrator {
     Rk4,
 }
 
-/// Stamp pulled through a spring of stiffness K whose free end moves at V0 (Eq. 10):
-/// m·Ẍ = K·(V0·t − X) − F.
+/// Stamp pulled through a spring of stiffness K whose free end moves at V0 (Eq. 10), with a
+/// dashpot c_d parallel to the spring: m·Ẍ = K·(V0·t − X) + c_d·(V0 − Ẋ) − F.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SpringDrive {
     /// Spring stiffness K, N/m; finite and > 0.
@@ -97,6 +111,54 @@ pub struct SpringDrive {
     pub mass_kg: f64,
     /// Velocity V0 of the spring's free end, m/s; finite.
     pub velocity_m_per_s: f64,
+    /// Damping c_d of the dashpot parallel to the spring, N·s/m; finite and ≥ 0 (0: the
+    /// paper's model, whose arithmetic is then unchanged). Not serialized when 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub damping_n_s_per_m: f64,
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+/// The factors of the damped oscillator's flow over a step h from (y, ẏ), with α = ζω:
+/// y(h) = ec·y + es·(ẏ + α·y), ẏ(h) = ec·ẏ − es·(α·ẏ + ω²·y), where ec and es stand for
+/// e^(−αh)·C(h) and e^(−αh)·S(h), C, S the even and odd solutions of ÿ = (α² − ω²)·y
+/// (C(0) = 1, S'(0) = 1). Returned as (ec, ec − 1, es), each formed without overflow or
+/// cancellation (ec − 1 through expm1 and −2·sin²(x/2)): under-damped C = cos(ω_d h),
+/// S = sin(ω_d h)/ω_d; critical C = 1, S = h; over-damped through the two real rates
+/// r₁ = −ω/(ζ + √(ζ² − 1)) (slow, taken without cancellation) and r₂ = −ω·(ζ + √(ζ² − 1)):
+/// ec = ½(e^(r₁h) + e^(r₂h)), es = −e^(r₁h)·expm1(−2μh)/(2μ), μ = ω√(ζ² − 1).
+/// sin(x)/x and expm1(x)/x keep full relative accuracy as ω_d or μ → 0 (ζ → 1), so no series
+/// is needed there.
+fn damped_flow_factors(omega: f64, zeta: f64, h: f64) -> (f64, f64, f64) {
+    let alpha = zeta * omega;
+    if zeta < 1.0 {
+        let wd = omega * ((1.0 - zeta) * (1.0 + zeta)).sqrt();
+        let (sin, half_sin) = ((wd * h).sin(), (0.5 * wd * h).sin());
+        let (e, em1) = ((-alpha * h).exp(), (-alpha * h).exp_m1());
+        (
+            e * (wd * h).cos(),
+            em1 * (wd * h).cos() - 2.0 * half_sin * half_sin,
+            e * (sin / wd),
+        )
+    } else if zeta == 1.0 {
+        let (e, em1) = ((-alpha * h).exp(), (-alpha * h).exp_m1());
+        (e, em1, e * h)
+    } else {
+        let root = ((zeta - 1.0) * (zeta + 1.0)).sqrt();
+        let mu = omega * root;
+        let r1 = -omega / (zeta + root);
+        let r2 = -omega * (zeta + root);
+        let (e1, e2) = ((r1 * h).exp(), (r2 * h).exp());
+        let (m1, m2) = ((r1 * h).exp_m1(), (r2 * h).exp_m1());
+        (
+            0.5 * (e1 + e2),
+            0.5 * (m1 + m2),
+            -e1 * ((-2.0 * mu * h).exp_m1() / (2.0 * mu)),
+        )
+    }
 }
 
 impl SpringDrive {
@@ -114,19 +176,34 @@ impl SpringDrive {
             stiffness_n_per_m,
             mass_kg,
             velocity_m_per_s,
+            damping_n_s_per_m: 0.0,
         };
         drive.validate()?;
         Ok(drive)
     }
 
-    /// Checks the ranges listed in [`SpringDrive::new`].
+    /// The same drive with a dashpot c_d (N·s/m) parallel to the spring.
+    ///
+    /// # Errors
+    /// [`DriveParamError`] if c_d is negative or not finite.
+    pub fn with_damping(self, damping_n_s_per_m: f64) -> Result<Self, DriveParamError> {
+        let drive = Self {
+            damping_n_s_per_m,
+            ..self
+        };
+        drive.validate()?;
+        Ok(drive)
+    }
+
+    /// Checks the ranges listed in [`SpringDrive::new`] and c_d finite and ≥ 0.
     ///
     /// # Errors
     /// [`DriveParamError`] naming the first offending field.
     pub fn validate(&self) -> Result<(), DriveParamError> {
         require_positive("stiffness_n_per_m", self.stiffness_n_per_m)?;
         require_positive("mass_kg", self.mass_kg)?;
-        require_finite("velocity_m_per_s", self.velocity_m_per_s)
+        require_finite("velocity_m_per_s", self.velocity_m_per_s)?;
+        require_non_negative("damping_n_s_per_m", self.damping_n_s_per_m)
     }
 
     /// Angular frequency ω = √(K/m) of the free spring, rad/s.
@@ -135,16 +212,53 @@ impl SpringDrive {
         (self.stiffness_n_per_m / self.mass_kg).sqrt()
     }
 
-    /// Acceleration Ẍ = (K·(V0·t − X) − F)/m in m/s², F the friction force in N.
+    /// Damping ratio ζ = c_d/(2√(K·m)) of the dashpot (0 without one; 1 critical).
     #[must_use]
-    pub fn acceleration_m_per_s2(&self, t_s: f64, x_m: f64, friction_n: f64) -> f64 {
-        (self.stiffness_n_per_m * (self.velocity_m_per_s * t_s - x_m) - friction_n) / self.mass_kg
+    pub fn damping_ratio(&self) -> f64 {
+        self.damping_n_s_per_m / (2.0 * (self.stiffness_n_per_m * self.mass_kg).sqrt())
     }
 
-    /// Half kick of velocity Verlet: V ← V + (Δt/2)·Ẍ(t, X, F), at the current t and X.
+    /// Acceleration Ẍ = (K·(V0·t − X) + c_d·(V0 − V) − F)/m in m/s², F the friction force in
+    /// N (without a dashpot, c_d = 0, the paper's (K·(V0·t − X) − F)/m exactly).
+    #[must_use]
+    pub fn acceleration_m_per_s2(
+        &self,
+        t_s: f64,
+        x_m: f64,
+        v_m_per_s: f64,
+        friction_n: f64,
+    ) -> f64 {
+        let spring = self.stiffness_n_per_m * (self.velocity_m_per_s * t_s - x_m);
+        if self.damping_n_s_per_m == 0.0 {
+            (spring - friction_n) / self.mass_kg
+        } else {
+            (spring + self.damping_n_s_per_m * (self.velocity_m_per_s - v_m_per_s) - friction_n)
+                / self.mass_kg
+        }
+    }
+
+    /// First half kick of velocity Verlet: V ← V + (Δt/2)·Ẍ(t, X, V, F), at the current t, X
+    /// and V.
     pub fn half_kick(&self, state: &mut DriveState, friction_n: f64, dt_s: f64) {
-        state.v_m_per_s +=
-            0.5 * dt_s * self.acceleration_m_per_s2(state.t_s, state.x_m, friction_n);
+        state.v_m_per_s += 0.5
+            * dt_s
+            * self.acceleration_m_per_s2(state.t_s, state.x_m, state.v_m_per_s, friction_n);
+    }
+
+    /// Second half kick of velocity Verlet: V ← V + (Δt/2)·Ẍ(t, X, V_new, F) with the
+    /// dashpot's force taken at the new velocity (implicit, solved in closed form: the force
+    /// is linear in V), which keeps the step second order and time-symmetric. Without a
+    /// dashpot it is [`half_kick`](Self::half_kick).
+    pub fn closing_half_kick(&self, state: &mut DriveState, friction_n: f64, dt_s: f64) {
+        if self.damping_n_s_per_m == 0.0 {
+            self.half_kick(state, friction_n, dt_s);
+            return;
+        }
+        let h2m = 0.5 * dt_s / self.mass_kg;
+        let others = self.stiffness_n_per_m * (self.velocity_m_per_s * state.t_s - state.x_m)
+            + self.damping_n_s_per_m * self.velocity_m_per_s
+            - friction_n;
+        state.v_m_per_s = (state.v_m_per_s + h2m * others) / (1.0 + h2m * self.damping_n_s_per_m);
     }
 
     /// Kick by the friction force alone: V ← V − (Δt/2)·F/m (the split integrator's half kick).
@@ -154,10 +268,34 @@ impl SpringDrive {
 
     /// Exact motion of the spring without friction over `dt_s`, and time advance: with
     /// Y = X − V0·t, Ÿ = −ω²·Y, so Y and Ẏ = V − V0 rotate by ωΔt. cos ωΔt − 1 is taken as
-    /// −2·sin²(ωΔt/2), free of cancellation for short steps.
+    /// −2·sin²(ωΔt/2), free of cancellation for short steps. With a dashpot,
+    /// Ÿ = −ω²·Y − 2ζω·Ẏ, whose flow is exact too (under-, critically or over-damped; see
+    /// `damped_flow_factors`).
     pub fn spring_flow(&self, state: &mut DriveState, dt_s: f64) {
         let omega = self.omega_rad_per_s();
         let v0 = self.velocity_m_per_s;
+        if self.damping_n_s_per_m != 0.0 {
+            let zeta = self.damping_ratio();
+            let alpha = zeta * omega;
+            let (ec, ec_minus_one, es) = damped_flow_factors(omega, zeta, dt_s);
+            let y = state.x_m - v0 * state.t_s;
+            let yv = state.v_m_per_s - v0;
+            // A short step changes the state little: y + (ec − 1)·y keeps that change's digits;
+            // a long one shrinks it: ec·y does not cancel where ec ≪ 1.
+            let scale = |u: f64| {
+                if ec_minus_one.abs() < 0.5 {
+                    u + ec_minus_one * u
+                } else {
+                    ec * u
+                }
+            };
+            let y1 = scale(y) + es * (yv + alpha * y);
+            let yv1 = scale(yv) - es * (alpha * yv + omega * omega * y);
+            state.t_s += dt_s;
+            state.x_m = y1 + v0 * state.t_s;
+            state.v_m_per_s = yv1 + v0;
+            return;
+        }
         let (sin, half_sin) = ((omega * dt_s).sin(), (0.5 * omega * dt_s).sin());
         let cos_minus_one = -2.0 * half_sin * half_sin;
         let y = state.x_m - v0 * state.t_s;
@@ -223,10 +361,10 @@ impl SpringDrive {
     ) {
         self.half_kick(state, friction_before_n, dt_s);
         self.drift(state, dt_s);
-        self.half_kick(state, friction_after_n, dt_s);
+        self.closing_half_kick(state, friction_after_n, dt_s);
     }
 
-    /// One classical RK4 step of (Ẋ, V̇) = (V, Ẍ(t, X, F)) with F held constant over the step:
+    /// One classical RK4 step of (Ẋ, V̇) = (V, Ẍ(t, X, V, F)) with F held constant over the step:
     ///
     /// k1 = f(t, y), k2 = f(t + Δt/2, y + Δt/2·k1), k3 = f(t + Δt/2, y + Δt/2·k2),
     /// k4 = f(t + Δt, y + Δt·k3), y1 = y + Δt/6·(k1 + 2k2 + 2k3 + k4). Fourth order.
@@ -237,17 +375,14 @@ impl SpringDrive {
             v_m_per_s,
         } = *state;
         let h = dt_s;
-        let acc = |t, x| self.acceleration_m_per_s2(t, x, friction_n);
-        let (k1x, k1v) = (v_m_per_s, acc(t_s, x_m));
-        let (k2x, k2v) = (
-            v_m_per_s + 0.5 * h * k1v,
-            acc(t_s + 0.5 * h, x_m + 0.5 * h * k1x),
-        );
-        let (k3x, k3v) = (
-            v_m_per_s + 0.5 * h * k2v,
-            acc(t_s + 0.5 * h, x_m + 0.5 * h * k2x),
-        );
-        let (k4x, k4v) = (v_m_per_s + h * k3v, acc(t_s + h, x_m + h * k3x));
+        let acc = |t, x, v| self.acceleration_m_per_s2(t, x, v, friction_n);
+        let (k1x, k1v) = (v_m_per_s, acc(t_s, x_m, v_m_per_s));
+        let k2x = v_m_per_s + 0.5 * h * k1v;
+        let k2v = acc(t_s + 0.5 * h, x_m + 0.5 * h * k1x, k2x);
+        let k3x = v_m_per_s + 0.5 * h * k2v;
+        let k3v = acc(t_s + 0.5 * h, x_m + 0.5 * h * k2x, k3x);
+        let k4x = v_m_per_s + h * k3v;
+        let k4v = acc(t_s + h, x_m + h * k3x, k4x);
         state.x_m = x_m + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
         state.v_m_per_s = v_m_per_s + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
         state.t_s = t_s + h;
@@ -370,8 +505,17 @@ fn theta_minus_sin(theta: f64) -> f64 {
 /// X(t) = V0·t − (V0/ω)·sin ωt = (V0/ω)·(ωt − sin ωt),  V(t) = V0·(1 − cos ωt) = 2V0·sin²(ωt/2),
 ///
 /// evaluated without cancellation for small ωt (X ≈ V0·ω²t³/6). Returns (X in m, V in m/s).
+///
+/// With a dashpot (c_d > 0) the damped motion from rest: the exact flow of
+/// [`SpringDrive::spring_flow`] over t, X = V0·t + Y(t), which loses the relative accuracy of
+/// X to the cancellation in V0·t + Y where X ≪ V0·t (about ε·V0·t absolute).
 #[must_use]
 pub fn free_spring_exact(drive: &SpringDrive, t_s: f64) -> (f64, f64) {
+    if drive.damping_n_s_per_m != 0.0 {
+        let mut state = DriveState::at_rest();
+        drive.spring_flow(&mut state, t_s);
+        return (state.x_m, state.v_m_per_s);
+    }
     let omega = drive.omega_rad_per_s();
     let v0 = drive.velocity_m_per_s;
     let theta = omega * t_s;
@@ -386,7 +530,7 @@ pub fn free_spring_exact(drive: &SpringDrive, t_s: f64) -> (f64, f64) {
 ///
 /// E = ½·m·(V − V0)² + ½·K·(X − V0·t)²,
 ///
-/// conserved by the exact motion when F = 0 (d/dt E = −F·(V − V0)).
+/// conserved by the exact motion when F = 0 and c_d = 0 (d/dt E = −F·(V − V0) − c_d·(V − V0)²).
 #[must_use]
 pub fn comoving_energy_j(drive: &SpringDrive, state: &DriveState) -> f64 {
     let dv = state.v_m_per_s - drive.velocity_m_per_s;

@@ -291,3 +291,262 @@ fn validation_names_field_value_and_range() {
     );
     assert!(Drive::Spring(fig2()).validate().is_ok());
 }
+
+/// A spring with a dashpot of damping ratio ζ on the paper's K and m: c_d = 2ζ·√(K·m).
+fn damped(zeta: f64) -> SpringDrive {
+    let d = fig2();
+    d.with_damping(2.0 * zeta * (d.stiffness_n_per_m * d.mass_kg).sqrt())
+        .unwrap()
+}
+
+/// The textbook solution of the damped oscillator ÿ + 2ζω·ẏ + ω²·y = 0 from (y0, ẏ0) at t,
+/// written directly (no care for cancellation; used away from ζ = 1 except for ζ = 1 itself):
+/// under-damped e^(−ζωt)·(y0·cos ω_d t + (ẏ0 + ζω·y0)·sin(ω_d t)/ω_d), critical
+/// e^(−ωt)·(y0 + (ẏ0 + ω·y0)·t), over-damped (c1·e^(r1 t) + c2·e^(r2 t)) with the two roots.
+/// Returns (y, ẏ).
+fn damped_textbook(omega: f64, zeta: f64, y0: f64, yv0: f64, t: f64) -> (f64, f64) {
+    let a = zeta * omega;
+    if zeta < 1.0 {
+        let wd = omega * (1.0 - zeta * zeta).sqrt();
+        let (c, s) = ((wd * t).cos(), (wd * t).sin());
+        let e = (-a * t).exp();
+        let b = (yv0 + a * y0) / wd;
+        (
+            e * (y0 * c + b * s),
+            e * (-a * (y0 * c + b * s) + (-y0 * wd * s + b * wd * c)),
+        )
+    } else if zeta == 1.0 {
+        let e = (-omega * t).exp();
+        let b = yv0 + omega * y0;
+        (e * (y0 + b * t), e * (b - omega * (y0 + b * t)))
+    } else {
+        let root = omega * (zeta * zeta - 1.0).sqrt();
+        let (r1, r2) = (-a + root, -a - root);
+        // y0 = c1 + c2, ẏ0 = r1·c1 + r2·c2.
+        let c1 = (yv0 - r2 * y0) / (r1 - r2);
+        let c2 = y0 - c1;
+        let (e1, e2) = ((r1 * t).exp(), (r2 * t).exp());
+        (c1 * e1 + c2 * e2, r1 * c1 * e1 + r2 * c2 * e2)
+    }
+}
+
+/// Phase-space distance of the stamp's co-moving state (Y = X − V0·t, Ẏ/ω) from the exact
+/// (y, ẏ), relative to the exact state's own size — a relative error that never divides by a
+/// zero of Y or Ẏ alone.
+fn relative_phase_error(d: &SpringDrive, s: &DriveState, (y, yv): (f64, f64)) -> f64 {
+    let w = d.omega_rad_per_s();
+    let v0 = d.velocity_m_per_s;
+    let (ys, yvs) = (s.x_m - v0 * s.t_s, s.v_m_per_s - v0);
+    (ys - y).hypot((yvs - yv) / w) / y.hypot(yv / w)
+}
+
+/// The co-moving frame itself: the drive with V0 = 0 started at X = 0, V = −V0 moves as the
+/// co-moving coordinate Y of the drive from rest, without the rounding of X = V0·t + Y, which
+/// limits a relative error of Y to about ε·V0·t/|Y| once Y has decayed.
+fn comoving(d: &SpringDrive) -> (SpringDrive, DriveState) {
+    let frame = SpringDrive {
+        velocity_m_per_s: 0.0,
+        ..*d
+    };
+    let start = DriveState {
+        t_s: 0.0,
+        x_m: 0.0,
+        v_m_per_s: -d.velocity_m_per_s,
+    };
+    (frame, start)
+}
+
+#[test]
+fn damped_free_oscillator_split_flow_is_exact_whatever_the_step() {
+    // 20 undamped periods (ωT ≈ 126), from rest: Y = 0, Ẏ = −V0.
+    let t_end = 20.0 * std::f64::consts::TAU / fig2().omega_rad_per_s();
+    for zeta in [0.05, 0.5, 1.0, 2.0] {
+        let d = damped(zeta);
+        assert!((d.damping_ratio() - zeta).abs() <= 1e-15 * zeta);
+        let w = d.omega_rad_per_s();
+        let v0 = d.velocity_m_per_s;
+        let (frame, start) = comoving(&d);
+        let (mut worst_rel, mut worst_abs) = (0.0_f64, 0.0_f64);
+        for k in [0u32, 1, 3, 6, 9, 12] {
+            let n = 1u32 << k;
+            let dt = t_end / f64::from(n);
+            let (mut s, mut c) = (DriveState::at_rest(), start);
+            for i in 1..=n {
+                d.split_step(&mut s, dt, 0.0, 0.0);
+                frame.split_step(&mut c, dt, 0.0, 0.0);
+                // At the flow's own elapsed time i·Δt (t_s sums the steps, with rounding).
+                let exact = damped_textbook(w, zeta, 0.0, -v0, f64::from(i) * dt);
+                // In the co-moving frame: relative to the state's own size, at every step; the
+                // bound is the flow's rounding, composed up to 4096 times.
+                let rel = relative_phase_error(&frame, &c, exact);
+                assert!(rel <= 1e-12, "zeta {zeta}, 2^{k} steps, step {i}: {rel:e}");
+                // The stamp's X and V from rest: relative to the amplitude V0/ω, V0.
+                let (y, yv) = (s.x_m - v0 * s.t_s, s.v_m_per_s - v0);
+                let abs = ((y - exact.0) * w / v0).hypot((yv - exact.1) / v0);
+                assert!(abs <= 1e-12, "zeta {zeta}, 2^{k} steps, step {i}: {abs:e}");
+                worst_rel = worst_rel.max(rel);
+                worst_abs = worst_abs.max(abs);
+            }
+            assert!((s.t_s - t_end).abs() <= 1e-12 * t_end);
+        }
+        eprintln!(
+            "damped split flow, zeta = {zeta}: 20 periods in 1 … 4096 steps (omega*dt {:.3} … \
+             {:.2e}): largest relative error of the co-moving state {worst_rel:.2e}, of the \
+             stamp's (X, V) from rest over the amplitude {worst_abs:.2e}",
+            w * t_end,
+            w * t_end / 4096.0
+        );
+    }
+}
+
+#[test]
+fn damped_flow_is_continuous_through_critical_damping() {
+    // ζ = 1 ± δ against the critical solution: the flows differ by O(δ·(ωT)²) (sin x/x and
+    // expm1 x/x keep their accuracy as ω_d, μ → 0; the textbook forms would lose it all).
+    let t_end = 2.0 * std::f64::consts::TAU / fig2().omega_rad_per_s();
+    for delta in [1e-15, 1e-12, 1e-9, 1e-6] {
+        for zeta in [1.0 - delta, 1.0 + delta] {
+            let d = damped(zeta);
+            let (frame, start) = comoving(&d);
+            let w = d.omega_rad_per_s();
+            for k in [0u32, 4, 10] {
+                let n = 1u32 << k;
+                let mut c = start;
+                let dt = t_end / f64::from(n);
+                for _ in 0..n {
+                    frame.split_step(&mut c, dt, 0.0, 0.0);
+                }
+                let exact = damped_textbook(w, 1.0, 0.0, -d.velocity_m_per_s, f64::from(n) * dt);
+                let e = relative_phase_error(&frame, &c, exact);
+                // |∂ln Ẏ/∂ζ| ≈ (ωT)² ≈ 158 at the end, plus rounding.
+                assert!(
+                    e <= 200.0 * delta + 1e-12,
+                    "zeta = 1 + {:e}, 2^{k} steps: {e:e}",
+                    zeta - 1.0
+                );
+            }
+        }
+    }
+}
+
+/// The damped spring under F0·sin(Ωt) from rest, after 2^k steps of `step` (F at each step's
+/// start and end): relative phase-space error at `t_end_s` against the closed form
+/// Y = Yp + Yh, Yp = A·sin Ωt + B·cos Ωt with (K − mΩ²)·A − c·Ω·B = −F0, c·Ω·A + (K − mΩ²)·B = 0,
+/// Yh the free damped motion from Y(0) − Yp(0), Ẏ(0) − Ẏp(0).
+fn damped_forced_error(
+    d: &SpringDrive,
+    f0_n: f64,
+    t_end_s: f64,
+    k: u32,
+    mut step: impl FnMut(&mut DriveState, f64, f64, f64),
+) -> f64 {
+    let omega_f = 30.0;
+    let force = |t: f64| f0_n * (omega_f * t).sin();
+    let n = 1u32 << k;
+    let dt = t_end_s / f64::from(n);
+    let mut state = DriveState::at_rest();
+    for i in 0..n {
+        let t0 = f64::from(i) * dt;
+        step(&mut state, dt, force(t0), force(t0 + dt));
+    }
+    let (kk, m, c, v0) = (
+        d.stiffness_n_per_m,
+        d.mass_kg,
+        d.damping_n_s_per_m,
+        d.velocity_m_per_s,
+    );
+    let det = (kk - m * omega_f * omega_f).powi(2) + (c * omega_f).powi(2);
+    let a = -f0_n * (kk - m * omega_f * omega_f) / det;
+    let b = f0_n * c * omega_f / det;
+    let (yh, yhv) = damped_textbook(
+        d.omega_rad_per_s(),
+        d.damping_ratio(),
+        -b,
+        -v0 - a * omega_f,
+        t_end_s,
+    );
+    let (s, co) = ((omega_f * t_end_s).sin(), (omega_f * t_end_s).cos());
+    let exact = (yh + a * s + b * co, yhv + omega_f * (a * co - b * s));
+    assert!((state.t_s - t_end_s).abs() <= 1e-12 * t_end_s);
+    relative_phase_error(d, &state, exact)
+}
+
+fn observed_orders(errors: &[f64]) -> Vec<f64> {
+    errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+}
+
+#[test]
+fn damped_split_is_second_order_in_the_friction_force() {
+    for zeta in [0.05, 0.5, 2.0] {
+        let d = damped(zeta);
+        // F = 0: exact (the flow alone), a few steps over 0.1 s.
+        for k in 0..=4 {
+            let e = damped_forced_error(&d, 0.0, 0.1, k, |s, h, f0, f1| d.split_step(s, h, f0, f1));
+            assert!(e <= 1e-12, "zeta {zeta}, 2^{k} steps: {e:e}");
+        }
+        let errors: Vec<f64> = (5..=11)
+            .map(|k| {
+                damped_forced_error(&d, 3.0, 0.1, k, |s, h, f0, f1| d.split_step(s, h, f0, f1))
+            })
+            .collect();
+        let orders = observed_orders(&errors);
+        let shown: Vec<String> = errors.iter().map(|e| format!("{e:.3e}")).collect();
+        eprintln!("damped split, zeta = {zeta}, F0·sin(Ωt): errors {shown:?}, orders {orders:.4?}");
+        for &p in &orders[orders.len() - 4..] {
+            assert!((1.9..=2.1).contains(&p), "zeta {zeta}: {orders:?}");
+        }
+    }
+}
+
+#[test]
+fn damped_verlet_is_second_order_and_rk4_fourth() {
+    let d = damped(0.5);
+    let verlet: Vec<f64> = (5..=11)
+        .map(|k| damped_forced_error(&d, 3.0, 0.1, k, |s, h, f0, f1| d.verlet_step(s, h, f0, f1)))
+        .collect();
+    let vo = observed_orders(&verlet);
+    eprintln!("damped Verlet, zeta = 0.5, F0·sin(Ωt): orders {vo:.4?}");
+    for &p in &vo[vo.len() - 4..] {
+        assert!((1.9..=2.1).contains(&p), "{vo:?}");
+    }
+    // RK4 holds F over the step, so its order shows on the free damped spring.
+    let rk4: Vec<f64> = (4..=9)
+        .map(|k| {
+            damped_forced_error(&d, 0.0, 0.1, k, |s, h, f0, _| {
+                d.step(Integrator::Rk4, s, h, f0)
+            })
+        })
+        .collect();
+    let ro = observed_orders(&rk4);
+    eprintln!("damped RK4, zeta = 0.5, free: orders {ro:.4?}");
+    for &p in &ro[ro.len() - 3..] {
+        assert!((3.7..=4.3).contains(&p), "{ro:?}");
+    }
+}
+
+#[test]
+fn damping_is_checked_and_zero_damping_is_the_undamped_spring() {
+    let d = fig2();
+    for bad in [-1e-300, -1.0, f64::NAN, f64::INFINITY] {
+        let e = d.with_damping(bad).unwrap_err();
+        assert_eq!(e.field, "damping_n_s_per_m");
+        assert!(e.to_string().contains(">= 0"), "{e}");
+    }
+    // c_d = 0: the same arithmetic as without a dashpot, bit for bit, for every integrator.
+    let zero = d.with_damping(0.0).unwrap();
+    assert_eq!(zero, d);
+    for integrator in [Integrator::Split, Integrator::Verlet, Integrator::Rk4] {
+        let (mut a, mut b) = (DriveState::at_rest(), DriveState::at_rest());
+        for i in 0..1000 {
+            let f = 1e-3 * f64::from(i % 7);
+            d.step(integrator, &mut a, 1e-4, f);
+            zero.step(integrator, &mut b, 1e-4, f);
+        }
+        assert_eq!(a, b);
+    }
+    // The friction-free motion from rest: the flow's own, against the textbook.
+    let half = damped(0.5);
+    let (x, v) = free_spring_exact(&half, 0.05);
+    let (y, yv) = damped_textbook(half.omega_rad_per_s(), 0.5, 0.0, -1.0, 0.05);
+    assert!((x - (0.05 + y)).abs() <= 1e-15 && (v - (1.0 + yv)).abs() <= 1e-14);
+}

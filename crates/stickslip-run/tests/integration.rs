@@ -6,6 +6,7 @@ mod common;
 
 mod checkpoint_instants;
 mod dir_states;
+mod drive_damping;
 mod events;
 mod first_order;
 mod keys;

@@ -105,6 +105,7 @@ substrate = "elastic"
 kind = "spring"
 stiffness = 1.0
 mass = 1.0
+damping = 1.0
 velocity = 1.0
 integrator = "verlet"
 [time]

@@ -73,6 +73,14 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
         }
     }
     say!("omega = {} rad/s", d.omega_rad_per_s);
+    if let stickslip_core::drive::Drive::Spring(spring) = &c.drive {
+        say!(
+            "damping_ratio = {} (zeta = c_d/(2*sqrt(K*m)) of drive.damping = {:e} N*s/m; 0: the \
+             paper's undamped spring, 1: critical)",
+            spring.damping_ratio(),
+            spring.damping_n_s_per_m
+        );
+    }
     say!("g_eff = {:e} Pa", c.contact.g_eff_pa);
     say!("nodes = {}", c.simulated_nodes());
     if c.time.adaptive.is_some() {

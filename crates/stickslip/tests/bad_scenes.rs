@@ -421,8 +421,31 @@ const CASES: &[Case] = &[
             "drive.stiffness = 500",
             "contradictory",
             "drive.kind = \"rigid\"",
-            "no stiffness or mass",
+            "no stiffness, mass or damping",
         ],
+    ),
+    case(
+        "rigid with damping",
+        Some(("stiffness = 500.0\nmass = 0.1\n", "")),
+        &["drive.kind=rigid", "drive.damping=0"],
+        &[
+            "drive.damping = 0",
+            "contradictory",
+            "drive.kind = \"rigid\"",
+            "no stiffness, mass or damping",
+        ],
+    ),
+    case(
+        "negative damping",
+        None,
+        &["drive.damping=-0.5"],
+        &["drive.damping = -0.5", "finite and >= 0 N·s/m"],
+    ),
+    case(
+        "infinite damping",
+        None,
+        &["drive.damping=inf"],
+        &["drive.damping", "finite and >= 0 N·s/m"],
     ),
     case(
         "unknown scheme",

@@ -357,6 +357,23 @@ fn check_prints_derived_parameters() {
 }
 
 #[test]
+fn check_prints_the_drives_damping_ratio() {
+    let fig2 = scene("fig2").display().to_string();
+    let out = run(&["check", &fig2]);
+    assert_ok(&out);
+    assert!(texts(&out).0.contains("damping_ratio = 0 ("));
+    // c_d = 2·√(K·m) = 2·√50 N·s/m: critical, ζ = 1.
+    let out = run(&["check", &fig2, "--set", "drive.damping=14.142135623730951"]);
+    assert_ok(&out);
+    let (stdout, _) = texts(&out);
+    assert!(stdout.contains("damping_ratio = 1 ("), "{stdout}");
+    let out = run(&["check", &scene("rigid").display().to_string()]);
+    assert_ok(&out);
+    let (rigid, _) = texts(&out);
+    assert!(!rigid.contains("damping_ratio"), "{rigid}");
+}
+
+#[test]
 fn check_prints_the_first_order_films_thresholds() {
     let out = run(&["check", &scene("fig2_first_order").display().to_string()]);
     assert_ok(&out);

@@ -267,6 +267,8 @@ pub const NODES: Bound = bound("contact.nodes", "–", Range::Integers(1, MAX_NO
 pub const STIFFNESS: Bound = bound("drive.stiffness", "N/m", Range::Positive);
 /// `drive.mass`.
 pub const MASS: Bound = bound("drive.mass", "kg", Range::Positive);
+/// `drive.damping`: c_d of the dashpot parallel to the spring.
+pub const DAMPING: Bound = bound("drive.damping", "N·s/m", Range::NonNegative);
 /// `drive.velocity`.
 pub const VELOCITY: Bound = bound("drive.velocity", "m/s", Range::Finite);
 /// `time.end`.

@@ -185,8 +185,13 @@ impl Simulation {
                     -(s.force_n - f_before) / sp.mass_kg
                 } else {
                     let d = &s.drive;
-                    sp.acceleration_m_per_s2(d.t_s, d.x_m, s.force_n)
-                        - sp.acceleration_m_per_s2(before.t_s, before.x_m, f_before)
+                    sp.acceleration_m_per_s2(d.t_s, d.x_m, d.v_m_per_s, s.force_n)
+                        - sp.acceleration_m_per_s2(
+                            before.t_s,
+                            before.x_m,
+                            before.v_m_per_s,
+                            f_before,
+                        )
                 };
                 let est = error_estimate::verlet_error(
                     dt_s,

@@ -319,7 +319,7 @@ impl Simulation {
     fn drive_second_half(&mut self, dt_s: f64) {
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Verlet) => {
-                s.half_kick(
+                s.closing_half_kick(
                     &mut self.state.physical.drive,
                     self.state.physical.force_n,
                     dt_s,

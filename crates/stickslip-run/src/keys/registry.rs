@@ -335,6 +335,13 @@ section! {
                 rule: "only with kind = \"spring\"",
                 usual: Some((1e-9, 1e3)),
             }
+        DAMPING damping "damping" @ bounds::DAMPING: f64 =
+            "dashpot parallel to the spring (damps the stamp's ringing; 0 = the paper's model)"
+            {
+                default: Value(&0.0),
+                rule: "only with kind = \"spring\"",
+                since: "0.2.0",
+            }
         VELOCITY velocity "velocity" @ bounds::VELOCITY: f64 =
             "V0: velocity of the spring's free end (or of the rigid coupler)"
             { usual: Some((1e-9, 1e2)) }

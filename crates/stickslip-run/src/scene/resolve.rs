@@ -259,6 +259,7 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
         kind: Some(kind),
         stiffness: None,
         mass: None,
+        damping: None,
         velocity: Some(velocity),
         integrator: Some(integrator),
     };
@@ -278,19 +279,25 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
             };
             let stiffness = needed(d.stiffness, drive::STIFFNESS)?;
             let mass = needed(d.mass, drive::MASS)?;
+            // -0.0 is 0: the paper's model, bit for bit.
+            let damping = drive::DAMPING.value(d.damping, &nothing())?;
+            let damping = if damping == 0.0 { 0.0 } else { damping };
             section.stiffness = Some(stiffness);
             section.mass = Some(mass);
+            section.damping = Some(damping);
             Drive::Spring(SpringDrive {
                 stiffness_n_per_m: stiffness,
                 mass_kg: mass,
                 velocity_m_per_s: velocity,
+                damping_n_s_per_m: damping,
             })
         }
         DriveKind::Rigid => {
-            let allowed = "no stiffness or mass with the rigid drive (X = V0·t)";
+            let allowed = "no stiffness, mass or damping with the rigid drive (X = V0·t)";
             let other = "drive.kind = \"rigid\"";
             contradiction(drive::STIFFNESS.path, d.stiffness, other, allowed)?;
             contradiction(drive::MASS.path, d.mass, other, allowed)?;
+            contradiction(drive::DAMPING.path, d.damping, other, allowed)?;
             Drive::Rigid(RigidDrive {
                 velocity_m_per_s: velocity,
             })
