@@ -5,7 +5,7 @@
 //! line's `check`, a run's `run.json` and a sweep's refusals all read this record.
 
 use crate::config::{Derived, Scheme, SimConfig};
-use crate::drive::{Drive, free_spring_exact};
+use crate::drive::{Drive, SpringDrive, free_spring_exact};
 use crate::sim::failure::NumericalFailure;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -173,11 +173,29 @@ fn linear_onset(config: &SimConfig, k: ContactSpring) -> Option<f64> {
     let eps0 = l.melting_strain(config.temperature.a_coeff_pa(0.0));
     let stamp = |t: f64| match config.drive {
         Drive::Rigid(r) => (r.velocity_m_per_s * t).abs(),
-        Drive::Spring(s) => {
+        Drive::Spring(s) if s.damping_n_s_per_m == 0.0 => {
             let ks = k.stiffness_n_per_m();
             let kk = s.stiffness_n_per_m;
             let omega = ((kk + ks) / s.mass_kg).sqrt();
             (kk * s.velocity_m_per_s / (kk + ks) * t_minus_sin(t, omega)).abs()
+        }
+        Drive::Spring(s) => {
+            // With the dashpot: m·Ẍ = K(V0·t − X) + c(V0 − Ẋ) − k·X is the damped drive of
+            // stiffness K' = K + k and speed V' = K·V0/K', shifted by the constant
+            // δ = c·(V0 − V')/K'; its exact flow from X = −δ at rest, plus δ.
+            let ks = k.stiffness_n_per_m();
+            let kk = s.stiffness_n_per_m + ks;
+            let v = s.stiffness_n_per_m * s.velocity_m_per_s / kk;
+            let delta = s.damping_n_s_per_m * (s.velocity_m_per_s - v) / kk;
+            let Ok(shifted) = SpringDrive::new(kk, s.mass_kg, v)
+                .and_then(|d| d.with_damping(s.damping_n_s_per_m))
+            else {
+                return f64::NAN;
+            };
+            let mut state = crate::drive::DriveState::at_rest();
+            state.x_m = -delta;
+            shifted.spring_flow(&mut state, t);
+            (state.x_m + delta).abs()
         }
     };
     let gap = |t: f64| {
