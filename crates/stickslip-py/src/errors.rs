@@ -38,6 +38,7 @@ fn parts(e: &SceneError) -> [(&'static str, serde_json::Value); 3] {
         }
         SceneError::MissingKey { allowed, .. } => (None, Some(allowed.clone())),
         SceneError::Override { arg, .. } => (Some(arg.clone()), None),
+        SceneError::Unset { key, .. } => (Some(key.clone()), None),
         SceneError::Read { .. } | SceneError::Syntax { .. } => (None, None),
     };
     [

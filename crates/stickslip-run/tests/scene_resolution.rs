@@ -185,3 +185,29 @@ fn garbage_never_panics() {
         let _ = Scene::from_toml_str(MINIMAL, &[set.as_str()]);
     }
 }
+
+#[test]
+fn unset_keys_turn_a_spring_scene_rigid_without_editing_the_file() {
+    let fig2 = crate::common::scene("fig2");
+    // The file sets a stiffness: the rigid drive is refused with it.
+    let refused = Scene::from_path(&fig2, &["drive.kind=rigid"]).unwrap_err();
+    assert!(refused.to_string().contains("drive.stiffness"), "{refused}");
+    let rigid = Scene::from_path_unsetting(
+        &fig2,
+        &["drive.stiffness", "drive.mass", "drive.integrator"],
+        &["drive.kind=rigid"],
+    )
+    .unwrap();
+    assert!(matches!(
+        rigid.config.drive,
+        stickslip_core::drive::Drive::Rigid(_)
+    ));
+    // A key the file does not set is no error; a name that is no key is.
+    assert!(Scene::from_path_unsetting(&fig2, &["drive.damping"], &[] as &[&str]).is_ok());
+    let e = Scene::from_path_unsetting(&fig2, &["drive.speed"], &[] as &[&str]).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("--unset \"drive.speed\": no such scene key"),
+        "{e}"
+    );
+}

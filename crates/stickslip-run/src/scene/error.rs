@@ -31,6 +31,17 @@ pub enum SceneError {
         /// The offending line, shortened.
         excerpt: String,
     },
+    /// A `--unset` argument that names no scene key.
+    #[error(
+        "--unset {key:?}: {problem}; allowed: a scene key as section.key (`stickslip keys`), \
+         e.g. drive.stiffness"
+    )]
+    Unset {
+        /// The key as given.
+        key: String,
+        /// What is wrong.
+        problem: String,
+    },
     /// A `--set` argument that cannot be applied.
     #[error(
         "--set {arg:?}: {problem}; allowed: section.key=value with a TOML value \
@@ -122,7 +133,10 @@ impl SceneError {
             | Self::WrongType { key, .. }
             | Self::Invalid { key, .. }
             | Self::Contradictory { key, .. } => Some(key),
-            Self::Read { .. } | Self::Syntax { .. } | Self::Override { .. } => None,
+            Self::Read { .. }
+            | Self::Syntax { .. }
+            | Self::Override { .. }
+            | Self::Unset { .. } => None,
         }
     }
 }

@@ -179,6 +179,42 @@ impl Scene {
         Self::from_toml_str(&Self::read_text(path)?, overrides)
     }
 
+    /// [`Scene::from_path`] with the keys `unset` removed from the file first (a key the
+    /// file does not set is left as it is: its default applies either way), then `overrides`
+    /// applied: `--unset drive.stiffness --unset drive.mass --set drive.kind=rigid` turns a
+    /// spring scene rigid without editing the file.
+    ///
+    /// # Errors
+    /// [`SceneError::Unset`] for a name that is no scene key; else as [`Scene::from_path`].
+    pub fn from_path_unsetting<S: AsRef<str>, U: AsRef<str>>(
+        path: &std::path::Path,
+        unset: &[U],
+        overrides: &[S],
+    ) -> Result<ResolvedScene, SceneError> {
+        let mut table = Self::parse_table(&Self::read_text(path)?)?;
+        for key in unset {
+            let key = key.as_ref();
+            if crate::keys::find(key).is_none() {
+                return Err(SceneError::Unset {
+                    key: key.to_string(),
+                    problem: "no such scene key".into(),
+                });
+            }
+            let (section, name) = key.rsplit_once('.').unwrap_or(("", key));
+            let holder = if section.is_empty() {
+                Some(&mut table)
+            } else {
+                section.split('.').try_fold(&mut table, |t, part| {
+                    t.get_mut(part).and_then(toml::Value::as_table_mut)
+                })
+            };
+            if let Some(t) = holder {
+                t.remove(name);
+            }
+        }
+        Self::resolve_table(table, overrides)
+    }
+
     /// The scene as a TOML table.
     #[must_use]
     pub fn to_table(&self) -> toml::Table {
