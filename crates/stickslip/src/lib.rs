@@ -3,9 +3,9 @@
 //!
 //! This crate holds arguments, progress, signals, printing and exit codes only; scenes, the
 //! time loop and the output files are the run library's (`stickslip-run`). The program is this
-//! library's [`main_from`]: the `stickslip` binary (`main.rs`) calls it with its arguments, and
-//! so does the Python package's `stickslip` command (`pip install ./crates/stickslip-py`), in
-//! the interpreter's process.
+//! library's [`main_from`]: the `stickslip` binary (`bin/stickslip.rs`) calls it with its
+//! arguments, and so does the Python package's `stickslip` command (`pip install
+//! ./crates/stickslip-py`), in the interpreter's process.
 //!
 //! Exit status: 0 success, 1 an I/O error while writing output, 2 bad scene or arguments
 //! (clap usage errors included), an output directory holding an earlier run without
