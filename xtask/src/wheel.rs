@@ -9,7 +9,8 @@
 //!    dist/stickslip-…whl[plot]` there with `PATH` stripped of every directory holding cargo
 //!    or rustc (pip may download NumPy and matplotlib, never compile);
 //! 3. `python examples/fig2.py --quick` from that venv, after checking that it finds no
-//!    cargo and imports the installed package (not the sources).
+//!    cargo, imports the installed package (not the sources) and that the wheel's `stickslip`
+//!    command (its console script, asserted in entry_points.txt when the wheel is built) runs.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -30,7 +31,21 @@ fn status(what: &str, cmd: &mut Command) -> Result<(), String> {
     }
 }
 
-/// Builds the wheel into `root/dist`; its path.
+/// Exits non-zero unless the wheel (`argv[1]`) declares the `stickslip` console script, the
+/// command line that `pip install` puts on `PATH`.
+const ENTRY_POINT_PROBE: &str = "\
+import configparser, sys, zipfile
+with zipfile.ZipFile(sys.argv[1]) as z:
+    names = [n for n in z.namelist() if n.endswith('.dist-info/entry_points.txt')]
+    assert names, 'no entry_points.txt in ' + sys.argv[1]
+    ep = configparser.ConfigParser(delimiters=('=',))
+    ep.read_string(z.read(names[0]).decode())
+got = ep.get('console_scripts', 'stickslip', fallback=None)
+assert got == 'stickslip._cli:main', 'console_scripts stickslip = %r' % got
+";
+
+/// Builds the wheel into `root/dist` and checks that it declares the `stickslip` command;
+/// its path.
 ///
 /// # Errors
 /// No venv with maturin could be made, maturin failed, or no wheel appeared.
@@ -54,6 +69,13 @@ pub fn build(root: &Path) -> Result<PathBuf, String> {
         ]),
     )?;
     let wheel = newest_wheel(&dist).ok_or("maturin wrote no wheel into dist/")?;
+    status(
+        "the wheel's console script (entry_points.txt declaring stickslip)",
+        Command::new(&python)
+            .arg("-c")
+            .arg(ENTRY_POINT_PROBE)
+            .arg(&wheel),
+    )?;
     let size = std::fs::metadata(&wheel).map_or(0, |m| m.len());
     eprintln!(
         "wheel: {} ({:.1} MB) in {:.1} s{}",
@@ -157,6 +179,32 @@ pub fn check(root: &Path, wheel: &Path) -> Result<(f64, f64), String> {
             .env("PATH", &venv_path)
             .args(["-c", probe]),
     )?;
+    // The command line the wheel installs, run without Rust anywhere on PATH.
+    let command = dir.join("bin").join("stickslip");
+    let version = Command::new(&command)
+        .current_dir(root.join("target"))
+        .env("PATH", &venv_path)
+        .arg("--version")
+        .output()
+        .map_err(|e| {
+            format!(
+                "the wheel's stickslip command: cannot start {}: {e}",
+                command.display()
+            )
+        })?;
+    let text = String::from_utf8_lossy(&version.stdout);
+    if !version.status.success() || !text.starts_with("stickslip ") {
+        return Err(format!(
+            "the wheel's stickslip command: `stickslip --version` gave {} {text:?} {:?}",
+            version.status,
+            String::from_utf8_lossy(&version.stderr)
+        ));
+    }
+    eprintln!(
+        "wheel-venv: {} --version: {}",
+        command.display(),
+        text.trim()
+    );
     let t = Instant::now();
     status(
         "examples/fig2.py --quick with the wheel",

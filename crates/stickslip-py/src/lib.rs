@@ -15,6 +15,8 @@
 //!   a second for Ctrl-C and progress callbacks;
 //! - [`boundary`]: the critical value of one key (the run library's bisection);
 //! - [`keys`]: the scene-key registry as Python data;
+//! - [`cli`]: the command line itself (the `stickslip` crate's library), for the package's
+//!   `stickslip` command;
 //! - [`verify`]: the error of every summary number of a scene;
 //! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays, their inputs
 //!   checked (shape, type, finite values, sizes whose operators would not fit);
@@ -30,6 +32,7 @@ use pyo3::prelude::*;
 
 pub mod args;
 pub mod boundary;
+pub mod cli;
 pub mod convert;
 pub mod errors;
 pub mod json;
@@ -60,5 +63,6 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mdr::compliance, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::force, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::radii, m)?)?;
+    m.add_function(wrap_pyfunction!(cli::cli, m)?)?;
     Ok(())
 }

@@ -419,7 +419,7 @@ fn submit_slurm(
         run_args.extend(["--keep".to_string(), "all".to_string()]);
     }
     let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
-    let binary = std::env::current_exe().unwrap_or_else(|_| PathBuf::from("stickslip"));
+    let binary = crate::program();
     let tasks = usize::try_from(tasks).unwrap_or(1);
     let text = slurm::script(
         &sweep.name,

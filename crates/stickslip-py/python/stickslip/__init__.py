@@ -24,6 +24,10 @@ Ctrl-C during ``run``, ``resume`` or ``sweep`` raises ``Interrupted`` (a
 ValueError; ``.key``), ``SweepError`` (a SceneError), ``NumericalFailure`` (``.time_s``,
 ``.step``, ``.node``, ``.r_m``, ``.quantity``, ``.result``); missing directories raise
 ``FileNotFoundError``, bad arguments ``TypeError`` or ``ValueError``.
+
+Installing the package also installs the ``stickslip`` command (``python -m stickslip`` too):
+the command line itself (``stickslip run``, ``check``, ``resume``, ``sweep``, ``keys``, …), the
+same program as the Rust binary, with its arguments, output, exit statuses and Ctrl-C handling.
 """
 
 from . import _native, mdr

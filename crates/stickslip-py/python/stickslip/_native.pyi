@@ -150,3 +150,7 @@ def force(
 
 def radii(radius: float, n: int) -> npt.NDArray[np.float64]:
     """The node radii r_i = i·radius/N, i = 0 … N−1, in m."""
+
+def cli(argv: Sequence[str], program: Optional[_Path] = None) -> int:
+    """Runs ``stickslip ARGS...`` (``argv[0]`` is the program's name) as the Rust binary does
+    and returns its exit status; for the ``stickslip`` command (``stickslip._cli``)."""

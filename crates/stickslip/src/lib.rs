@@ -2,7 +2,10 @@
 //! `docs/reference.md`).
 //!
 //! This crate holds arguments, progress, signals, printing and exit codes only; scenes, the
-//! time loop and the output files are the run library's (`stickslip-run`).
+//! time loop and the output files are the run library's (`stickslip-run`). The program is this
+//! library's [`main_from`]: the `stickslip` binary (`bin/stickslip.rs`) calls it with its
+//! arguments, and so does the Python package's `stickslip` command (`pip install
+//! ./crates/stickslip-py`), in the interpreter's process.
 //!
 //! Exit status: 0 success, 1 an I/O error while writing output, 2 bad scene or arguments
 //! (clap usage errors included), an output directory holding an earlier run without
@@ -37,10 +40,11 @@ mod sweep;
 mod verify;
 
 use clap::{Parser, Subcommand};
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
 use stickslip_core::preflight::{Finding, Severity};
 use stickslip_run::checkpoint::CheckpointError;
 use stickslip_run::exit::Exit;
@@ -321,8 +325,65 @@ fn resume(dir: &Path, quiet: bool, options: &ResumeOptions) -> ExitCode {
     }
 }
 
-fn main() -> ExitCode {
-    let cli = Cli::parse();
+/// The command that starts this program again, for `sweep slurm`'s job script (see
+/// [`set_program`]).
+static PROGRAM: Mutex<Option<PathBuf>> = Mutex::new(None);
+
+/// Sets the command that starts this program again (written into `sweep slurm`'s job script):
+/// the Python package's `stickslip` script, whose process is the interpreter's. Without it,
+/// the running executable.
+pub fn set_program(path: PathBuf) {
+    if let Ok(mut p) = PROGRAM.lock() {
+        *p = Some(path);
+    }
+}
+
+/// The command that starts this program again: [`set_program`]'s, else the running executable,
+/// else `stickslip` (found on `PATH`).
+#[must_use]
+pub fn program() -> PathBuf {
+    PROGRAM
+        .lock()
+        .ok()
+        .and_then(|p| p.clone())
+        .or_else(|| std::env::current_exe().ok())
+        .unwrap_or_else(|| PathBuf::from("stickslip"))
+}
+
+/// The number behind an [`ExitCode`] (which has no accessor; `ExitCode::from` is one-to-one
+/// on `u8`).
+fn status(code: ExitCode) -> u8 {
+    (0..=u8::MAX)
+        .find(|&c| ExitCode::from(c) == code)
+        .unwrap_or(1)
+}
+
+/// The `stickslip` program: parses `args` (the first is the program's name, as `argv[0]`),
+/// runs the command, and returns the exit status (see the crate's documentation). Help,
+/// `--version` and usage errors are printed as clap's `exit` prints them (status 0 or 2) but
+/// return instead of ending the process; stdout is flushed before returning.
+pub fn main_from<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let code = match Cli::try_parse_from(args) {
+        Ok(cli) => status(dispatch(cli)),
+        Err(e) => {
+            let _ = e.print();
+            u8::try_from(e.exit_code()).unwrap_or(2)
+        }
+    };
+    {
+        use std::io::Write as _;
+        let _ = std::io::stdout().flush();
+        let _ = std::io::stderr().flush();
+    }
+    code
+}
+
+/// Runs the parsed command; its exit status.
+fn dispatch(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Run {
             scene,
