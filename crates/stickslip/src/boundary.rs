@@ -15,6 +15,8 @@ pub struct Args<'a> {
     pub scene: &'a Path,
     /// `--set` overrides.
     pub set: &'a [String],
+    /// `--unset` keys.
+    pub unset: &'a [String],
     /// The key to search along.
     pub key: &'a str,
     /// One end.
@@ -121,7 +123,7 @@ fn print(s: &Scan, unit: &str) {
 /// scan points all have the same regime), 3 for a run that failed numerically, 130 when
 /// interrupted.
 pub fn main(a: &Args<'_>) -> ExitCode {
-    let base = match Scene::from_path(a.scene, a.set) {
+    let base = match Scene::from_path_unsetting(a.scene, a.unset, a.set) {
         Ok(s) => s,
         Err(e) => return crate::fail(e, Exit::BadInput),
     };

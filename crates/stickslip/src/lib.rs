@@ -72,6 +72,10 @@ enum Command {
         /// Override a scene value, e.g. `--set contact.nodes=200` (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
+        /// Remove a key the scene file sets before the --set values apply, e.g. `--unset
+        /// drive.stiffness` (repeatable): its default applies, or a --set value.
+        #[arg(long = "unset", value_name = "SECTION.KEY")]
+        unset: Vec<String>,
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
@@ -91,6 +95,10 @@ enum Command {
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
+        /// Remove a key the scene file sets before the --set values apply, e.g. `--unset
+        /// drive.stiffness` (repeatable): its default applies, or a --set value.
+        #[arg(long = "unset", value_name = "SECTION.KEY")]
+        unset: Vec<String>,
     },
     /// Find where the regime changes along one key: a first scan of --scan points over the
     /// range (log-spaced when both ends are > 0), then every change between neighbouring
@@ -123,6 +131,10 @@ enum Command {
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
+        /// Remove a key the scene file sets before the --set values apply, e.g. `--unset
+        /// drive.stiffness` (repeatable): its default applies, or a --set value.
+        #[arg(long = "unset", value_name = "SECTION.KEY")]
+        unset: Vec<String>,
         /// No line per run on stderr.
         #[arg(long)]
         quiet: bool,
@@ -148,6 +160,10 @@ enum Command {
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
+        /// Remove a key the scene file sets before the --set values apply, e.g. `--unset
+        /// drive.stiffness` (repeatable): its default applies, or a --set value.
+        #[arg(long = "unset", value_name = "SECTION.KEY")]
+        unset: Vec<String>,
     },
     /// Finish an interrupted run from its checkpoint; the output is bit-identical to that of
     /// an uninterrupted run (run.json's wall_seconds aside). The checkpoint must come from
@@ -273,8 +289,14 @@ fn run_error(e: &RunError) -> ExitCode {
     fail(e, e.exit())
 }
 
-fn run(scene: &Path, out: &Path, set: &[String], quiet: bool, options: &DirOptions) -> ExitCode {
-    let resolved = match Scene::from_path(scene, set) {
+fn run(
+    scene: &Path,
+    out: &Path,
+    (unset, set): (&[String], &[String]),
+    quiet: bool,
+    options: &DirOptions,
+) -> ExitCode {
+    let resolved = match Scene::from_path_unsetting(scene, unset, set) {
         Ok(r) => r,
         Err(e) => return fail(e, Exit::BadInput),
     };
@@ -389,23 +411,26 @@ fn dispatch(cli: Cli) -> ExitCode {
             scene,
             out,
             set,
+            unset,
             quiet,
             force,
             checkpoint_every,
         } => run(
             &scene,
             &out,
-            &set,
+            (&unset, &set),
             quiet,
             &DirOptions {
                 force,
                 checkpoint_every_s: checkpoint_every,
             },
         ),
-        Command::Check { scene, set } => match Scene::from_path(&scene, &set) {
-            Ok(r) => check::print(&r),
-            Err(e) => fail(e, Exit::BadInput),
-        },
+        Command::Check { scene, set, unset } => {
+            match Scene::from_path_unsetting(&scene, &unset, &set) {
+                Ok(r) => check::print(&r),
+                Err(e) => fail(e, Exit::BadInput),
+            }
+        }
         Command::Boundary {
             scene,
             key,
@@ -415,10 +440,12 @@ fn dispatch(cli: Cli) -> ExitCode {
             scan,
             jobs,
             set,
+            unset,
             quiet,
         } => boundary::main(&boundary::Args {
             scene: &scene,
             set: &set,
+            unset: &unset,
             key: &key,
             from,
             to,
@@ -433,9 +460,11 @@ fn dispatch(cli: Cli) -> ExitCode {
             out,
             jobs,
             set,
+            unset,
         } => verify::main(&verify::Args {
             scene: &scene,
             set: &set,
+            unset: &unset,
             rtol,
             out: out.as_deref(),
             jobs,

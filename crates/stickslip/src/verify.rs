@@ -15,6 +15,8 @@ pub struct Args<'a> {
     pub scene: &'a Path,
     /// `--set` overrides.
     pub set: &'a [String],
+    /// `--unset` keys.
+    pub unset: &'a [String],
     /// Requested relative accuracy.
     pub rtol: f64,
     /// Output directory (default: a fresh `verify-NAME[-k]`).
@@ -116,7 +118,7 @@ fn table(report: &VerifyReport) -> String {
 
 /// Runs `stickslip verify`.
 pub fn main(a: &Args<'_>) -> ExitCode {
-    let scene = match Scene::from_path(a.scene, a.set) {
+    let scene = match Scene::from_path_unsetting(a.scene, a.unset, a.set) {
         Ok(s) => s,
         Err(e) => return crate::fail(e, Exit::BadInput),
     };

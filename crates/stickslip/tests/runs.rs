@@ -507,3 +507,48 @@ fn a_scene_without_probes_writes_no_probes_csv_and_reads_back() {
     ));
     assert!(with.path().join("probes.csv").is_file());
 }
+
+#[test]
+fn unset_turns_a_spring_scene_rigid_and_a_wrong_name_exits_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run_scene(
+        "fig2",
+        tmp.path(),
+        &[
+            "--unset",
+            "drive.stiffness",
+            "--unset",
+            "drive.mass",
+            "--unset",
+            "drive.integrator",
+            "--set",
+            "drive.kind=rigid",
+            "--set",
+            "contact.nodes=50",
+            "--set",
+            "time.end=2e-4",
+            "--set",
+            "output.profile_times=[2e-4]",
+            "--quiet",
+        ],
+    );
+    assert_ok(&out);
+    let info = RunInfo::read(tmp.path()).unwrap();
+    assert!(
+        info.scene
+            .drive
+            .as_ref()
+            .and_then(|d| d.kind)
+            .is_some_and(|k| format!("{k:?}").to_lowercase() == "rigid"),
+        "{:?}",
+        info.scene.drive
+    );
+    let bad = run(&[
+        "check",
+        scene("fig2").to_str().unwrap(),
+        "--unset",
+        "drive.speed",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(texts(&bad).1.contains("--unset \"drive.speed\": no such scene key"));
+}
