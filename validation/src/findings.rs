@@ -299,10 +299,10 @@ fn unprinted_numbers(runs: &Runs) -> Option<String> {
     let d = &r.info.derived;
     Some(format!(
         "**Numbers the paper does not print.** fig2's first melting comes at t = {} (X = {} µm, \
-         F peak {} mN); the quasi-static estimate — the free stamp has advanced εc·h0 = {} µm — \
-         is t ≈ {} (run.json's derived critical_displacement and first_onset_estimate); the \
-         paper's figures are not in our copy of its text, so agreement is checked against its \
-         statements only.",
+         F peak {} mN), with εc·h0 = {} µm; the estimate of `check` — the linearised problem, \
+         the stamp on its spring against the contact as a linear spring — is t ≈ {} (run.json's \
+         derived critical_displacement and first_onset_estimate); the paper's figures are not \
+         in our copy of its text, so agreement is checked against its statements only.",
         fmt::time(e.t_onset_s, 4),
         fmt::sig(e.x_onset_m * 1e6, 3),
         fmt::sig(e.f_peak_n * 1e3, 4),

@@ -550,5 +550,9 @@ fn unset_turns_a_spring_scene_rigid_and_a_wrong_name_exits_2() {
         "drive.speed",
     ]);
     assert_eq!(bad.status.code(), Some(2));
-    assert!(texts(&bad).1.contains("--unset \"drive.speed\": no such scene key"));
+    assert!(
+        texts(&bad)
+            .1
+            .contains("--unset \"drive.speed\": no such scene key")
+    );
 }
