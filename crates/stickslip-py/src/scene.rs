@@ -158,7 +158,12 @@ impl PyScene {
     /// pace contradicts the estimate; probe_pace_seconds s: that pace carried to time.end;
     /// basis: how the steps were estimated, or why the time is unknown), ``resolution`` (the
     /// first event at N and 2N: nodes, first_onset_s, f_peak_first_n, relative_change, and
-    /// skipped saying why it was not compared; a change above 1 % adds a warning), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
+    /// skipped saying why it was not compared; a change above 1 % adds a warning), ``output``
+    /// (the expected size: series_rows, probes, profile_rows, bytes, and
+    /// interval_for_limit_s, the series interval that keeps it under 100 MB when it would be
+    /// larger), ``contact_spring`` (the contact as a linear spring up to the first melting:
+    /// x_melt_m, f_melt_n; ``first_onset_estimate`` puts it on the drive; None when the film
+    /// starts molten), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
     /// "key", "message"}``), ``name`` and ``scene`` (the resolved scene as a dict).
     ///
     /// Nothing is written; the probe runs with the GIL released.
@@ -189,6 +194,11 @@ impl PyScene {
             json(serde_json::to_value(&report.resolution))?,
         )?;
         d.set_item("warnings", json(serde_json::to_value(&report.warnings))?)?;
+        d.set_item("output", json(serde_json::to_value(&report.output))?)?;
+        d.set_item(
+            "contact_spring",
+            json(serde_json::to_value(report.preflight.contact_spring))?,
+        )?;
         d.set_item("scene", convert::table_to_py(py, &scene.to_table())?)?;
         Ok(d)
     }

@@ -22,3 +22,14 @@ def test_example_script_runs(tmp_path: Path) -> None:
     assert "fig2, N = 50" in done.stdout and "friction map: 4 points" in done.stdout
     if has_mpl:
         assert (tmp_path / "fig2.png").is_file() and (tmp_path / "friction_map.png").is_file()
+
+
+def test_the_experiment_walkthrough_runs(tmp_path: Path) -> None:
+    """examples/experiment.py, the script of docs/experiment.md, at its quick sizes."""
+    args = [sys.executable, str(ROOT / "examples" / "experiment.py"), "--quick"]
+    done = subprocess.run(args, capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    out = done.stdout
+    for needle in ("check: first melting expected at", "verify at N = 50: first onset",
+                   "run (undamped): 4 meltings", "run (damping", "boundary: stick_slip -> "):
+        assert needle in out, out
