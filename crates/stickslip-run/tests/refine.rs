@@ -560,3 +560,64 @@ fn a_column_splits_by_its_relative_jump() {
     assert!(rr.differ(&failed, &with(Some(0.5))));
     assert!(rr.differ(&with(Some(0.5)), &other));
 }
+
+/// The spot checks' choice (`[verify]`): an even sample in point order, and every point whose
+/// nearest point along an axis (in a refined map, the nearest that ran) has another regime.
+#[test]
+fn spot_checks_sample_evenly_and_find_every_boundary_point() {
+    use stickslip_run::sweep::spot::{Reason, SpotChecks, select};
+    // A 3 × 3 map: stick–slip in the first column of A0, partial elsewhere.
+    let sweep = resolve(&sweep_text(&format!("{VELOCITY_LOG}{A0_LINEAR}"), "")).unwrap();
+    let regime = |p: usize| {
+        if p % 3 == 0 {
+            Regime::StickSlip
+        } else {
+            Regime::Partial
+        }
+    };
+    let table = MapTable {
+        axes: sweep.axes.iter().map(|a| a.key.clone()).collect(),
+        rows: (0..9).map(|p| row(p, regime(p))).collect(),
+    };
+    let both = SpotChecks {
+        sample: None,
+        points: Some(3),
+        boundaries: true,
+    };
+    let chosen = select(&sweep, &both, &table);
+    // Boundary points: the first two columns (the third has partial neighbours only).
+    let boundary: Vec<usize> = chosen
+        .iter()
+        .filter(|(_, r)| *r != Reason::Sample)
+        .map(|(p, _)| *p)
+        .collect();
+    assert_eq!(boundary, vec![0, 1, 3, 4, 6, 7]);
+    // The sample: the middles of three equal runs of the nine points.
+    let sampled: Vec<usize> = chosen
+        .iter()
+        .filter(|(_, r)| *r != Reason::Boundary)
+        .map(|(p, _)| *p)
+        .collect();
+    assert_eq!(sampled, vec![1, 4, 7]);
+    // A refined map: only the base grid's corners ran (points 0, 2, 4 of a 5-value finest
+    // axis): the nearest point that ran is two finest steps away.
+    let refined = resolve(&sweep_text(VELOCITY_LOG, "[refine]\nlevels = 1\n")).unwrap();
+    let table = MapTable {
+        axes: refined.axes.iter().map(|a| a.key.clone()).collect(),
+        rows: vec![
+            row(0, Regime::StickSlip),
+            row(2, Regime::StickSlip),
+            row(4, Regime::Partial),
+        ],
+    };
+    let only = SpotChecks {
+        sample: None,
+        points: None,
+        boundaries: true,
+    };
+    let chosen: Vec<usize> = select(&refined, &only, &table)
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect();
+    assert_eq!(chosen, vec![2, 4]);
+}
