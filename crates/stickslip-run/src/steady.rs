@@ -67,6 +67,57 @@ impl SteadyRule {
     }
 }
 
+impl SteadyRule {
+    /// Why the last cycles of `events` do not repeat, in words (none when they do): too few
+    /// events, or how far the last cycles' periods, advances and peaks spread around the last
+    /// one against the tolerance. A film that melts many times within one slip of the stamp
+    /// (an h0 = 1 nm contact under a soft spring) has cycles of very different lengths and
+    /// never settles on this rule.
+    #[must_use]
+    pub fn why_not(&self, events: &[MeltingEvent]) -> Option<String> {
+        if self.is_steady(events) {
+            return None;
+        }
+        let cycles = usize::try_from(self.cycles).unwrap_or(usize::MAX);
+        let n = events.len();
+        if cycles == 0 || n < cycles + 1 {
+            return Some(format!(
+                "{n} meltings, and {} cycles need {} (time.steady_cycles = {})",
+                self.cycles,
+                cycles.saturating_add(1),
+                self.cycles
+            ));
+        }
+        let cycle = |k: usize| {
+            let (a, b) = (&events[k - 1], &events[k]);
+            [
+                b.t_onset_s - a.t_onset_s,
+                b.x_onset_m - a.x_onset_m,
+                b.f_peak_n,
+            ]
+        };
+        let last = cycle(n - 1);
+        let mut spread = [0.0_f64; 3];
+        for k in n - cycles..n {
+            let c = cycle(k);
+            for q in 0..3 {
+                if last[q] != 0.0 {
+                    spread[q] = spread[q].max(((c[q] - last[q]) / last[q]).abs());
+                }
+            }
+        }
+        Some(format!(
+            "the last {} cycles differ from the last one by up to {:.3} % in period, {:.3} % in \
+             the stamp's advance and {:.3} % in peak force, against time.steady_rtol = {} %",
+            self.cycles,
+            100.0 * spread[0],
+            100.0 * spread[1],
+            100.0 * spread[2],
+            100.0 * self.rtol
+        ))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::SteadyRule;
@@ -118,6 +169,11 @@ mod tests {
         near[5].2 = 3.0 * (1.0 + 0.9e-3);
         assert!(rule.is_steady(&events(&near)));
         near[5].2 = 3.0 * (1.0 + 1.1e-3);
+        let why = rule.why_not(&events(&near)).unwrap();
+        assert!(why.contains("0.110 % in peak force"), "{why}");
+        assert!(rule.why_not(&events(&regular[..4])).is_none());
+        let few = rule.why_not(&events(&regular[..2])).unwrap();
+        assert!(few.starts_with("2 meltings, and 3 cycles need 4"), "{few}");
         assert!(!rule.is_steady(&events(&near)));
     }
 }

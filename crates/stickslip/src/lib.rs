@@ -316,7 +316,20 @@ fn run(
     let result = stickslip_run::run_to_dir(&resolved, out, options, &mut control);
     bar.finish();
     match result {
-        Ok(outcome) => report(&resolved.name, out, &outcome),
+        Ok(outcome) => {
+            let code = report(&resolved.name, out, &outcome);
+            // Asked to stop once the cycles repeat, and they did not: say why.
+            if resolved.steady.stop
+                && outcome.stop == StopReason::End
+                && let Some(why) = resolved.steady.why_not(&outcome.events)
+            {
+                eprintln!(
+                    "note: time.until = \"periodic\", but the run did not settle by time.end: \
+                     {why}"
+                );
+            }
+            code
+        }
         Err(e) => run_error(&e),
     }
 }

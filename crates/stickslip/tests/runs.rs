@@ -556,3 +556,29 @@ fn unset_turns_a_spring_scene_rigid_and_a_wrong_name_exits_2() {
             .contains("--unset \"drive.speed\": no such scene key")
     );
 }
+
+#[test]
+fn a_periodic_run_that_does_not_settle_says_why() {
+    // The h0 = 1 nm contact's meltings come ever faster within its first slip: no repeat.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run_scene(
+        "sfa",
+        tmp.path(),
+        &[
+            "--set",
+            "time.until=periodic",
+            "--set",
+            "time.end=0.115",
+            "--set",
+            "output.profile_times=[]",
+            "--quiet",
+        ],
+    );
+    assert_ok(&out);
+    let stderr = texts(&out).1;
+    assert!(
+        stderr.contains("did not settle by time.end: the last 3 cycles differ")
+            && stderr.contains("in period"),
+        "{stderr}"
+    );
+}
