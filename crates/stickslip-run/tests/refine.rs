@@ -569,7 +569,7 @@ fn spot_checks_sample_evenly_and_find_every_boundary_point() {
     // A 3 × 3 map: stick–slip in the first column of A0, partial elsewhere.
     let sweep = resolve(&sweep_text(&format!("{VELOCITY_LOG}{A0_LINEAR}"), "")).unwrap();
     let regime = |p: usize| {
-        if p % 3 == 0 {
+        if p.is_multiple_of(3) {
             Regime::StickSlip
         } else {
             Regime::Partial
