@@ -197,8 +197,19 @@ def test_interrupted_pickles_with_its_result(small_result: stickslip.RunResult) 
 def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
     scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 200})
     c = scene.check()
-    assert set(c) == {"name", "verdict", "derived", "cost", "warnings", "scene", "resolution"}
+    assert set(c) == {
+        "name", "verdict", "derived", "cost", "warnings", "scene", "resolution", "output",
+        "contact_spring",
+    }
     assert c["resolution"]["nodes"] == [200, 400]
+    # fig2's output: 13 001 series marks at most, 9 probes, one profile of 200 nodes.
+    assert c["output"]["probes"] == 9 and c["output"]["profile_rows"] == 200
+    assert 0 < c["output"]["series_rows"] <= 13001 and c["output"]["interval_for_limit_s"] is None
+    # The contact spring behind the first-onset estimate: it melts at X about εc·h0 (a
+    # compliant 100 nm film), F below τmax·πa0².
+    spring = c["contact_spring"]
+    assert spring["x_melt_m"] >= c["derived"]["critical_displacement"]
+    assert 0 < spring["f_melt_n"] <= c["derived"]["melting_force"]
     assert c["resolution"]["relative_change"] < 0.01
     assert c["name"] == "fig2" and c["verdict"] == "run"
     assert c["scene"] == scene.to_dict()
