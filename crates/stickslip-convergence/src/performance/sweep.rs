@@ -92,8 +92,9 @@ impl SweepBench {
     }
 }
 
-/// The sweep file: `side` × `side` points over V0 (log) × A0 (linear) of the rigid drive.
-fn sweep_toml(scene: &Path, side: usize, nodes: usize) -> String {
+/// The sweep file: `side` × `side` points over V0 (log) × A0 (linear) of the rigid drive (P5's,
+/// and V2's with its `[verify]` table appended).
+pub(super) fn sweep_toml(scene: &Path, side: usize, nodes: usize) -> String {
     format!(
         "# P5 of cargo xtask bench: maps/rigid.toml's axes at {side} x {side} points.\n\
          name = \"bench-sweep\"\n\

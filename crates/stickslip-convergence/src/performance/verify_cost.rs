@@ -78,28 +78,10 @@ impl VerifyCost {
     }
 }
 
-/// The V2 sweep file with `verify` appended.
+/// The V2 sweep file: P5's map at [`V2_SIDE`] × [`V2_SIDE`] points, N = 50, with `verify`
+/// appended.
 fn map_toml(s: &BenchSettings, verify: &str) -> String {
-    let rigid = s.scene.with_file_name("rigid.toml");
-    format!(
-        "# V2 of cargo xtask bench: maps/rigid.toml's axes at {V2_SIDE} x {V2_SIDE} points.\n\
-         name = \"bench-verify\"\n\
-         scene = \"{}\"\n\n\
-         [set]\n\
-         \"contact.nodes\" = 50\n\
-         \"time.end\" = 2e-3\n\
-         \"time.max_events\" = 6\n\
-         \"time.max_open_event\" = 2e-5\n\
-         \"output.profile_times\" = [2e-3]\n\n\
-         [[axis]]\n\
-         key = \"drive.velocity\"\n\
-         range = {{ from = 1e-3, to = 3.0, count = {V2_SIDE}, scale = \"log\" }}\n\n\
-         [[axis]]\n\
-         key = \"temperature.A0\"\n\
-         range = {{ from = -3e5, to = 1.5e6, count = {V2_SIDE}, scale = \"linear\" }}\n\
-         {verify}",
-        rigid.display()
-    )
+    super::sweep::sweep_toml(&s.scene.with_file_name("rigid.toml"), V2_SIDE, 50) + verify
 }
 
 /// Measures V1 and V2.

@@ -176,11 +176,6 @@ impl Ctx<'_> {
         }
     }
 
-    /// Distance between two values of the key.
-    fn distance(&self, a: f64, b: f64) -> f64 {
-        (b - a).abs()
-    }
-
     /// Bisects `[a, b]` on `scene`, runs counted in `runs`.
     fn bisect_on(
         &self,
@@ -261,7 +256,7 @@ impl Ctx<'_> {
                 return Ok(Shift {
                     stage,
                     value: Some(v),
-                    moved: self.distance(v, value),
+                    moved: (v - value).abs(),
                     runs: runs(self),
                 });
             }
