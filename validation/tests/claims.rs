@@ -83,6 +83,7 @@ fn run(onsets: &[f64], xs: &[f64]) -> RunOutput {
                 .map(|(k, (&t, &x))| event(k + 1, t, x))
                 .collect(),
         ),
+        slips: stickslip_run::schema::slips::Slips::default(),
         profiles: Profiles::default(),
         probes: Probes::new(&[]),
         info: info(),

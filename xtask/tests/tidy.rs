@@ -138,7 +138,7 @@ fn the_driver_knows_no_files_and_checkpoints_know_no_sink() {
     }
     for path in [
         "crates/stickslip-run/src/checkpoint.rs",
-        "crates/stickslip-run/src/checkpoint/format2.rs",
+        "crates/stickslip-run/src/checkpoint/format3.rs",
     ] {
         assert!(
             !code(path).contains("crate::sink"),

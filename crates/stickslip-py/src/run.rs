@@ -37,6 +37,7 @@ fn output_dict(py: Python<'_>, output: RunOutput) -> PyResult<Bound<'_, PyDict>>
     let RunOutput {
         series,
         events,
+        slips,
         profiles,
         probes,
         info,
@@ -54,6 +55,16 @@ fn output_dict(py: Python<'_>, output: RunOutput) -> PyResult<Bound<'_, PyDict>>
         ev.set_item(name, col.into_pyarray(py))?;
     }
     d.set_item("events", ev)?;
+    let sl = PyDict::new(py);
+    for (name, col) in slips.columns() {
+        if matches!(name, "k" | "meltings") {
+            let counts: Vec<i64> = col.iter().map(|&v| v as i64).collect();
+            sl.set_item(name, PyArray1::from_vec(py, counts))?;
+        } else {
+            sl.set_item(name, col.into_pyarray(py))?;
+        }
+    }
+    d.set_item("slips", sl)?;
     d.set_item("profiles", columns(py, profiles.into_columns())?)?;
     d.set_item("probes", columns(py, probes.into_columns())?)?;
     d.set_item("stop", info.stop.clone())?;

@@ -149,6 +149,29 @@ fn table_dict<'py>(
         stickslip_run::sweep::map::LEVEL_COLUMN,
         PyArray1::from_vec(py, level),
     )?;
+    d.set_item(
+        "stamp_regime",
+        words(
+            py,
+            rows.iter().map(|r| {
+                r.summary
+                    .stamp_regime
+                    .map_or("", stickslip_run::cycles::StampRegime::name)
+                    .to_string()
+            }),
+        ),
+    )?;
+    let n_slips: Vec<i64> = rows
+        .iter()
+        .map(|r| i64::try_from(r.summary.n_slips).unwrap_or(i64::MAX))
+        .collect();
+    d.set_item("n_slips", PyArray1::from_vec(py, n_slips))?;
+    for name in ["slip_interval_median", "melting_interval_median"] {
+        d.set_item(
+            name,
+            floats(py, rows.iter().map(|r| r.number(name)).collect()),
+        )?;
+    }
     Ok(d)
 }
 

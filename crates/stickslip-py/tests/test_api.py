@@ -123,6 +123,34 @@ def test_run_result_tables(small_result: stickslip.RunResult) -> None:
     assert "regime transient" in repr(r)
 
 
+def test_slips_and_the_stamps_scale(small_result: stickslip.RunResult) -> None:
+    # fig2's film under the rigid drive, whose force is F: every melting is a slip.
+    fig2 = stickslip.Scene.load(SCENES / "fig2.toml").to_dict(resolved=False)
+    fig2["drive"] = {"kind": "rigid", "velocity": 1.0}
+    r = stickslip.run(
+        stickslip.Scene.from_dict(fig2),
+        overrides={**SMALL, "time.end": 2e-5, "output.profile_times": [2e-5]},
+    )
+    s = r.slips
+    assert list(s) == [
+        "k", "t_start", "t_end", "f_start", "f_end", "drop", "x_start", "x_end", "jump",
+        "duration", "meltings",
+    ]
+    assert s["k"].dtype == np.int64 and s["meltings"].dtype == np.int64
+    assert len(s["k"]) == r.summary["n_slips"] >= 20
+    assert np.array_equal(s["drop"], s["f_start"] - s["f_end"])
+    assert r.summary["stamp_regime"] == "stick_slip"
+    cycles = r.summary["cycles"]
+    assert set(cycles) == {"settled_from", "slip_drop", "meltings", "slips"}
+    for scale in ("meltings", "slips"):
+        assert set(cycles[scale]) == {"count", "interval", "peak", "drop", "advance", "f_mean"}
+        assert set(cycles[scale]["interval"]) == {"n", "median", "mean", "min", "max", "cv"}
+    assert r.run_info["columns"]["slips.csv"]["jump"] == "m"
+    # fig2 on its spring is inertial: the spring's force only grows within 0.7 ms.
+    assert len(small_result.slips["k"]) == 0
+    assert small_result.summary["stamp_regime"] == "creep"
+
+
 def test_run_accepts_paths_dicts_and_overrides(fig2_path: Path) -> None:
     a = stickslip.run(str(fig2_path), overrides=SMALL)
     b = stickslip.run(stickslip.Scene.load(fig2_path).to_dict(resolved=False), overrides=SMALL)
@@ -138,7 +166,7 @@ def test_to_pandas(small_result: stickslip.RunResult, monkeypatch: pytest.Monkey
         pd = None
     if pd is not None:
         frames = small_result.to_pandas()
-        assert set(frames) == {"series", "events", "profiles", "probes"}
+        assert set(frames) == {"series", "events", "slips", "profiles", "probes"}
         df = small_result.to_pandas("series")
         assert list(df.columns) == list(small_result.series)
         assert np.array_equal(df["F"].to_numpy(), small_result.series["F"])

@@ -21,8 +21,8 @@ import pytest
 import stickslip
 from conftest import HARD, SCENES, read_csv, same_bits
 
-OUTPUTS = ("series.csv", "events.csv", "profiles.csv", "probes.csv")
-TABLES = ("series", "events", "profiles", "probes")
+OUTPUTS = ("series.csv", "events.csv", "slips.csv", "profiles.csv", "probes.csv")
+TABLES = ("series", "events", "slips", "profiles", "probes")
 
 # fig2 at N = 1000: about 0.5 s, ten events, profiles and probes.
 LONG = {
@@ -145,7 +145,7 @@ def as_another_build(checkpoint: Path, build: bytes = b"0123456789abcdef") -> No
     header line, the payload's length and FNV-1a checksum (little-endian u64), then the CBOR
     payload, whose first key is the text "build" followed by the 16-character identity."""
     data = checkpoint.read_bytes()
-    header = b"stickslip checkpoint 2\n"
+    header = b"stickslip checkpoint 3\n"
     assert data.startswith(header)
     payload = bytearray(data[len(header) + 16 :])
     key = b"\x65build\x70"  # text(5) "build", then a text(16)

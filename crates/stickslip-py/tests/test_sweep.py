@@ -35,6 +35,7 @@ COLUMNS = [
     "point", "drive.velocity", "temperature.A0", "status", "regime", "n_events",
     "t_first_onset", "period_last", "x_period_last", "f_peak_first", "f_peak_last", "f_mean",
     "recovery", "melted_time_fraction", "wall_s", "message", "steady", "level",
+    "stamp_regime", "n_slips", "slip_interval_median", "melting_interval_median",
 ]
 
 
@@ -78,6 +79,12 @@ def test_columns_and_types(table: dict) -> None:
     for name in ("t_first_onset", "f_mean", "wall_s"):
         assert table[name].dtype == np.float64
     assert all(isinstance(m, str) for m in table["message"])
+    assert table["n_slips"].dtype == np.int64
+    assert set(table["stamp_regime"]) <= {"stick_slip", "steady_sliding", "creep", "transient"}
+    # A0 < 0: a liquid film under the rigid drive, F = 0 throughout: no slip, steady sliding.
+    assert table["stamp_regime"][0] == "steady_sliding" and table["n_slips"][0] == 0
+    for name in ("slip_interval_median", "melting_interval_median"):
+        assert table[name].dtype == np.float64
 
 
 def test_same_numbers_as_the_cli(table: dict, sweep_file: Path, cli: Path, tmp_path: Path) -> None:
@@ -92,12 +99,12 @@ def test_same_numbers_as_the_cli(table: dict, sweep_file: Path, cli: Path, tmp_p
     rows = [line.split(",") for line in text[1:]]
     for j, name in enumerate(COLUMNS):
         cells = [r[j] for r in rows]
-        if name in ("status", "regime", "message"):
+        if name in ("status", "regime", "message", "stamp_regime"):
             assert list(table[name]) == cells, name
         elif name == "steady":
             assert table[name].dtype == np.bool_
             assert [str(v).lower() for v in table[name]] == cells, name
-        elif name == "level":
+        elif name in ("level", "n_slips"):
             assert table[name].dtype == np.int64
             assert [str(v) for v in table[name]] == cells, name
         elif name != "wall_s":

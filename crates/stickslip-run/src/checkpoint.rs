@@ -4,19 +4,19 @@
 //!
 //! ## What is saved
 //! `DIR/checkpoint.cbor`, written atomically (temporary file, fsync, rename): the header line
-//! `stickslip checkpoint 2\n` (the format's version), the payload length and its FNV-1a
+//! `stickslip checkpoint 3\n` (the format's version), the payload length and its FNV-1a
 //! checksum (two little-endian u64), then the payload in CBOR. CBOR stores every f64 with its
 //! exact bits (±inf included, which the event tracker holds), which JSON or TOML would not
-//! guarantee. The payload is this module's own type, format 2 (`checkpoint/format2.rs`),
+//! guarantee. The payload is this module's own type, format 3 (`checkpoint/format3.rs`),
 //! mapped field by field to and from the types it saves: the build identity of the numerics
 //! that wrote it ([`BUILD_ID`]), the resolved scene, typed (so resume needs no scene file and
 //! resolves nothing again), the preflight at t = 0, the engine's [`SimState`] part by part
 //! (physical state, stepper and controller memory, counters, events; noise generator positions
 //! included), the driver's [`DriverState`] (loop index, recording marks, step schedule, wall
-//! time so far), the length and checksum of each streamed file, and the earlier resumes of the
+//! time so far, the slip tracker), the length and checksum of each streamed file, and the earlier resumes of the
 //! run across builds. Every field must be there: nothing is filled in by default, and a file of
 //! another format version (format 1, before the state was split into its parts and bound to
-//! the build) is refused as such.
+//! the build; format 2, before the driver followed the stamp's slips) is refused as such.
 //!
 //! ## Bound to the build
 //! Another build of the numerics (other sources, compiler or target) may take other steps, so
@@ -63,7 +63,7 @@ use stickslip_core::preflight::Preflight;
 use stickslip_core::sim::SimState;
 use thiserror::Error;
 
-mod format2;
+mod format3;
 
 /// File name of the checkpoint in the output directory.
 pub const FILE_NAME: &str = "checkpoint.cbor";
@@ -71,11 +71,11 @@ pub const FILE_NAME: &str = "checkpoint.cbor";
 /// much work, and the checkpoint's cost (a few fsyncs) stays far below it.
 pub const DEFAULT_EVERY_S: f64 = 2.0;
 /// The format version this build writes and reads.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
 /// First bytes of every checkpoint file, followed by the format version and a newline.
 const HEADER: &[u8] = b"stickslip checkpoint ";
 /// First bytes of a checkpoint file of this format.
-const MAGIC: &[u8] = b"stickslip checkpoint 2\n";
+const MAGIC: &[u8] = b"stickslip checkpoint 3\n";
 /// Largest checkpoint read, bytes: far above a real one (the state of 20000 nodes is about
 /// 2 MB; a million events about 200 MB), so that no file makes `resume` exhaust memory.
 pub const MAX_BYTES: u64 = 4 << 30;
@@ -91,7 +91,7 @@ pub struct StreamPositions {
     pub profiles: StreamPosition,
 }
 
-/// Everything a resumed run needs, in memory (the file holds it as format 2, see the module
+/// Everything a resumed run needs, in memory (the file holds it as format 3, see the module
 /// docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Checkpoint<'a> {
@@ -123,7 +123,7 @@ impl Checkpoint<'_> {
     /// If the payload cannot be encoded.
     pub fn encode(&self) -> io::Result<Vec<u8>> {
         let mut payload = Vec::new();
-        ciborium::into_writer(&format2::Payload::from(self), &mut payload)
+        ciborium::into_writer(&format3::Payload::from(self), &mut payload)
             .map_err(io::Error::other)?;
         let mut bytes = Vec::with_capacity(MAGIC.len() + 16 + payload.len());
         bytes.extend_from_slice(MAGIC);
@@ -165,7 +165,7 @@ impl Checkpoint<'_> {
                 "payload checksum {found:016x} differs from the recorded {sum:016x} (damaged)"
             ));
         }
-        ciborium::from_reader::<format2::Payload<'static>, _>(payload)
+        ciborium::from_reader::<format3::Payload<'static>, _>(payload)
             .map(Checkpoint::from)
             .map_err(|e| format!("cannot decode the payload: {e}"))
     }
@@ -460,6 +460,19 @@ mod tests {
                     steps: 10,
                 },
                 wall_before_s: 1.5,
+                slips: {
+                    let mut slips = crate::slips::SlipTracker::new(1e-4, 1.0);
+                    for (t, f) in [(0.0, 0.0), (0.1, 3e-4), (0.2, 0.0), (0.3, 5e-4)] {
+                        let now = crate::slips::Moment {
+                            t_s: t,
+                            f_n: f,
+                            x_m: -t,
+                        };
+                        slips.observe(now, f, &[]);
+                    }
+                    assert_eq!(slips.slips.len(), 1);
+                    slips
+                },
             }),
             streams: StreamPositions {
                 series: StreamPosition::START,
@@ -538,7 +551,15 @@ mod tests {
         assert!(
             Checkpoint::decode(&old)
                 .unwrap_err()
-                .contains("checkpoint format 1, this build reads 2")
+                .contains("checkpoint format 1, this build reads 3")
+        );
+        // Format 2 (before the driver followed the stamp's slips): refused as such.
+        let mut two = b"stickslip checkpoint 2\n".to_vec();
+        two.extend_from_slice(&sample().encode().unwrap()[MAGIC.len()..]);
+        assert!(
+            Checkpoint::decode(&two)
+                .unwrap_err()
+                .contains("checkpoint format 2, this build reads 3")
         );
         assert_eq!(format_of(&sample().encode().unwrap()), None);
         assert_eq!(format_of(b"not a checkpoint"), None);

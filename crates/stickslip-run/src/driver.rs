@@ -21,15 +21,18 @@
 //! by the checkpoint module), and the loop is keyed on them, not on the wall clock: a run
 //! restored from a [`Snapshot`] goes on bit-identically.
 
+use crate::cycles::summarize_stamp;
 use crate::outcome::{RunOutcome, StepCounts, StopReason};
 use crate::scene::{ResolvedScene, step_count};
 use crate::schema::probes::ProbeRow;
+use crate::slips::{Moment, SlipTracker};
 use crate::summary::{RegimeThresholds, SummaryInput, summarize};
 use serde::{Deserialize, Serialize};
 use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use stickslip_core::config::ConfigError;
+use stickslip_core::drive::Drive;
 use stickslip_core::preflight::{Finding, Preflight, Severity};
 use stickslip_core::sim::{NumericalFailure, Observables, SimState, Simulation};
 
@@ -132,6 +135,8 @@ pub struct DriverState {
     pub schedule: FixedSchedule,
     /// Wall-clock time spent in the loop by earlier processes of this run, s.
     pub wall_before_s: f64,
+    /// The stamp's slips, followed step by step.
+    pub slips: SlipTracker,
 }
 
 /// Everything needed to carry a run on, borrowed from the driver.
@@ -177,11 +182,20 @@ impl Snapshot<'_> {
             },
             thresholds,
         );
-        summary.steady = self.scene.steady.is_steady(&events);
+        let tracker = &self.driver.slips;
+        let v0 = self.scene.config.drive.velocity_m_per_s();
+        let stamp = summarize_stamp(tracker, &events, t_final_s, v0);
+        summary.steady = self.scene.steady.is_steady(&events)
+            || self.scene.steady.is_steady_slips(&tracker.slips);
+        summary.n_slips = stamp.n_slips;
+        summary.stamp_regime = Some(stamp.stamp_regime);
+        summary.cycles = Some(stamp.cycles);
+        let slips = tracker.all_slips(&events);
         RunOutcome {
             stop,
             failure,
             events,
+            slips,
             summary,
             counts: StepCounts {
                 steps: state.counters.step,
@@ -329,8 +343,13 @@ impl Driver {
                 },
                 schedule,
                 wall_before_s: 0.0,
+                slips: SlipTracker::new(
+                    scene.output.slip_drop_n(&scene.config),
+                    scene.config.time.end_s,
+                ),
             },
         );
+        driver.observe_slips();
         driver.failure = failure;
         sink.begin(&RunStart {
             scene: &driver.scene,
@@ -463,6 +482,24 @@ impl Driver {
         }
     }
 
+    /// Hands the state after a step (or at t = 0) to the slip tracker: the drive force is the
+    /// spring's K·(V0·t − X), or F under the rigid drive.
+    fn observe_slips(&mut self) {
+        let s = &self.sim.state().physical;
+        let f_drive = match &self.scene.config.drive {
+            Drive::Spring(sp) => {
+                sp.stiffness_n_per_m * (sp.velocity_m_per_s * s.drive.t_s - s.drive.x_m)
+            }
+            Drive::Rigid(_) => s.force_n,
+        };
+        let now = Moment {
+            t_s: s.drive.t_s,
+            f_n: f_drive,
+            x_m: s.drive.x_m,
+        };
+        self.state.slips.observe(now, s.force_n, self.sim.events());
+    }
+
     fn adaptive(&self) -> bool {
         self.scene.config.time.adaptive.is_some()
     }
@@ -554,6 +591,7 @@ impl Driver {
             let i = self.state.loop_index + 1;
             let t = self.sim.time_s();
             let ended_before = self.sim.state().events.tracker.ended();
+            let slips_before = self.state.slips.slips.len();
             let stepped = if adaptive {
                 if t >= end {
                     return Ok(Some(StopReason::End));
@@ -574,6 +612,7 @@ impl Driver {
                 self.failure = Some(f);
                 return Ok(Some(StopReason::Failure));
             }
+            self.observe_slips();
             if let Some(observe) = control.observer.as_mut() {
                 observe(&self.sim);
             }
@@ -587,10 +626,12 @@ impl Driver {
             if self.scene.max_events.is_some_and(|m| ended as u64 >= m) {
                 return Ok(Some(StopReason::MaxEvents));
             }
-            // Periodic: checked when an event has just ended, so the last cycle is whole.
+            // Periodic: checked when an event or a slip has just ended, so the last cycle is
+            // whole; on the film's scale (meltings repeat) or on the stamp's (slips repeat).
+            let slips = &self.state.slips.slips;
             if self.scene.steady.stop
-                && ended > ended_before
-                && self.scene.steady.is_steady(self.sim.events())
+                && ((ended > ended_before && self.scene.steady.is_steady(self.sim.events()))
+                    || (slips.len() > slips_before && self.scene.steady.is_steady_slips(slips)))
             {
                 return Ok(Some(StopReason::Periodic));
             }

@@ -109,6 +109,8 @@ pub struct RunOutcome {
     pub failure: Option<NumericalFailure>,
     /// Melting events.
     pub events: Vec<MeltingEvent>,
+    /// Slips of the stamp that ended.
+    pub slips: Vec<crate::slips::Slip>,
     /// Summary and regime (docs/model.md#regimes-and-friction-maps).
     pub summary: RunSummary,
     /// Step counters.
@@ -151,7 +153,50 @@ impl RunOutcome {
         ) {
             parts.push(format!("peak force {:.4e} … {:.4e} N", lo, hi));
         }
-        parts.join(", ")
+        let mut line = parts.join(", ");
+        if let Some(regime) = s.stamp_regime {
+            // The stamp's scale: its slips, the largest of them, its regime, and how often the
+            // film melts and the stamp slips once settled.
+            let n = s.n_slips;
+            line.push_str(&format!(
+                "; stamp: {n} slip{}",
+                if n == 1 { "" } else { "s" }
+            ));
+            if let Some(big) = self
+                .slips
+                .iter()
+                .max_by(|a, b| a.drop_n().total_cmp(&b.drop_n()))
+            {
+                line.push_str(&format!(
+                    " (the largest: drop {:.4e} N, jump {:.4e} m, {} melting{})",
+                    big.drop_n(),
+                    big.jump_m(),
+                    big.meltings,
+                    if big.meltings == 1 { "" } else { "s" }
+                ));
+            }
+            line.push_str(&format!(", stamp regime {}", regime.name()));
+            if let Some(c) = &s.cycles {
+                let every = |stats: &crate::cycles::CycleStats, what: &str| {
+                    stats
+                        .interval_s
+                        .map(|i| format!("{what} every {} (median)", us(i.median)))
+                };
+                let settled: Vec<String> =
+                    [every(&c.slips, "slips"), every(&c.meltings, "meltings")]
+                        .into_iter()
+                        .flatten()
+                        .collect();
+                if !settled.is_empty() {
+                    line.push_str(&format!(
+                        "; settled from {}: {}",
+                        us(c.settled_from_s),
+                        settled.join(", ")
+                    ));
+                }
+            }
+        }
+        line
     }
 }
 

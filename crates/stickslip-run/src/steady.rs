@@ -6,6 +6,7 @@
 //! steady when each of the last `cycles` cycles agrees with the last one in all three within
 //! `rtol` (relative). A run with fewer than `cycles` + 1 events is not steady.
 
+use crate::slips::Slip;
 use serde::{Deserialize, Serialize};
 use stickslip_core::sim::events::MeltingEvent;
 
@@ -41,22 +42,43 @@ impl Default for SteadyRule {
     }
 }
 
+/// The start of a cycle: time, stamp position, and the peak force that ends the cycle
+/// before it.
+fn mark_of_event(e: &MeltingEvent) -> (f64, f64, f64) {
+    (e.t_onset_s, e.x_onset_m, e.f_peak_n)
+}
+
+/// The start of a slip cycle: the slip's start, the stamp there, the drive force's peak.
+fn mark_of_slip(s: &Slip) -> (f64, f64, f64) {
+    (s.t_start_s, s.x_start_m, s.f_start_n)
+}
+
 impl SteadyRule {
     /// Whether the last cycles of `events` repeat.
     #[must_use]
     pub fn is_steady(&self, events: &[MeltingEvent]) -> bool {
+        let marks: Vec<_> = events.iter().map(mark_of_event).collect();
+        self.marks_repeat(&marks)
+    }
+
+    /// Whether the last slip cycles repeat (slip k − 1 to slip k: the time and the stamp's
+    /// advance between their starts, and slip k's peak), by the same rule: the stamp's scale
+    /// of `time.until = "periodic"`.
+    #[must_use]
+    pub fn is_steady_slips(&self, slips: &[Slip]) -> bool {
+        let marks: Vec<_> = slips.iter().map(mark_of_slip).collect();
+        self.marks_repeat(&marks)
+    }
+
+    fn marks_repeat(&self, marks: &[(f64, f64, f64)]) -> bool {
         let cycles = usize::try_from(self.cycles).unwrap_or(usize::MAX);
-        let n = events.len();
+        let n = marks.len();
         if cycles == 0 || n < cycles + 1 {
             return false;
         }
         let cycle = |k: usize| {
-            let (a, b) = (&events[k - 1], &events[k]);
-            (
-                b.t_onset_s - a.t_onset_s,
-                b.x_onset_m - a.x_onset_m,
-                b.f_peak_n,
-            )
+            let (a, b) = (marks[k - 1], marks[k]);
+            (b.0 - a.0, b.1 - a.1, b.2)
         };
         let last = cycle(n - 1);
         let close = |x: f64, y: f64| (x - y).abs() <= self.rtol * y.abs();
@@ -121,6 +143,33 @@ impl SteadyRule {
 #[cfg(test)]
 mod tests {
     use super::SteadyRule;
+    use crate::slips::Slip;
+
+    #[test]
+    fn repeating_slips_are_steady_on_the_stamps_scale() {
+        let slip = |k: usize, t: f64, f: f64| Slip {
+            k,
+            t_start_s: t,
+            t_end_s: t + 0.1,
+            f_start_n: f,
+            f_end_n: 0.0,
+            x_start_m: 2.0 * t,
+            x_end_m: 2.0 * t + 0.1,
+            meltings: 78,
+        };
+        let rule = SteadyRule::default();
+        let regular: Vec<Slip> = (0..4)
+            .map(|k| slip(k + 1, f64::from(k as u8), 3.0))
+            .collect();
+        assert!(rule.is_steady_slips(&regular));
+        assert!(
+            !rule.is_steady_slips(&regular[..3]),
+            "3 cycles need 4 slips"
+        );
+        let mut drifting = regular.clone();
+        drifting[3].f_start_n = 3.0 * (1.0 + 1.1e-3);
+        assert!(!rule.is_steady_slips(&drifting));
+    }
     use stickslip_core::sim::events::MeltingEvent;
 
     fn events(onsets: &[(f64, f64, f64)]) -> Vec<MeltingEvent> {

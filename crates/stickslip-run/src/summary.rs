@@ -166,6 +166,38 @@ pub struct RunSummary {
     /// end.
     #[serde(default)]
     pub steady: bool,
+    /// Slips of the stamp that ended within the run (docs/model.md#two-scales-meltings-and-slips).
+    #[serde(default)]
+    pub n_slips: usize,
+    /// The stamp-scale regime (none in files written before it existed).
+    #[serde(default)]
+    pub stamp_regime: Option<crate::cycles::StampRegime>,
+    /// Cycle statistics of meltings and of slips over the settled part.
+    #[serde(default)]
+    pub cycles: Option<crate::cycles::Cycles>,
+}
+
+impl RunSummary {
+    /// A summary of `regime` without numbers (a point refused before it ran; tests).
+    #[must_use]
+    pub fn without_numbers(regime: Regime) -> Self {
+        Self {
+            n_events: 0,
+            t_first_onset: None,
+            period_last: None,
+            x_period_last: None,
+            f_peak_first: None,
+            f_peak_last: None,
+            f_mean: None,
+            recovery: None,
+            melted_time_fraction: None,
+            regime,
+            steady: false,
+            n_slips: 0,
+            stamp_regime: None,
+            cycles: None,
+        }
+    }
 }
 
 /// What [`summarize`] needs from a run.
@@ -231,6 +263,9 @@ pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary 
         melted_time_fraction,
         regime,
         steady: false,
+        n_slips: 0,
+        stamp_regime: None,
+        cycles: None,
     }
 }
 

@@ -16,4 +16,5 @@ mod scene_fuzz;
 mod scene_resolution;
 mod schema;
 mod sim;
+mod slips;
 mod steady;

@@ -126,6 +126,7 @@ profile_times = [1.0]
 probe_radii = [1.0]
 event_merge_gap = 1.0
 event_recovery = 1.0
+slip_drop = 0.5
 series_interval = 1.0
 [numerics]
 coupling_tol = 1.0

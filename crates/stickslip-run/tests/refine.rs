@@ -7,6 +7,7 @@ use crate::common;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
+use stickslip_run::cycles::StampRegime;
 use stickslip_run::summary::Regime;
 use stickslip_run::sweep::exec::{self, Merge, SweepOptions};
 use stickslip_run::sweep::map::{MapRow, MapTable};
@@ -40,22 +41,12 @@ fn row(p: usize, regime: Regime) -> MapRow {
         point: p,
         values: Vec::new(),
         status: PointStatus::Ok,
-        summary: stickslip_run::summary::RunSummary {
-            n_events: 0,
-            t_first_onset: None,
-            period_last: None,
-            x_period_last: None,
-            f_peak_first: None,
-            f_peak_last: None,
-            f_mean: None,
-            recovery: None,
-            melted_time_fraction: None,
-            regime,
-            steady: false,
-        },
+        summary: stickslip_run::summary::RunSummary::without_numbers(regime),
         wall_s: 0.0,
         message: String::new(),
         level: 0,
+        slip_interval_median: None,
+        melting_interval_median: None,
     }
 }
 
@@ -494,6 +485,17 @@ fn bad_refine_tables_name_the_key() {
     assert_eq!(zero.points, 9);
 }
 
+/// `text` without its last `n` columns.
+fn cut_columns(text: &str, n: usize) -> String {
+    text.lines()
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            c[..c.len() - n].join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 #[test]
 fn map_csv_without_level_or_steady_still_reads() {
     let table = MapTable {
@@ -502,24 +504,34 @@ fn map_csv_without_level_or_steady_still_reads() {
             let mut r = row(4, Regime::StickSlip);
             r.values = vec!["1e-2".into()];
             r.level = 2;
+            r.summary.n_slips = 3;
+            r.summary.stamp_regime = Some(StampRegime::SteadySliding);
+            r.slip_interval_median = Some(0.25);
+            r.melting_interval_median = Some(4.5e-3);
             r
         }],
     };
     let text = table.to_csv();
-    assert!(text.lines().next().unwrap().ends_with(",steady,level"));
+    assert!(text.lines().next().unwrap().ends_with(
+        ",steady,level,stamp_regime,n_slips,slip_interval_median,melting_interval_median"
+    ));
     assert_eq!(MapTable::parse(&text).unwrap(), table);
-    // Without `level` (written before refinement), and without `steady` either.
-    let cut = |t: &str, n: usize| -> String {
-        t.lines()
-            .map(|l| {
-                let c: Vec<&str> = l.split(',').collect();
-                c[..c.len() - n].join(",")
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
-    };
+    assert_eq!(
+        MapTable::parse(&text).unwrap().rows[0].number("n_slips"),
+        3.0
+    );
+    // Without the stamp's columns (written before slips), then without `level` (before
+    // refinement), and without `steady` either.
+    let before_slips = MapTable::parse(&cut_columns(&text, 4)).unwrap();
+    let r = &before_slips.rows[0];
+    assert_eq!(
+        (r.level, r.summary.n_slips, r.summary.stamp_regime),
+        (2, 0, None)
+    );
+    assert_eq!(r.slip_interval_median, None);
+    let text = cut_columns(&text, 4);
     for n in [1, 2] {
-        let old = MapTable::parse(&cut(&text, n)).unwrap();
+        let old = MapTable::parse(&cut_columns(&text, n)).unwrap();
         assert_eq!(old.rows[0].level, 0);
         assert_eq!(old.rows[0].summary.regime, Regime::StickSlip);
     }

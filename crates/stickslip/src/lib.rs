@@ -47,6 +47,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 use stickslip_core::preflight::{Finding, Severity};
 use stickslip_run::checkpoint::CheckpointError;
+use stickslip_run::cycles::StampRegime;
 use stickslip_run::exit::Exit;
 use stickslip_run::sink::dir::DEFAULT_CHECKPOINT_EVERY_S;
 use stickslip_run::{DirOptions, ResumeOptions, RunError, RunOutcome, Scene, StopReason};
@@ -323,9 +324,25 @@ fn run(
                 && outcome.stop == StopReason::End
                 && let Some(why) = resolved.steady.why_not(&outcome.events)
             {
+                // The stamp's scale: slips that do not repeat either, or none to repeat.
+                let s = &outcome.summary;
+                let stamp = match s.stamp_regime {
+                    Some(StampRegime::SteadySliding) => format!(
+                        "; on the stamp's scale it slides steadily (stamp regime steady_sliding \
+                         after {} slips): no slips to repeat",
+                        s.n_slips
+                    ),
+                    Some(regime) => format!(
+                        "; nor do the stamp's slips repeat ({} slip{}, stamp regime {})",
+                        s.n_slips,
+                        if s.n_slips == 1 { "" } else { "s" },
+                        regime.name()
+                    ),
+                    None => String::new(),
+                };
                 eprintln!(
                     "note: time.until = \"periodic\", but the run did not settle by time.end: \
-                     {why}"
+                     {why}{stamp}"
                 );
             }
             code

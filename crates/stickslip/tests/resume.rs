@@ -372,7 +372,7 @@ fn damaged_checkpoint_or_partial_output_exits_2() {
     assert_refused(
         &old,
         &format!(
-            "{} is a checkpoint of format 1, and this build resumes format 2 only",
+            "{} is a checkpoint of format 1, and this build resumes format 3 only",
             checkpoint(&old).display()
         ),
     );

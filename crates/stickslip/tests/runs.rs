@@ -578,7 +578,8 @@ fn a_periodic_run_that_does_not_settle_says_why() {
     let stderr = texts(&out).1;
     assert!(
         stderr.contains("did not settle by time.end: the last 3 cycles differ")
-            && stderr.contains("in period"),
+            && stderr.contains("in period")
+            && stderr.contains("nor do the stamp's slips repeat (1 slip, stamp regime transient)"),
         "{stderr}"
     );
 }

@@ -22,37 +22,50 @@ def _pandas(who: str, instead: str) -> Any:
         ) from e
     return pandas
 
-TABLES = ("series", "events", "profiles", "probes")
+TABLES = ("series", "events", "slips", "profiles", "probes")
 
 
 class RunResult:
-    """The output of one run: the tables of series.csv, events.csv, profiles.csv and
-    probes.csv as ``dict[str, numpy.ndarray]`` (the CSV columns under the same names, in
-    file order, float64; ``events["k"]`` int64; an empty CSV cell is NaN) and run.json as
+    """The output of one run: the tables of series.csv, events.csv, slips.csv, profiles.csv
+    and probes.csv as ``dict[str, numpy.ndarray]`` (the CSV columns under the same names, in
+    file order, float64; ``events["k"]``, ``slips["k"]`` and ``slips["meltings"]`` int64; an
+    empty CSV cell is NaN) and run.json as
     ``summary`` plus ``run_info``. The numbers are the command line's, bit for bit.
 
     Units (run_info["columns"] has them all): ``series``: t s, X m, V m/s, F N, phi_mean –,
     eps_mean –, melted_fraction –, F_1d N. ``events``: k –, t_onset s, r_first m, x_onset m,
     f_peak N, r_min m, t_center s, t_end s, max_melted_fraction –, recovery –, f_mean N,
-    melted_area –.
+    melted_area –. ``slips`` (one row per slip of the stamp): k –, t_start s, t_end s,
+    f_start N, f_end N, drop N, x_start m, x_end m, jump m, duration s, meltings –.
     ``profiles``: t s, r m, phi –, eps –, tau Pa, u0 m, u3d m (one block of rows per
     profile time). ``probes``: t s, ``phi@<r>`` –, ``t_melt@<r>`` s (r in m as ``{:e}``).
 
     Attributes:
-        series, events, profiles, probes: the tables.
+        series, events, slips, profiles, probes: the tables.
         summary: run.json's ``summary`` (n_events, t_first_onset s, period_last s,
             x_period_last m, f_peak_first N, f_peak_last N, f_mean N, recovery,
-            melted_time_fraction, regime); None values where the run has none.
+            melted_time_fraction, regime, steady, n_slips, stamp_regime, cycles: the
+            settled part's statistics of meltings and of slips); None values where the
+            run has none.
         run_info: the rest of run.json (name, status, failure, stop, version, scene as
             resolved, derived, warnings, steps, accepted_steps, rejected_steps, forced_steps,
             t_final, wall_seconds, coupling_iterations, seed, events, series_rows, columns).
     """
 
-    __slots__ = ("series", "events", "profiles", "probes", "summary", "run_info")
+    __slots__ = (
+        "series",
+        "events",
+        "slips",
+        "profiles",
+        "probes",
+        "summary",
+        "run_info",
+    )
 
     def __init__(self, parts: Dict[str, Any]) -> None:
         self.series: Columns = parts["series"]
         self.events: Columns = parts["events"]
+        self.slips: Columns = parts["slips"]
         self.profiles: Columns = parts["profiles"]
         self.probes: Columns = parts["probes"]
         self.summary: Optional[Dict[str, Any]] = parts["summary"]
@@ -83,14 +96,15 @@ class RunResult:
 
     def to_pandas(self, table: Optional[str] = None) -> Union[Any, Dict[str, Any]]:
         """The tables as pandas DataFrames: ``table`` one of ``"series"``, ``"events"``,
-        ``"profiles"``, ``"probes"`` gives that one; without it, a dict of all four.
+        ``"slips"``, ``"profiles"``, ``"probes"`` gives that one; without it, a dict of all
+        five.
 
         Raises ImportError if pandas is not installed (it is optional:
         ``pip install pandas``).
         """
         pd = _pandas(
             "RunResult.to_pandas",
-            "result.series, .events, .profiles, .probes",
+            "result.series, .events, .slips, .profiles, .probes",
         )
         if table is not None:
             if table not in TABLES:
@@ -116,7 +130,11 @@ class MapTable(Dict[str, np.ndarray]):
     (int64), ``t_first_onset`` s, ``period_last`` s, ``x_period_last`` m, ``f_peak_first``
     N, ``f_peak_last`` N, ``f_mean`` N, ``recovery``, ``melted_time_fraction``, ``wall_s`` s
     (float64, NaN for none), ``message`` (str objects), ``steady`` (bool: the point's last
-    cycles repeat), ``level`` (int64: the point's level in a refined sweep, 0 the base grid).
+    cycles repeat), ``level`` (int64: the point's level in a refined sweep, 0 the base grid),
+    ``stamp_regime`` (str objects: ``stick_slip``, ``steady_sliding``, ``creep``,
+    ``transient``; empty for a table written before it existed), ``n_slips`` (int64),
+    ``slip_interval_median`` s and ``melting_interval_median`` s (float64: the median
+    intervals over the settled part).
 
     Attributes:
         points: the number of points of the sweep (of a refined sweep: of the levels

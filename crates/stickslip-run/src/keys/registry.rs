@@ -462,6 +462,13 @@ section! {
         EVENT_RECOVERY event_recovery "event_recovery" @ bounds::EVENT_RECOVERY: f64 =
             "an event ends when every node is back above this multiple of melt_threshold (capped at halfway to √(A/a))"
             { default: Value(&2.0) }
+        SLIP_DROP slip_drop "slip_drop": f64 =
+            "a slip of the stamp: the drive's force falls by more than this fraction of tau_max·π·radius² (slips.csv, the stamp-scale regime)"
+            {
+                default: Value(&0.05),
+                range: Range::OpenClosed(0.0, 1.0),
+                since: "0.2.0",
+            }
         SERIES_INTERVAL series_interval "series_interval": f64 =
             "interval between rows of series.csv and probes.csv (rows at the first step at or after each mark)"
             {

@@ -47,9 +47,18 @@ pub struct OutputSettings {
     pub probe_radii_m: Vec<f64>,
     /// Interval between rows of series.csv and probes.csv, s (> 0).
     pub series_interval_s: f64,
+    /// A slip's drop as a fraction of τmax·πa0² (`output.slip_drop`, in (0, 1]).
+    pub slip_drop: f64,
 }
 
 impl OutputSettings {
+    /// A slip's drop of the drive force, N: `slip_drop` × τmax·πa0² of `config`.
+    #[must_use]
+    pub fn slip_drop_n(&self, config: &SimConfig) -> f64 {
+        let a0 = config.contact.radius_m;
+        self.slip_drop * config.lubricant.tau_max_pa * std::f64::consts::PI * a0 * a0
+    }
+
     /// The profile times, s, sorted and deduplicated.
     #[must_use]
     pub fn sorted_profile_times_s(&self) -> Vec<f64> {

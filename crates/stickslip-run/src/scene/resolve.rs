@@ -445,6 +445,7 @@ fn resolve_output(
         recovery_factor: output::EVENT_RECOVERY.value(o.event_recovery, so_far)?,
     };
     let series_interval = output::SERIES_INTERVAL.value(o.series_interval, so_far)?;
+    let slip_drop = output::SLIP_DROP.value(o.slip_drop, so_far)?;
     // Marks closer than end·1e-12 round onto the same time (and more than 1e12 rows is no
     // record anyone reads): a subnormal interval would run with a handful of rows.
     if series_interval < end / MAX_STEPS {
@@ -462,12 +463,14 @@ fn resolve_output(
         probe_radii: Some(probe_radii.clone()),
         event_merge_gap: Some(events.merge_gap_s),
         event_recovery: Some(events.recovery_factor),
+        slip_drop: Some(slip_drop),
         series_interval: Some(series_interval),
     };
     let settings = OutputSettings {
         profile_times_s: profile_times,
         probe_radii_m: probe_radii,
         series_interval_s: series_interval,
+        slip_drop,
     };
     Ok((settings, events, section))
 }

@@ -13,6 +13,7 @@ pub mod probes;
 pub mod profiles;
 pub mod run_info;
 pub mod series;
+pub mod slips;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -73,6 +74,8 @@ pub struct RunOutput {
     pub series: series::Series,
     /// events.csv.
     pub events: events::Events,
+    /// slips.csv (none in a directory written before slips existed).
+    pub slips: slips::Slips,
     /// profiles.csv.
     pub profiles: profiles::Profiles,
     /// probes.csv.
@@ -108,6 +111,7 @@ impl RunOutput {
         Ok(Self {
             series,
             events: events::Events::read(dir)?,
+            slips: slips::Slips::read(dir)?,
             profiles: profiles::Profiles::read(dir)?,
             probes,
             info,
@@ -125,7 +129,7 @@ pub fn markdown() -> String {
          A scene without probes (`output.probe_radii = []`) writes no probes.csv. \
          While a run goes on, run.json says `running` and series.csv, probes.csv and \
          profiles.csv grow under temporary names (`.series.csv.tmp`, …); they are renamed into \
-         place, with events.csv written, when the run ends (`ok` or `failed`). An interrupted \
+         place, with events.csv and slips.csv written, when the run ends (`ok` or `failed`). An interrupted \
          run (SIGINT/SIGTERM; Ctrl-C in Python's `stickslip.run(…, out=DIR)`) writes \
          checkpoint.cbor and publishes what it \
          wrote so far under the documented names: every row up to the interruption, and \
@@ -136,7 +140,7 @@ pub fn markdown() -> String {
          `running` and only the temporary files and the last checkpoint are there: `stickslip \
          resume DIR` finishes the run, and Python's `stickslip.load(DIR)` reads it as of its \
          last checkpoint. A checkpoint is bound to the build of the numerics that wrote it \
-         (checkpoint format 2 carries the build identity): `stickslip resume` refuses another \
+         (the checkpoint carries the build identity): `stickslip resume` refuses another \
          build's checkpoint (exit 2, naming both builds), since its numbers would differ, \
          unless `--allow-other-build` is given, and then run.json records the crossing in \
          `resumed_across_builds`.\n",
@@ -145,6 +149,7 @@ pub fn markdown() -> String {
     for (file, cols) in [
         (series::FILE, &series::COLUMNS[..]),
         (events::FILE, &events::COLUMNS[..]),
+        (slips::FILE, &slips::COLUMNS[..]),
         (profiles::FILE, &profiles::COLUMNS[..]),
         (probes::FILE, &probe[..]),
     ] {
@@ -170,7 +175,10 @@ pub fn markdown() -> String {
          `coupling_iterations`, \
          `seed`, `events`, `series_rows`, `columns` (file → column → unit), `summary` (n_events, \
          t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean, recovery, \
-         melted_time_fraction, regime, steady) and, only for a run resumed from another build's \
+         melted_time_fraction, regime, steady, n_slips, stamp_regime, and `cycles`: \
+         `settled_from`, `slip_drop` and, for `meltings` and for `slips`, `count` and \
+         `interval`, `peak`, `drop`, `advance` (each `{n, median, mean, min, max, cv}` or \
+         null) and `f_mean`) and, only for a run resumed from another build's \
          checkpoint, `resumed_across_builds` (`[{checkpoint_build, build}, …]`, one per such \
          resume).\n",
     );
@@ -189,6 +197,7 @@ pub fn column_units(probe_radii_m: &[f64]) -> BTreeMap<String, BTreeMap<String, 
     let mut out = BTreeMap::new();
     out.insert(series::FILE.to_string(), table(&series::COLUMNS));
     out.insert(events::FILE.to_string(), table(&events::COLUMNS));
+    out.insert(slips::FILE.to_string(), table(&slips::COLUMNS));
     out.insert(profiles::FILE.to_string(), table(&profiles::COLUMNS));
     out.insert(
         probes::FILE.to_string(),

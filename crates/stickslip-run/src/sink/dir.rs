@@ -26,6 +26,7 @@ use crate::schema::probes::Probes;
 use crate::schema::profiles::Profiles;
 use crate::schema::run_info::RunInfo;
 use crate::schema::series::Series;
+use crate::schema::slips::Slips;
 use crate::schema::{self};
 use std::borrow::Cow;
 use std::io;
@@ -410,6 +411,9 @@ impl Sink for DirSink {
         let mut text = Vec::new();
         Events(outcome.events.clone()).write(&mut text)?;
         write_atomic(&self.dir, schema::events::FILE, &text)?;
+        let mut text = Vec::new();
+        Slips(outcome.slips.clone()).write(&mut text)?;
+        write_atomic(&self.dir, schema::slips::FILE, &text)?;
         if let Some(info) = &mut self.info {
             info.finish(outcome);
             info.write(&self.dir)?;

@@ -8,6 +8,7 @@ use crate::schema::probes::Probes;
 use crate::schema::profiles::Profiles;
 use crate::schema::run_info::RunInfo;
 use crate::schema::series::Series;
+use crate::schema::slips::Slips;
 use std::io;
 use stickslip_core::sim::{Observables, SimState};
 
@@ -18,6 +19,7 @@ pub struct MemorySink {
     probes: Probes,
     profiles: Profiles,
     events: Events,
+    slips: Slips,
     info: Option<RunInfo>,
 }
 
@@ -35,6 +37,7 @@ impl MemorySink {
             info: self.info?,
             series: self.series,
             events: self.events,
+            slips: self.slips,
             profiles: self.profiles,
             probes: self.probes,
         })
@@ -65,6 +68,7 @@ impl Sink for MemorySink {
 
     fn end(&mut self, outcome: &RunOutcome, _snapshot: &Snapshot<'_>) -> io::Result<()> {
         self.events = Events(outcome.events.clone());
+        self.slips = Slips(outcome.slips.clone());
         if let Some(info) = &mut self.info {
             info.finish(outcome);
         }

@@ -20,6 +20,7 @@ use crate::schema::probes::Probes;
 use crate::schema::profiles::Profiles;
 use crate::schema::run_info::RunInfo;
 use crate::schema::series::Series;
+use crate::schema::slips::Slips;
 use crate::schema::{self, RunOutput, SchemaError};
 use crate::summary::RegimeThresholds;
 use std::io;
@@ -198,6 +199,7 @@ fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError>
         probes: Probes::parse(first_rows(&probes, rows))?,
         profiles: Profiles::parse(first_rows(&profiles, profile_rows))?,
         events: Events::default(),
+        slips: Slips::default(),
         info: info.clone(),
     };
     let source = match checkpoint {
@@ -225,6 +227,7 @@ fn from_temporaries(dir: &Path, mut info: RunInfo) -> Result<ReadRun, ReadError>
                 info.failure = failure;
             }
             output.events = Events(outcome.events);
+            output.slips = Slips(outcome.slips);
             output.info = info;
             Source::Checkpoint
         }

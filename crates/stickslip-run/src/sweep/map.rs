@@ -4,11 +4,14 @@
 //! Columns: `point`, one column per axis key (named by the key), `status`, `regime`,
 //! `n_events`, `t_first_onset`, `period_last`, `x_period_last`, `f_peak_first`,
 //! `f_peak_last`, `f_mean`, `recovery`, `melted_time_fraction`, `wall_s`, `message` (quoted),
-//! `steady`, `level` (the last two appended later: files without them still read).
+//! `steady`, `level`, `stamp_regime`, `n_slips`, `slip_interval_median`,
+//! `melting_interval_median` (the columns after `message` appended later, in this order:
+//! files without them still read).
 //! Numbers in shortest round-trip `{:e}` form; an empty cell is "no value".
 
 use super::record::{PointRecord, PointStatus};
 use super::{Sweep, value_text};
+use crate::cycles::StampRegime;
 use crate::schema::{Column, SchemaError};
 use crate::summary::{Regime, RegimeThresholds, RunSummary};
 use serde::{Deserialize, Serialize};
@@ -27,6 +30,32 @@ pub const STEADY_COLUMN: &str = "steady";
 /// The column after `steady`: the point's level in a refined sweep (0: the base grid, and
 /// every point of a sweep without `[refine]`).
 pub const LEVEL_COLUMN: &str = "level";
+
+/// The stamp's scale, after `level` (docs/model.md#two-scales-meltings-and-slips): the
+/// stamp-scale regime, the slips, and the median intervals of slips and of meltings over the
+/// settled part.
+pub const STAMP_COLUMNS: [Column; 4] = [
+    Column {
+        name: "stamp_regime",
+        unit: "–",
+        meaning: "stamp-scale regime: stick_slip, steady_sliding, creep or transient",
+    },
+    Column {
+        name: "n_slips",
+        unit: "–",
+        meaning: "slips of the stamp that ended within the run",
+    },
+    Column {
+        name: "slip_interval_median",
+        unit: "s",
+        meaning: "median time between slips over the settled part",
+    },
+    Column {
+        name: "melting_interval_median",
+        unit: "s",
+        meaning: "median time between meltings over the settled part",
+    },
+];
 
 /// The summary columns after the axes and status, in order.
 pub const SUMMARY_COLUMNS: [Column; 11] = [
@@ -105,6 +134,13 @@ pub struct MapRow {
     /// Level in a refined sweep (0: the base grid).
     #[serde(default)]
     pub level: usize,
+    /// Median time between slips over the settled part, s (map.csv keeps only the medians of
+    /// the summary's cycle statistics).
+    #[serde(default)]
+    pub slip_interval_median: Option<f64>,
+    /// Median time between meltings over the settled part, s.
+    #[serde(default)]
+    pub melting_interval_median: Option<f64>,
 }
 
 impl MapRow {
@@ -119,6 +155,8 @@ impl MapRow {
             wall_s: r.wall_s,
             message: r.message.clone(),
             level: r.level,
+            slip_interval_median: median(r.summary.cycles.as_ref().map(|c| &c.slips)),
+            melting_interval_median: median(r.summary.cycles.as_ref().map(|c| &c.meltings)),
         }
     }
 
@@ -137,10 +175,18 @@ impl MapRow {
             "recovery" => s.recovery,
             "melted_time_fraction" => s.melted_time_fraction,
             "wall_s" => Some(self.wall_s),
+            "n_slips" => Some(s.n_slips as f64),
+            "slip_interval_median" => self.slip_interval_median,
+            "melting_interval_median" => self.melting_interval_median,
             _ => None,
         };
         v.unwrap_or(f64::NAN)
     }
+}
+
+/// The median interval of one scale's statistics.
+fn median(stats: Option<&crate::cycles::CycleStats>) -> Option<f64> {
+    stats.and_then(|c| c.interval_s.map(|i| i.median))
 }
 
 /// The table of a sweep.
@@ -197,6 +243,7 @@ impl MapTable {
         h.push("message".into());
         h.push(STEADY_COLUMN.into());
         h.push(LEVEL_COLUMN.into());
+        h.extend(STAMP_COLUMNS.iter().map(|c| c.name.to_string()));
         h
     }
 
@@ -228,6 +275,10 @@ impl MapTable {
             cells.push(quote(&r.message));
             cells.push(s.steady.to_string());
             cells.push(r.level.to_string());
+            cells.push(s.stamp_regime.map_or("", StampRegime::name).into());
+            cells.push(s.n_slips.to_string());
+            cells.push(num(r.slip_interval_median));
+            cells.push(num(r.melting_interval_median));
             out.push_str(&cells.join(","));
             out.push('\n');
         }
@@ -242,15 +293,21 @@ impl MapTable {
         let bad = |line: usize, m: String| SchemaError::new(CSV_FILE, Some(line), m);
         let mut lines = text.lines();
         let header = cells(lines.next().ok_or_else(|| bad(1, "empty file".into()))?);
-        // Columns appended after `message`, in this order: `steady`, then `level`. A map.csv
-        // written before either reads as not steady, and at level 0.
-        let has_level = header.last().is_some_and(|h| h == LEVEL_COLUMN);
-        let has_steady = header
-            .len()
-            .checked_sub(1 + usize::from(has_level))
-            .is_some_and(|i| header[i] == STEADY_COLUMN);
-        let fixed =
-            1 + 1 + SUMMARY_COLUMNS.len() + 1 + usize::from(has_steady) + usize::from(has_level);
+        // Columns appended after `message`, in this order: `steady`, `level`, then the stamp's
+        // scale. A map.csv written before them reads as not steady, at level 0, without a
+        // stamp-scale regime, with no slips.
+        let appended: Vec<&str> = [STEADY_COLUMN, LEVEL_COLUMN]
+            .into_iter()
+            .chain(STAMP_COLUMNS.iter().map(|c| c.name))
+            .collect();
+        let n_appended = (0..=appended.len())
+            .rev()
+            .find(|&k| header.len() >= k && header[header.len() - k..] == appended[..k])
+            .unwrap_or(0);
+        let has_steady = n_appended >= 1;
+        let has_level = n_appended >= 2;
+        let has_stamp = n_appended == appended.len();
+        let fixed = 1 + 1 + SUMMARY_COLUMNS.len() + 1 + n_appended;
         if header.len() < fixed || header[0] != "point" {
             return Err(bad(1, format!("header {header:?}")));
         }
@@ -301,6 +358,21 @@ impl MapTable {
                     melted_time_fraction: f(base + 10)?,
                     regime,
                     steady: has_steady && c[base + 13] == "true",
+                    n_slips: if has_stamp {
+                        c[base + 16]
+                            .parse::<usize>()
+                            .map_err(|_| bad(lineno, format!("n_slips {:?}", c[base + 16])))?
+                    } else {
+                        0
+                    },
+                    stamp_regime: match (has_stamp, c.get(base + 15).map(String::as_str)) {
+                        (true, Some(name)) if !name.is_empty() => Some(
+                            StampRegime::from_name(name)
+                                .ok_or_else(|| bad(lineno, format!("stamp_regime {name:?}")))?,
+                        ),
+                        _ => None,
+                    },
+                    cycles: None,
                 },
                 wall_s: f(base + 11)?.unwrap_or(f64::NAN),
                 message: c[base + 12].clone(),
@@ -311,6 +383,8 @@ impl MapTable {
                 } else {
                     0
                 },
+                slip_interval_median: if has_stamp { f(base + 17)? } else { None },
+                melting_interval_median: if has_stamp { f(base + 18)? } else { None },
             });
         }
         Ok(Self { axes, rows })

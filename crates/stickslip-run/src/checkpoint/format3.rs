@@ -1,4 +1,4 @@
-//! Format 2 of the checkpoint's payload: its own types, mapped field by field to and from the
+//! Format 3 of the checkpoint's payload: its own types, mapped field by field to and from the
 //! state they save. The mappings destructure every state type exhaustively, so a field added
 //! to one does not compile until it is saved here (a change of the layout is a new format, its
 //! own module and a new number in the header); no field has a default, so a file that lacks

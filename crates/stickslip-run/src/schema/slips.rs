@@ -1,0 +1,222 @@
+//! slips.csv: one row per slip of the stamp (docs/model.md#two-scales-meltings-and-slips; the
+//! columns of docs/reference.md, section slips.csv).
+
+use super::csv::{NumericCsv, write_cells};
+use super::{Column, SchemaError};
+use crate::slips::Slip;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// File name.
+pub const FILE: &str = "slips.csv";
+
+/// Columns in file order.
+pub const COLUMNS: [Column; 11] = [
+    Column {
+        name: "k",
+        unit: "–",
+        meaning: "slip number, from 1",
+    },
+    Column {
+        name: "t_start",
+        unit: "s",
+        meaning: "when the drive force peaked (K·(V0·t − X); F under the rigid drive)",
+    },
+    Column {
+        name: "t_end",
+        unit: "s",
+        meaning: "when it was lowest, before rising by output.slip_drop·τmax·πa0² again (for a slip still open when the run stopped: its lowest so far)",
+    },
+    Column {
+        name: "f_start",
+        unit: "N",
+        meaning: "drive force at the start",
+    },
+    Column {
+        name: "f_end",
+        unit: "N",
+        meaning: "drive force at the end",
+    },
+    Column {
+        name: "drop",
+        unit: "N",
+        meaning: "f_start − f_end",
+    },
+    Column {
+        name: "x_start",
+        unit: "m",
+        meaning: "stamp position at the start",
+    },
+    Column {
+        name: "x_end",
+        unit: "m",
+        meaning: "stamp position at the end",
+    },
+    Column {
+        name: "jump",
+        unit: "m",
+        meaning: "the stamp's jump, x_end − x_start",
+    },
+    Column {
+        name: "duration",
+        unit: "s",
+        meaning: "t_end − t_start",
+    },
+    Column {
+        name: "meltings",
+        unit: "–",
+        meaning: "meltings inside the slip: the one that set it off (the last onset at or before t_start after the previous slip) and every onset up to t_end",
+    },
+];
+
+/// slips.csv.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Slips(pub Vec<Slip>);
+
+impl Slips {
+    /// The slips in order.
+    #[must_use]
+    pub fn slips(&self) -> &[Slip] {
+        &self.0
+    }
+
+    /// The columns in file order, by name (`k` and `meltings` as floats).
+    #[must_use]
+    pub fn columns(&self) -> Vec<(&'static str, Vec<f64>)> {
+        let get: [fn(&Slip) -> f64; 11] = [
+            |s| s.k as f64,
+            |s| s.t_start_s,
+            |s| s.t_end_s,
+            |s| s.f_start_n,
+            |s| s.f_end_n,
+            Slip::drop_n,
+            |s| s.x_start_m,
+            |s| s.x_end_m,
+            Slip::jump_m,
+            Slip::duration_s,
+            |s| s.meltings as f64,
+        ];
+        COLUMNS
+            .iter()
+            .zip(get)
+            .map(|(c, f)| (c.name, self.0.iter().map(f).collect()))
+            .collect()
+    }
+
+    /// Writes the file's text.
+    ///
+    /// # Errors
+    /// Those of the writer.
+    pub fn write(&self, w: &mut impl Write) -> io::Result<()> {
+        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        writeln!(w, "{}", names.join(","))?;
+        for s in &self.0 {
+            write!(w, "{},", s.k)?;
+            write_cells(
+                w,
+                &[
+                    s.t_start_s,
+                    s.t_end_s,
+                    s.f_start_n,
+                    s.f_end_n,
+                    s.drop_n(),
+                    s.x_start_m,
+                    s.x_end_m,
+                    s.jump_m(),
+                    s.duration_s(),
+                ],
+            )?;
+            writeln!(w, ",{}", s.meltings)?;
+        }
+        Ok(())
+    }
+
+    /// Parses the text of slips.csv (the derived columns are recomputed, not read).
+    ///
+    /// # Errors
+    /// [`SchemaError`] if a column is missing or a cell is not a number.
+    pub fn parse(text: &str) -> Result<Self, SchemaError> {
+        let csv = NumericCsv::parse(text, FILE)?;
+        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        csv.expect_header(&names, FILE)?;
+        let count = |v: f64, what: &str, line: usize| {
+            if v >= 0.0 && v.fract() == 0.0 {
+                Ok(v as usize)
+            } else {
+                Err(SchemaError::new(
+                    FILE,
+                    Some(line),
+                    format!("{what} = {v} is not a count"),
+                ))
+            }
+        };
+        let slips = csv
+            .rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                Ok(Slip {
+                    k: count(r[0], "k", i + 2)?,
+                    t_start_s: r[1],
+                    t_end_s: r[2],
+                    f_start_n: r[3],
+                    f_end_n: r[4],
+                    x_start_m: r[6],
+                    x_end_m: r[7],
+                    meltings: count(r[10], "meltings", i + 2)?,
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self(slips))
+    }
+
+    /// Reads `dir/slips.csv`; a directory written before slips existed has none, and reads as
+    /// no slips.
+    ///
+    /// # Errors
+    /// As [`Slips::parse`], or if the file exists but cannot be read.
+    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
+        if !dir.join(FILE).exists() {
+            return Ok(Self::default());
+        }
+        Self::parse(&super::read_text(dir, FILE)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slips_round_trip_bit_for_bit() {
+        let slips = Slips(vec![
+            Slip {
+                k: 1,
+                t_start_s: 0.944_463_558_4,
+                t_end_s: 0.988_6,
+                f_start_n: 4.662e-4,
+                f_end_n: -1.0 / 3.0 * 1e-5,
+                x_start_m: 1e-7,
+                x_end_m: 1.1e-6,
+                meltings: 78,
+            },
+            Slip {
+                k: 2,
+                t_start_s: 1.775,
+                t_end_s: 1.819,
+                f_start_n: 3.975e-4,
+                f_end_n: 7.59e-5,
+                x_start_m: 1.2e-6,
+                x_end_m: 2.0e-6,
+                meltings: 56,
+            },
+        ]);
+        let mut text = Vec::new();
+        slips.write(&mut text).unwrap();
+        let text = String::from_utf8(text).unwrap();
+        assert_eq!(Slips::parse(&text).unwrap(), slips);
+        assert_eq!(slips.columns()[5].1[0], slips.0[0].drop_n());
+        let bad = text.replace(",78\n", ",7.5\n");
+        assert!(Slips::parse(&bad).unwrap_err().message.contains("meltings"));
+    }
+}
