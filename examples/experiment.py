@@ -8,7 +8,9 @@
    are within your accuracy, or know how far off they are.
 4. A run to just past the first melting, with and without a dashpot (drive.damping) that
    damps the stamp's ringing after the slip.
-5. boundary: where along the drive speed the regime changes, each change with its error.
+5. Slips and statistics: the stamp's slips (each made of meltings of the film), the
+   stamp-scale regime, and how often the film melts and the stamp slips once settled.
+6. boundary: where along the drive speed the regime changes, each change with its error.
 
     pip install ./crates/stickslip-py        # from the workspace root; gives `stickslip` too
     python examples/experiment.py [--quick]
@@ -83,13 +85,12 @@ def main() -> None:
     # time.end a little past the first melting, a series row every 0.1 ms, and the run stopped
     # after its first few meltings.
     end = 1.2 * onset
-    scene = scene.with_overrides(
-        {"time.end": end, "output.series_interval": 1e-4, "time.max_events": 4}
-    )
+    scene = scene.with_overrides({"time.end": end, "output.series_interval": 1e-4})
+    short = scene.with_overrides({"time.max_events": 4})
 
     # 3. verify: every number's error at this N (a loose accuracy in the quick version).
     rtol = 5e-2 if quick else 1e-2
-    v = stickslip.verify(scene, rtol=rtol)
+    v = stickslip.verify(short, rtol=rtol)
     first = next(q for q in v["quantities"] if q["name"] == "t_first_onset")
     print(
         f"verify at N = {nodes}: first onset {first['value']:.5g} s ± {first['uncertainty']:.2g} s "
@@ -99,8 +100,8 @@ def main() -> None:
     # 4. The run, without and with a dashpot of damping ratio about 0.5.
     zeta = 0.5
     damping = 2 * zeta * (5000.0 * 0.1) ** 0.5
-    plain = stickslip.run(scene)
-    damped = stickslip.run(scene.with_overrides({"drive.damping": damping}))
+    plain = stickslip.run(short)
+    damped = stickslip.run(short.with_overrides({"drive.damping": damping}))
     for label, res in (("undamped", plain), (f"damping {damping:.3g} N·s/m", damped)):
         s = res.summary
         print(
@@ -108,7 +109,28 @@ def main() -> None:
             f"regime {s['regime']}"
         )
 
-    # 5. boundary: where the regime changes along the drive speed, each change with its
+    # 5. Slips and statistics over three times the first stick, damped and not.
+    for label, extra in (("undamped", {}), ("damped", {"drive.damping": damping})):
+        long = stickslip.run(scene.with_overrides({"time.end": 3 * onset, **extra}))
+        s, slips = long.summary, long.slips
+        c = s["cycles"]
+        biggest = int(slips["drop"].argmax()) if len(slips["k"]) else None
+        line = f"slips ({label}): {s['n_slips']} slips, stamp regime {s['stamp_regime']}"
+        if biggest is not None:
+            line += (
+                f"; the largest drops {slips['drop'][biggest] * 1e3:.3g} mN, the stamp jumps "
+                f"{slips['jump'][biggest] * 1e6:.3g} µm through {slips['meltings'][biggest]} meltings"
+            )
+        print(line)
+        for scale in ("slips", "meltings"):
+            iv = c[scale]["interval"]
+            if iv is not None:
+                print(
+                    f"  settled from {c['settled_from']:.4g} s: {scale} every "
+                    f"{iv['median'] * 1e3:.4g} ms (median; CV {iv['cv']:.2g}, {iv['n']} intervals)"
+                )
+
+    # 6. boundary: where the regime changes along the drive speed, each change with its
     # error, for the same contact under a rigid drive (X = V0·t; on the command line:
     # `--unset drive.stiffness --unset drive.mass --set drive.kind=rigid`).
     rigid_toml = SCENE.replace(
