@@ -276,7 +276,9 @@ pub fn section(map: &Map) -> Result<Section, String> {
     let inside = crit
         .iter()
         .filter(|(_, b, (lo, hi))| {
-            b.below.regime == Regime::StickSlip && b.value >= *lo && b.value <= *hi
+            b.below.regime == stickslip_run::boundary::Label::Film(Regime::StickSlip)
+                && b.value >= *lo
+                && b.value <= *hi
         })
         .count();
     let runs_max = crit.iter().map(|(_, b, _)| b.runs).max().unwrap_or(0);

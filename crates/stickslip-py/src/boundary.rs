@@ -46,7 +46,7 @@ fn change_dict<'py>(py: Python<'py>, c: &Change) -> PyResult<Bound<'py, PyDict>>
 /// ``"probes"`` (every run as ``{"value", "regime", "stage"}``), ``"scan"`` (the scan's
 /// points) and ``"warnings"``. Internal: use ``stickslip.boundary``.
 #[pyfunction]
-#[pyo3(signature = (scene, key, lo, hi, rtol = 1e-3, scan = DEFAULT_SCAN, jobs = 2))]
+#[pyo3(signature = (scene, key, lo, hi, rtol = 1e-3, scan = DEFAULT_SCAN, jobs = 2, scale = "film"))]
 #[allow(clippy::too_many_arguments)]
 pub fn boundary<'py>(
     py: Python<'py>,
@@ -57,7 +57,13 @@ pub fn boundary<'py>(
     rtol: f64,
     scan: usize,
     jobs: usize,
+    scale: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let scale = stickslip_run::boundary::Scale::from_name(scale).ok_or_else(|| {
+        pyo3::exceptions::PyValueError::new_err(format!(
+            "scale = {scale:?} is invalid; allowed: \"film\" or \"stamp\""
+        ))
+    })?;
     let scene = std::sync::Arc::clone(&scene.get().inner);
     let stop = AtomicBool::new(false);
     let mut bridge = Bridge::new(None);
@@ -83,7 +89,11 @@ pub fn boundary<'py>(
             key,
             (lo, hi),
             rtol,
-            ScanOptions { points: scan, jobs },
+            ScanOptions {
+                points: scan,
+                jobs,
+                scale,
+            },
             RegimeThresholds::default(),
             Some(&stop),
             &seen,

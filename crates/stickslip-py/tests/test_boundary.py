@@ -59,6 +59,7 @@ def test_a_scan_of_the_ends_alone_finds_one_change() -> None:
         ("drive.velocity", 0.01, 3.0, {"scan": 1}, ValueError, "scan = 1"),
         ("drive.velocity", 0.01, 3.0, {"scan": 2.5}, ValueError, "scan"),
         ("drive.velocity", 0.01, 3.0, {"jobs": 0}, ValueError, "jobs = 0"),
+        ("drive.velocity", 0.01, 3.0, {"scale": "slips"}, ValueError, "scale = 'slips'"),
         ("drive.velocity", 0.01, 0.01, {}, ValueError, "--from"),
         ("drive.velocity", float("nan"), 3.0, {}, ValueError, "finite"),
         ("drive.velocity", "0.01", 3.0, {}, TypeError, "lo"),
@@ -69,3 +70,15 @@ def test_a_scan_of_the_ends_alone_finds_one_change() -> None:
 def test_bad_boundary_calls_raise(key, lo, hi, kw, exc, needle) -> None:
     with pytest.raises(exc, match=needle):
         stickslip.boundary(rigid(), key, lo, hi, **kw)
+
+
+def test_the_stamp_scale_follows_the_stamp_regime() -> None:
+    # The h0 = 1 nm contact: a weak film lets the stamp slide steadily, a strong one makes it
+    # slip; scale="stamp" finds the change of the stamp-scale regime.
+    sfa = stickslip.Scene.load(ROOT / "validation" / "scenes" / "sfa.toml").with_overrides(
+        {"contact.nodes": 20, "time.end": 0.25, "output.profile_times": []}
+    )
+    b = stickslip.boundary(sfa, "temperature.A0", -2e5, 1e6, rtol=0.2, scan=3, scale="stamp")
+    assert b["below"] == "steady_sliding" and b["above"] in ("stick_slip", "transient")
+    assert all(p["regime"] in ("steady_sliding", "stick_slip", "transient", "creep")
+               for p in b["probes"])

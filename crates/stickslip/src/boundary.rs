@@ -29,6 +29,8 @@ pub struct Args<'a> {
     pub scan: usize,
     /// Runs at a time.
     pub jobs: usize,
+    /// The regime followed.
+    pub scale: stickslip_run::boundary::Scale,
     /// No line per run.
     pub quiet: bool,
 }
@@ -157,6 +159,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         ScanOptions {
             points: a.scan,
             jobs: a.jobs,
+            scale: a.scale,
         },
         RegimeThresholds::default(),
         Some(&flag),

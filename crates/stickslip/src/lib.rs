@@ -129,6 +129,10 @@ enum Command {
         /// Runs at a time.
         #[arg(long, default_value_t = 2)]
         jobs: usize,
+        /// Which regime to follow: the film's (`regime`) or the stamp's (`stamp_regime`:
+        /// where slips of the stamp stop recurring).
+        #[arg(long, value_name = "SCALE", default_value = "film", value_parser = ["film", "stamp"])]
+        scale: String,
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
@@ -469,10 +473,12 @@ fn dispatch(cli: Cli) -> ExitCode {
             rtol,
             scan,
             jobs,
+            scale,
             set,
             unset,
             quiet,
         } => boundary::main(&boundary::Args {
+            scale: stickslip_run::boundary::Scale::from_name(&scale).unwrap_or_default(),
             scene: &scene,
             set: &set,
             unset: &unset,

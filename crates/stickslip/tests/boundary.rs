@@ -254,3 +254,84 @@ fn a_run_that_fails_numerically_exits_3_naming_the_value() {
     );
     assert!(stderr.contains("runaway_stress_factor"), "{stderr}");
 }
+
+#[test]
+fn the_stamp_scale_finds_where_the_stamp_stops_slipping() {
+    // The h0 = 1 nm contact on its spring: a weak film (small A0) melts and re-freezes while
+    // the stamp slides steadily; a strong one makes the stamp slip. `--scale stamp` follows
+    // the stamp-scale regime, and each side agrees with a run there.
+    let sfa = scene("sfa");
+    let base = [
+        "--set",
+        "contact.nodes=20",
+        "--set",
+        "time.end=0.25",
+        "--set",
+        "output.profile_times=[]",
+    ];
+    let mut args = vec![
+        "boundary",
+        sfa.to_str().unwrap(),
+        "--key",
+        "temperature.A0",
+        "--from",
+        "-2e5",
+        "--to",
+        "1e6",
+        "--scan",
+        "3",
+        "--rtol",
+        "0.2",
+        "--scale",
+        "stamp",
+        "--quiet",
+    ];
+    args.extend(base);
+    let out = run(&args);
+    let (stdout, stderr) = texts(&out);
+    assert!(out.status.success(), "{stderr}");
+    let first: Vec<&str> = stdout.lines().take(2).collect();
+    assert!(first[1].starts_with("below: steady_sliding"), "{stdout}");
+    let value = num(first[0].split(' ').nth(2).unwrap());
+    // Each side's stamp regime, as `stickslip run` reports it.
+    let stamp_regime_at = |a0: f64| {
+        let tmp = tempfile::tempdir().unwrap();
+        let set = format!("temperature.A0={a0:e}");
+        let mut args = vec![
+            "run",
+            sfa.to_str().unwrap(),
+            "--out",
+            tmp.path().to_str().unwrap(),
+            "--quiet",
+            "--set",
+            &set,
+        ];
+        args.extend(base);
+        let out = run(&args);
+        assert!(out.status.success(), "{}", texts(&out).1);
+        let info: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(tmp.path().join("run.json")).unwrap())
+                .unwrap();
+        info["summary"]["stamp_regime"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(stamp_regime_at(0.5 * value), "steady_sliding");
+    assert_ne!(stamp_regime_at(1.5 * value), "steady_sliding");
+    // An unknown scale exits 2 naming the allowed ones.
+    let bad = run(&[
+        "boundary",
+        sfa.to_str().unwrap(),
+        "--key",
+        "temperature.A0",
+        "--from",
+        "-2e5",
+        "--to",
+        "1e6",
+        "--scale",
+        "slips",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(texts(&bad).1.contains("film") && texts(&bad).1.contains("stamp"));
+}

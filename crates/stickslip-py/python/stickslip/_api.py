@@ -330,12 +330,15 @@ def boundary(
     rtol: float = 1e-3,
     scan: int = 9,
     jobs: int = 2,
+    scale: str = "film",
 ) -> Dict[str, Any]:
     """Every value of ``key`` (a scene key taking a number, in its unit) between ``lo`` and
     ``hi`` where the regime changes, as ``stickslip boundary`` finds them: a first scan of
     ``scan`` points (the ends included; log-spaced when both ends are > 0), then each change
     between neighbouring points is bisected until ``hi - lo <= rtol * max(|lo|, |hi|)`` and
-    rerun at 2N and at a tenth of the tolerance. ``jobs`` runs go on at a time.
+    rerun at 2N and at a tenth of the tolerance. ``jobs`` runs go on at a time. ``scale``
+    says which regime: ``"film"`` (the summary's ``regime``) or ``"stamp"`` (its
+    ``stamp_regime``: where the stamp's slips stop recurring).
 
     Returns a dict for the lowest change: ``value`` (the final bracket's midpoint), ``below``
     and ``above`` (the regimes either side), ``lo`` and ``hi`` (the final bracket),
@@ -356,13 +359,17 @@ def boundary(
     for name, value in (("lo", lo), ("hi", hi), ("rtol", rtol), ("scan", scan), ("jobs", jobs)):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise TypeError(f"{name}: expected a number, got {type(value).__name__}")
+    if scale not in ("film", "stamp"):
+        raise ValueError(f"scale = {scale!r} is invalid; allowed: \"film\" or \"stamp\"")
     if isinstance(scan, float) or scan < 2:
         raise ValueError(f"scan = {scan!r} is invalid; allowed: an int >= 2 (the range's ends included)")
     if isinstance(jobs, float) or jobs < 1:
         raise ValueError(f"jobs = {jobs!r} is invalid; allowed: an int >= 1")
     try:
         return dict(
-            _native.boundary(_scene(scene), key, float(lo), float(hi), float(rtol), int(scan), int(jobs))
+            _native.boundary(
+                _scene(scene), key, float(lo), float(hi), float(rtol), int(scan), int(jobs), scale
+            )
         )
     except KeyboardInterrupt as e:
         if isinstance(e, Interrupted):

@@ -14,6 +14,7 @@
 
 pub mod scan;
 
+use crate::cycles::StampRegime;
 use crate::driver::{Control, NullSink, StartError};
 use crate::keys::{KEYS, ValueType};
 use crate::scene::{ResolvedScene, SceneError};
@@ -31,9 +32,66 @@ pub struct Probe {
     /// The key's value, in its unit.
     pub value: f64,
     /// The regime there.
-    pub regime: Regime,
+    pub regime: Label,
     /// Which part of the search made the run.
     pub stage: Stage,
+}
+
+/// Which regime a search follows: the film's (`regime`, the default) or the stamp's
+/// (`stamp_regime`: where slips stop recurring).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Scale {
+    /// The film-scale regime of the summary.
+    #[default]
+    Film,
+    /// The stamp-scale regime (docs/model.md#two-scales-meltings-and-slips).
+    Stamp,
+}
+
+impl Scale {
+    /// The scale's name (`film`, `stamp`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Film => "film",
+            Self::Stamp => "stamp",
+        }
+    }
+
+    /// The scale called `name`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Self::Film, Self::Stamp]
+            .into_iter()
+            .find(|s| s.name() == name)
+    }
+}
+
+/// A regime on either scale, as a search compares them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Label {
+    /// A film-scale regime.
+    Film(Regime),
+    /// A stamp-scale regime.
+    Stamp(StampRegime),
+}
+
+impl Label {
+    /// The regime's name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Film(r) => r.name(),
+            Self::Stamp(r) => r.name(),
+        }
+    }
+}
+
+impl Serialize for Label {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
 }
 
 /// The part of a search a run belongs to.
@@ -173,14 +231,14 @@ fn check_key(key: &str) -> Result<(), BoundaryError> {
     }
 }
 
-/// The regime of `base` with `key = value`, or None when interrupted.
+/// The regime on `scale` of `base` with `key = value`, or None when interrupted.
 fn regime_at(
     base: &ResolvedScene,
     key: &str,
     value: f64,
-    thresholds: RegimeThresholds,
+    (scale, thresholds): (Scale, RegimeThresholds),
     interrupt: Option<&AtomicBool>,
-) -> Result<Option<Regime>, BoundaryError> {
+) -> Result<Option<Label>, BoundaryError> {
     let scene = base.with_overrides(&[format!("{key}={value:e}")])?;
     let mut control = Control {
         interrupt,
@@ -198,7 +256,10 @@ fn regime_at(
             message: f.to_string(),
         });
     }
-    Ok(Some(outcome.summary.regime))
+    Ok(Some(match scale {
+        Scale::Film => Label::Film(outcome.summary.regime),
+        Scale::Stamp => Label::Stamp(outcome.summary.stamp_regime.unwrap_or(StampRegime::Creep)),
+    }))
 }
 
 /// Checks the bracket's ends and the tolerance.
@@ -245,22 +306,22 @@ struct Bisected {
     a: f64,
     b: f64,
     /// The regime at `b`.
-    rb: Regime,
+    rb: Label,
     /// Midpoints run.
     runs: usize,
     /// A regime met inside that is neither end's (a second change nearby).
-    third: Option<Regime>,
+    third: Option<Label>,
 }
 
 /// Bisects `[a, b]` (regimes `ra` ≠ `rb`) until (b − a) ≤ rtol·max(|a|, |b|); `regime` runs
 /// one value (`None`: interrupted; the bisection then gives back its bracket so far).
 fn bisect(
-    (mut a, ra): (f64, Regime),
-    (mut b, mut rb): (f64, Regime),
+    (mut a, ra): (f64, Label),
+    (mut b, mut rb): (f64, Label),
     rtol: f64,
     geometric: bool,
     max_runs: usize,
-    regime: &mut dyn FnMut(f64) -> Result<Option<Regime>, BoundaryError>,
+    regime: &mut dyn FnMut(f64) -> Result<Option<Label>, BoundaryError>,
 ) -> Result<Result<Bisected, (f64, f64)>, BoundaryError> {
     let (rb0, mut runs, mut third) = (rb, 0, None);
     while b - a > rtol * a.abs().max(b.abs()) && runs < max_runs {
@@ -310,8 +371,8 @@ pub fn find(
     let (a, b) = (lo.min(hi), lo.max(hi));
     let geometric = a > 0.0;
     let mut probes = Vec::new();
-    let mut probe = |value: f64, stage: Stage| -> Result<Option<Regime>, BoundaryError> {
-        let r = regime_at(base, key, value, thresholds, interrupt)?;
+    let mut probe = |value: f64, stage: Stage| -> Result<Option<Label>, BoundaryError> {
+        let r = regime_at(base, key, value, (Scale::Film, thresholds), interrupt)?;
         if let Some(regime) = r {
             let p = Probe {
                 value,

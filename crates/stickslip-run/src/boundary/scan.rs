@@ -19,10 +19,11 @@
 //! are warnings: more changes may hide between the scan's points.
 
 use super::{
-    Bisected, BoundaryError, MAX_RUNS, Probe, Stage, bisect, check_range, midpoint, regime_at,
+    Bisected, BoundaryError, Label, MAX_RUNS, Probe, Scale, Stage, bisect, check_range, midpoint,
+    regime_at,
 };
 use crate::scene::ResolvedScene;
-use crate::summary::{Regime, RegimeThresholds};
+use crate::summary::RegimeThresholds;
 use crate::verify::{Axis, refinements};
 use serde::Serialize;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -45,6 +46,8 @@ pub struct ScanOptions {
     pub points: usize,
     /// Runs at a time (scan points, and changes bisected side by side).
     pub jobs: usize,
+    /// The regime followed: the film's or the stamp's.
+    pub scale: Scale,
 }
 
 impl Default for ScanOptions {
@@ -52,6 +55,7 @@ impl Default for ScanOptions {
         Self {
             points: DEFAULT_SCAN,
             jobs: 2,
+            scale: Scale::Film,
         }
     }
 }
@@ -86,7 +90,7 @@ pub struct Change {
     /// The error of `value`: `bracket` plus the largest move (infinite when lost).
     pub error: f64,
     /// A regime met inside the scan interval that is neither side's: another change nearby.
-    pub third: Option<Regime>,
+    pub third: Option<Label>,
     /// Runs for this change (its bisection's midpoints and its refined reruns).
     pub runs: usize,
 }
@@ -143,6 +147,7 @@ struct Ctx<'a> {
     rtol: f64,
     geometric: bool,
     thresholds: RegimeThresholds,
+    scale: Scale,
     interrupt: Option<&'a AtomicBool>,
     on_probe: &'a (dyn Fn(&Probe) + Sync),
     runs: AtomicUsize,
@@ -155,8 +160,14 @@ impl Ctx<'_> {
         scene: &ResolvedScene,
         value: f64,
         stage: Stage,
-    ) -> Result<Option<Regime>, BoundaryError> {
-        let r = regime_at(scene, self.key, value, self.thresholds, self.interrupt)?;
+    ) -> Result<Option<Label>, BoundaryError> {
+        let r = regime_at(
+            scene,
+            self.key,
+            value,
+            (self.scale, self.thresholds),
+            self.interrupt,
+        )?;
         if let Some(regime) = r {
             self.runs.fetch_add(1, Ordering::Relaxed);
             (self.on_probe)(&Probe {
@@ -181,8 +192,8 @@ impl Ctx<'_> {
         &self,
         scene: &ResolvedScene,
         stage: Stage,
-        a: (f64, Regime),
-        b: (f64, Regime),
+        a: (f64, Label),
+        b: (f64, Label),
     ) -> Result<Bisected, BoundaryError> {
         let mut regime = |v: f64| self.regime(scene, v, stage);
         match bisect(a, b, self.rtol, self.geometric, MAX_RUNS, &mut regime)? {
@@ -198,13 +209,13 @@ impl Ctx<'_> {
         scene: &ResolvedScene,
         stage: Stage,
         found: &Bisected,
-        ra: Regime,
+        ra: Label,
         value: f64,
     ) -> Result<Shift, BoundaryError> {
         // This change's runs (others may run meanwhile on other threads).
         let count = std::cell::Cell::new(0);
         let runs = |_: &Self| count.get();
-        let at = |v: f64| -> Result<Regime, BoundaryError> {
+        let at = |v: f64| -> Result<Label, BoundaryError> {
             count.set(count.get() + 1);
             self.regime(scene, v, stage)?
                 .ok_or_else(|| self.interrupted())
@@ -303,6 +314,7 @@ pub fn scan(
         rtol,
         geometric,
         thresholds,
+        scale: options.scale,
         interrupt,
         on_probe,
         runs: AtomicUsize::new(0),
