@@ -17,3 +17,4 @@ mod scene_resolution;
 mod schema;
 mod sim;
 mod steady;
+mod viscosity;

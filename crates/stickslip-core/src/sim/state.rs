@@ -69,6 +69,10 @@ pub struct StepperMemory {
     /// Change of the stamp's acceleration over the last step, m/s² (for the velocity's error
     /// estimate; 0 before the first step).
     pub accel_change_prev_m_per_s2: f64,
+    /// The stamp's mean velocity over the last step, ΔX/Δt, m/s: the Ẋ of the film's viscous
+    /// stress, which the drive's kicks leave to the spring's flow (0 before the first step and
+    /// without viscosity; docs/model.md#viscosity).
+    pub mean_v_m_per_s: f64,
 }
 
 /// Steps, attempts and solver iterations so far.
@@ -194,6 +198,7 @@ impl Clone for StepperMemory {
             last_dt_s,
             prev_dt_s,
             accel_change_prev_m_per_s2,
+            mean_v_m_per_s,
         } = self;
         Self {
             u3d_prev_m: u3d_prev_m.clone(),
@@ -201,6 +206,7 @@ impl Clone for StepperMemory {
             last_dt_s: *last_dt_s,
             prev_dt_s: *prev_dt_s,
             accel_change_prev_m_per_s2: *accel_change_prev_m_per_s2,
+            mean_v_m_per_s: *mean_v_m_per_s,
         }
     }
 
@@ -211,12 +217,14 @@ impl Clone for StepperMemory {
             last_dt_s,
             prev_dt_s,
             accel_change_prev_m_per_s2,
+            mean_v_m_per_s,
         } = source;
         self.u3d_prev_m.clone_from(u3d_prev_m);
         self.u3d_prev2_m.clone_from(u3d_prev2_m);
         self.last_dt_s = *last_dt_s;
         self.prev_dt_s = *prev_dt_s;
         self.accel_change_prev_m_per_s2 = *accel_change_prev_m_per_s2;
+        self.mean_v_m_per_s = *mean_v_m_per_s;
     }
 }
 

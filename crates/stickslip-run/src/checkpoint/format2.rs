@@ -69,6 +69,15 @@ struct Stepper {
     last_dt_s: f64,
     prev_dt_s: f64,
     accel_change_prev_m_per_s2: f64,
+    /// 0 without viscosity, and then not written: such a checkpoint's bytes are as before the
+    /// field existed.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    mean_v_m_per_s: f64,
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// [`ControllerMemory`].
@@ -168,6 +177,7 @@ impl From<&SimState> for Sim {
                     last_dt_s,
                     prev_dt_s,
                     accel_change_prev_m_per_s2,
+                    mean_v_m_per_s,
                 },
             controller:
                 ControllerMemory {
@@ -212,6 +222,7 @@ impl From<&SimState> for Sim {
                 last_dt_s: *last_dt_s,
                 prev_dt_s: *prev_dt_s,
                 accel_change_prev_m_per_s2: *accel_change_prev_m_per_s2,
+                mean_v_m_per_s: *mean_v_m_per_s,
             },
             controller: Controller {
                 next_dt_s: *next_dt_s,
@@ -269,6 +280,7 @@ impl From<Sim> for SimState {
                 last_dt_s: st.last_dt_s,
                 prev_dt_s: st.prev_dt_s,
                 accel_change_prev_m_per_s2: st.accel_change_prev_m_per_s2,
+                mean_v_m_per_s: st.mean_v_m_per_s,
             },
             controller: ControllerMemory {
                 next_dt_s: c.next_dt_s,
