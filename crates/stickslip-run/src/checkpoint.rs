@@ -498,6 +498,7 @@ mod tests {
         state.physical.u0_m[2] = -0.0;
         state.stepper.u3d_prev2_m = vec![f64::MIN_POSITIVE; 8];
         state.stepper.accel_change_prev_m_per_s2 = -1e300;
+        state.stepper.mean_v_m_per_s = 1.0 / 3.0;
         state.controller.next_dt_s = 1e-9 / 3.0;
         state.controller.rejected_last = true;
         state.counters.onset_retakes = u64::MAX;

@@ -222,7 +222,23 @@ impl Simulation {
                 est
             }
             (Drive::Spring(sp), Integrator::Rk4) => {
-                error_estimate::frozen_force_error(dt_s, f_after - f_before, sp.mass_kg)
+                let est = error_estimate::frozen_force_error(dt_s, f_after - f_before, sp.mass_kg);
+                match &self.viscous {
+                    None => est,
+                    Some(v) => {
+                        // RK4 takes the drag explicitly: its error on the damping's own decay of
+                        // V − V0, which also rejects steps beyond RK4's stability bound.
+                        let rate = (sp.damping_n_s_per_m + v.drag_n_s_per_m) / sp.mass_kg;
+                        let extra = error_estimate::rk4_decay_error(
+                            rate * dt_s,
+                            before.v_m_per_s - sp.velocity_m_per_s,
+                        );
+                        error_estimate::DriveError {
+                            x_m: est.x_m + dt_s * extra,
+                            v_m_per_s: est.v_m_per_s + extra,
+                        }
+                    }
+                }
             }
         };
         // The viscous coupling's backward-Euler error in u3D shifts the strain as the stamp's

@@ -69,15 +69,15 @@ struct Stepper {
     last_dt_s: f64,
     prev_dt_s: f64,
     accel_change_prev_m_per_s2: f64,
-    /// 0 without viscosity, and then not written: such a checkpoint's bytes are as before the
-    /// field existed.
-    #[serde(default, skip_serializing_if = "is_zero")]
+    /// +0 without viscosity, and then not written: such a checkpoint's bytes are as before the
+    /// field existed (−0 is written, to keep its bit).
+    #[serde(default, skip_serializing_if = "is_positive_zero")]
     mean_v_m_per_s: f64,
 }
 
 #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
-fn is_zero(v: &f64) -> bool {
-    *v == 0.0
+fn is_positive_zero(v: &f64) -> bool {
+    v.to_bits() == 0
 }
 
 /// [`ControllerMemory`].
