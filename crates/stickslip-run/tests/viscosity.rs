@@ -495,6 +495,76 @@ fn adaptive_steps_follow_the_tolerance_with_the_viscous_coupling() {
     assert!(errors[3] < 1e-3, "{errors:?}");
 }
 
+#[test]
+fn the_films_kinetics_see_only_the_elastic_strain() {
+    // Rigid drive on a rigid substrate: u3D ≡ 0, so the solid film's strain and kinetics do
+    // not depend on η at all (φ, ε, every event bit for bit), while F gains the Couette force
+    // η·V0·πa0²/h0 at every row (to the rounding of ΔX/Δt).
+    let tmp = tempfile::tempdir().unwrap();
+    let eta = 0.3;
+    let mut series = Vec::new();
+    for (i, set) in ["lubricant.viscosity=0", "lubricant.viscosity=0.3"]
+        .iter()
+        .enumerate()
+    {
+        let s = Scene::from_path(
+            &common::scene("rigid"),
+            &[
+                "contact.nodes=40",
+                "contact.substrate=rigid",
+                "time.end=4e-4",
+                "output.profile_times=[4e-4]",
+                "output.series_interval=1e-6",
+                set,
+            ],
+        )
+        .unwrap();
+        let dir = tmp.path().join(format!("run{i}"));
+        let options = DirOptions {
+            force: false,
+            checkpoint_every_s: 0.0,
+        };
+        run_to_dir(&s, &dir, &options, &mut Control::default()).unwrap();
+        series.push((
+            std::fs::read_to_string(dir.join("series.csv")).unwrap(),
+            std::fs::read_to_string(dir.join("events.csv")).unwrap(),
+        ));
+    }
+    let rows = |text: &str| -> Vec<Vec<String>> {
+        text.lines()
+            .map(|l| l.split(',').map(str::to_string).collect())
+            .collect()
+    };
+    // Every event column but the forces, bit for bit (as text).
+    let (events, events_viscous) = (rows(&series[0].1), rows(&series[1].1));
+    assert!(events.len() > 2, "no events");
+    assert_eq!(events.len(), events_viscous.len());
+    for (a, b) in events.iter().zip(&events_viscous) {
+        for (j, name) in events[0].iter().enumerate() {
+            if !name.starts_with("f_") {
+                assert_eq!(a[j], b[j], "events.csv {name}");
+            }
+        }
+    }
+    let (plain, viscous) = (rows(&series[0].0), rows(&series[1].0));
+    let header = &plain[0];
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    assert_eq!(plain.len(), viscous.len());
+    let couette = eta * 1e-3 * PI * RADIUS_M * RADIUS_M / H0_M;
+    let mut worst = 0.0_f64;
+    for (a, b) in plain.iter().zip(&viscous).skip(2) {
+        for name in ["t", "X", "phi_mean", "eps_mean", "melted_fraction"] {
+            assert_eq!(a[col(name)], b[col(name)], "{name} at t = {}", a[0]);
+        }
+        let f = |r: &Vec<String>| r[col("F")].parse::<f64>().unwrap();
+        worst = worst.max(((f(b) - f(a)) / couette - 1.0).abs());
+    }
+    eprintln!(
+        "rigid drive and substrate: F − F(η = 0) against the Couette force, worst {worst:.2e}"
+    );
+    assert!(worst < 1e-9, "{worst:e}");
+}
+
 /// Every output file of a run written to `dir` (run.json without its wall time).
 fn outputs(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
