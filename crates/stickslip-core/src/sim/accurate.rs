@@ -244,7 +244,7 @@ impl Simulation {
         // The viscous coupling's backward-Euler error in u3D shifts the strain as the stamp's
         // position error does (0 without viscosity, and then not taken).
         let eps_shift_m = if self.viscous.is_some() {
-            drive.x_m.max(self.viscous_error_m(dt_s))
+            drive.x_m.max(self.viscous_step_end(dt_s))
         } else {
             drive.x_m
         };

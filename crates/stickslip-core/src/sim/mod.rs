@@ -211,6 +211,8 @@ impl Simulation {
                 prev_dt_s: 0.0,
                 accel_change_prev_m_per_s2: 0.0,
                 mean_v_m_per_s: 0.0,
+                viscous_v_m_per_s: 0.0,
+                viscous_rate_prev_m_per_s: Vec::new(),
             },
             controller: ControllerMemory::default(),
             counters: StepCounters::default(),
@@ -379,7 +381,7 @@ impl Simulation {
     }
 
     /// A half of the stamp's step with the film's viscous drag c_v = `drag` (first half when
-    /// `first`), the kicks carrying `kick_n` = F − c_v·ΔX/Δt (docs/model.md#viscosity): split,
+    /// `first`), the kicks carrying `kick_n` = F − c_v·Ẋ (Ẋ of the viscous stress) (docs/model.md#viscosity): split,
     /// the drag inside the spring's exact flow; Verlet and RK4, the drag as a dashpot on the
     /// absolute velocity, −c_v·Ẋ = c_v·(V0 − Ẋ) − c_v·V0 (Verlet's closing kick implicit in
     /// it); the rigid drive as without viscosity.
@@ -544,20 +546,35 @@ impl Simulation {
         dt_s: f64,
         dx_m: f64,
     ) -> Result<(), NumericalFailure> {
+        let memory = &mut self.state.stepper;
         if matches!(self.contact, Contact::Homogeneous { .. }) {
-            // Kept for the next step's strain prediction, as in the radial solve (whose guess
-            // has already moved u3D's start into u3d_prev).
-            self.state.stepper.u3d_prev_m[0] = self.state.physical.u3d_m[0];
+            // Kept for the next step's strain prediction and the viscous rates' history, as in
+            // the radial solve (whose guess has already shifted u3D's history).
+            memory.u3d_prev2_m.clone_from(&memory.u3d_prev_m);
+            memory.u3d_prev_m[0] = self.state.physical.u3d_m[0];
         }
         let Some(v) = self.viscous.as_mut() else {
             return Ok(());
         };
         let p = &mut self.state.physical;
+        let n = p.phi.len();
+        // u3D one step before this one's start (zeros on a rigid substrate, as u3D itself).
+        let before = if memory.u3d_prev2_m.len() == n {
+            &memory.u3d_prev2_m
+        } else {
+            &memory.u3d_prev_m
+        };
+        let history = (memory.last_dt_s > 0.0).then_some((
+            memory.last_dt_s,
+            memory.mean_v_m_per_s * memory.last_dt_s,
+            before.as_slice(),
+        ));
         let bound = v.prepare(
             self.config.lubricant.a_pa,
             dt_s,
             dx_m,
-            (&p.phi, &p.u0_m, &self.state.stepper.u3d_prev_m),
+            (&p.phi, &p.u0_m, &memory.u3d_prev_m),
+            history,
         );
         match &mut self.contact {
             Contact::Radial {

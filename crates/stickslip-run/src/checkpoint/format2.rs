@@ -73,6 +73,12 @@ struct Stepper {
     /// field existed (−0 is written, to keep its bit).
     #[serde(default, skip_serializing_if = "is_positive_zero")]
     mean_v_m_per_s: f64,
+    /// As `mean_v_m_per_s`.
+    #[serde(default, skip_serializing_if = "is_positive_zero")]
+    viscous_v_m_per_s: f64,
+    /// Empty without viscosity, and then not written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    viscous_rate_prev_m_per_s: Vec<f64>,
 }
 
 #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
@@ -178,6 +184,8 @@ impl From<&SimState> for Sim {
                     prev_dt_s,
                     accel_change_prev_m_per_s2,
                     mean_v_m_per_s,
+                    viscous_v_m_per_s,
+                    viscous_rate_prev_m_per_s,
                 },
             controller:
                 ControllerMemory {
@@ -223,6 +231,8 @@ impl From<&SimState> for Sim {
                 prev_dt_s: *prev_dt_s,
                 accel_change_prev_m_per_s2: *accel_change_prev_m_per_s2,
                 mean_v_m_per_s: *mean_v_m_per_s,
+                viscous_v_m_per_s: *viscous_v_m_per_s,
+                viscous_rate_prev_m_per_s: viscous_rate_prev_m_per_s.clone(),
             },
             controller: Controller {
                 next_dt_s: *next_dt_s,
@@ -281,6 +291,8 @@ impl From<Sim> for SimState {
                 prev_dt_s: st.prev_dt_s,
                 accel_change_prev_m_per_s2: st.accel_change_prev_m_per_s2,
                 mean_v_m_per_s: st.mean_v_m_per_s,
+                viscous_v_m_per_s: st.viscous_v_m_per_s,
+                viscous_rate_prev_m_per_s: st.viscous_rate_prev_m_per_s,
             },
             controller: ControllerMemory {
                 next_dt_s: c.next_dt_s,
