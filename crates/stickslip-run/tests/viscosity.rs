@@ -248,6 +248,11 @@ fn couette_force_on_an_elastic_radial_substrate_at_steady_state() {
             200.0 * t_scale,
             dt,
         );
+        // What check prints: the drag c_v and the viscous time.
+        let driver = Driver::start(&s, &mut NullSink).unwrap();
+        let v = driver.preflight().viscous.expect("viscous scales");
+        assert!((v.drag_n_s_per_m / (couette / v0) - 1.0).abs() < 1e-15);
+        assert!((v.time_s / t_scale - 1.0).abs() < 1e-15);
         let (_, _, _, f, u) = run(&s);
         let rel = (f - couette) / couette;
         eprintln!("radial Couette N = {n}: steady F relative error {rel:.2e}, u3D(0) = {u:.3e} m");
