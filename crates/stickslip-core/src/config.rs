@@ -188,6 +188,15 @@ impl SimConfig {
         bounds::A.check(l.a_pa)?;
         bounds::GAMMA.check(l.gamma_per_pa_s)?;
         bounds::CUBIC.check(l.cubic_pa)?;
+        bounds::VISCOSITY.check(l.viscosity_pa_s)?;
+        if l.viscosity_pa_s != 0.0 && self.time.scheme == Scheme::Literal {
+            return Err(ConfigError::new(
+                bounds::VISCOSITY.path,
+                bounds::human(l.viscosity_pa_s),
+                "0 with time.scheme = \"literal\" (the paper's explicit scheme has no viscous \
+                 stress; use time.scheme = \"accurate\", which treats it implicitly)",
+            ));
+        }
         bounds::MELT_THRESHOLD.check(self.melt_threshold)?;
         match self.noise {
             NoiseKind::Off => {}
@@ -382,6 +391,7 @@ impl SimConfig {
             a_pa: 1e6,
             gamma_per_pa_s: 10.0,
             cubic_pa: 0.0,
+            viscosity_pa_s: 0.0,
         };
         Self {
             lubricant,

@@ -161,6 +161,42 @@ fn damped_flow_factors(omega: f64, zeta: f64, h: f64) -> (f64, f64, f64) {
     }
 }
 
+/// g(h) = e^(−αh)·(C(h) + α·S(h)) − 1 = −ω²·∫₀ʰ e^(−αs)·S(s) ds (α = ζω, C and S as in
+/// `damped_flow_factors`): the damped oscillator's response to a unit step of its rest point,
+/// ≈ −ω²h²/2 for short steps, → −1 for long ones. Without cancellation: a Taylor series of the
+/// integral while max(α, ω)·h ≤ 1/2 (its coefficients from ÿ + 2αẏ + ω²y = 0); beyond, the
+/// closed forms, over-damped as (r₁·expm1(r₂h) − r₂·expm1(r₁h))/(r₁ − r₂).
+fn damped_step_response(omega: f64, zeta: f64, h: f64) -> f64 {
+    let alpha = zeta * omega;
+    if alpha.max(omega) * h <= 0.5 {
+        // e^(−αs)·S(s) = Σ c_k s^k, c_0 = 0, c_1 = 1,
+        // (k + 2)(k + 1)·c_{k+2} = −2α(k + 1)·c_{k+1} − ω²·c_k; in powers of h.
+        let (a, w2) = (alpha * h, omega * omega * h * h);
+        let (mut c_prev, mut c) = (0.0_f64, 1.0_f64);
+        let mut sum = 0.5; // c_1·h²/2, in units of h²
+        // With 2αh ≤ 1 and ωh ≤ 1/2 the terms fall about like 1/k!: 24 of them reach 1e-20.
+        for k in 0..24_u32 {
+            let k = f64::from(k);
+            let next = -(2.0 * a * (k + 1.0) * c + w2 * c_prev) / ((k + 2.0) * (k + 1.0));
+            sum += next / (k + 3.0);
+            c_prev = c;
+            c = next;
+        }
+        return -omega * omega * h * h * sum;
+    }
+    if zeta < 1.0 {
+        let (_, ec_minus_one, es) = damped_flow_factors(omega, zeta, h);
+        ec_minus_one + alpha * es
+    } else if zeta == 1.0 {
+        (-alpha * h).exp_m1() + alpha * h * (-alpha * h).exp()
+    } else {
+        let root = ((zeta - 1.0) * (zeta + 1.0)).sqrt();
+        let r1 = -omega / (zeta + root);
+        let r2 = -omega * (zeta + root);
+        (r1 * (r2 * h).exp_m1() - r2 * (r1 * h).exp_m1()) / (r1 - r2)
+    }
+}
+
 impl SpringDrive {
     /// Builds a validated spring drive.
     ///
@@ -302,6 +338,54 @@ impl SpringDrive {
         let yv = state.v_m_per_s - v0;
         let y1 = y + cos_minus_one * y + sin * (yv / omega);
         let yv1 = yv + cos_minus_one * yv - sin * (omega * y);
+        state.t_s += dt_s;
+        state.x_m = y1 + v0 * state.t_s;
+        state.v_m_per_s = yv1 + v0;
+    }
+
+    /// The same spring with a viscous drag c_v = `drag_n_s_per_m` on the stamp's absolute
+    /// velocity written as a dashpot: −c_v·Ẋ = c_v·(V0 − Ẋ) − c_v·V0, so the drive's damping
+    /// becomes c_d + c_v and the force c_v·V0 joins the friction (for Verlet and RK4, whose
+    /// steps take the force as given; docs/model.md#viscosity).
+    #[must_use]
+    pub fn with_drag(&self, drag_n_s_per_m: f64) -> Self {
+        Self {
+            damping_n_s_per_m: self.damping_n_s_per_m + drag_n_s_per_m,
+            ..*self
+        }
+    }
+
+    /// Exact motion over `dt_s`, and time advance, of the stamp on the spring and dashpot with a
+    /// viscous drag c_v = `drag_n_s_per_m` on its absolute velocity and no friction:
+    /// m·Ẍ = K·(V0·t − X) + c_d·(V0 − Ẋ) − c_v·Ẋ (the film's viscous drag on a rigid
+    /// substrate; docs/model.md#viscosity). In Y = X − V0·t this is
+    /// m·Ÿ = −K·Y − (c_d + c_v)·Ẏ − c_v·V0, the damped oscillator of
+    /// [`spring_flow`](Self::spring_flow) about the shifted rest point Y = −δ, δ = c_v·V0/K:
+    /// Y(h) = [flow of Y] + δ·g(h), Ẏ(h) = [flow of Ẏ] − e·S·c_v·V0/m, with the factors of
+    /// `damped_flow_factors` and g = e·(C + α·S) − 1 from `damped_step_response`, formed
+    /// without cancellation (δ·g ≈ −c_v·V0·h²/(2m) for a short step). Exact for any step,
+    /// however stiff c_v·Δt/m.
+    pub fn spring_flow_with_drag(&self, state: &mut DriveState, dt_s: f64, drag_n_s_per_m: f64) {
+        let total = self.with_drag(drag_n_s_per_m);
+        let omega = total.omega_rad_per_s();
+        let zeta = total.damping_ratio();
+        let alpha = zeta * omega;
+        let v0 = self.velocity_m_per_s;
+        let (ec, ec_minus_one, es) = damped_flow_factors(omega, zeta, dt_s);
+        let y = state.x_m - v0 * state.t_s;
+        let yv = state.v_m_per_s - v0;
+        let scale = |u: f64| {
+            if ec_minus_one.abs() < 0.5 {
+                u + ec_minus_one * u
+            } else {
+                ec * u
+            }
+        };
+        let delta = drag_n_s_per_m * v0 / self.stiffness_n_per_m;
+        let y1 = scale(y) + es * (yv + alpha * y) + delta * damped_step_response(omega, zeta, dt_s);
+        let yv1 = scale(yv)
+            - es * (alpha * yv + omega * omega * y)
+            - es * (drag_n_s_per_m * v0 / self.mass_kg);
         state.t_s += dt_s;
         state.x_m = y1 + v0 * state.t_s;
         state.v_m_per_s = yv1 + v0;
@@ -536,4 +620,41 @@ pub fn comoving_energy_j(drive: &SpringDrive, state: &DriveState) -> f64 {
     let dv = state.v_m_per_s - drive.velocity_m_per_s;
     let dx = state.x_m - drive.velocity_m_per_s * state.t_s;
     0.5 * drive.mass_kg * dv * dv + 0.5 * drive.stiffness_n_per_m * dx * dx
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_step_response_is_its_integral_on_both_sides_of_the_series_switch() {
+        // g(h) = −ω²·∫₀ʰ e^(−αs)·S(s) ds by composite Simpson on es from damped_flow_factors.
+        for zeta in [0.0, 0.3, 1.0, 1.5, 40.0] {
+            for omega_h in [1e-6, 1e-2, 0.3, 0.49, 0.51, 2.0, 7.0] {
+                let (omega, h) = (1.0, omega_h);
+                let n = 20_000;
+                let step = h / f64::from(n);
+                let integral = (0..=n)
+                    .map(|i| {
+                        let w = if i == 0 || i == n {
+                            1.0
+                        } else if i % 2 == 1 {
+                            4.0
+                        } else {
+                            2.0
+                        };
+                        w * damped_flow_factors(omega, zeta, f64::from(i) * step).2
+                    })
+                    .sum::<f64>()
+                    * step
+                    / 3.0;
+                let g = damped_step_response(omega, zeta, h);
+                let exact = -omega * omega * integral;
+                assert!(
+                    (g - exact).abs() <= 1e-10 * exact.abs(),
+                    "zeta {zeta}, omega h {omega_h}: {g:e} vs {exact:e}"
+                );
+            }
+        }
+    }
 }

@@ -72,6 +72,11 @@ pub struct LandauParams {
     /// paper's second-order film, and then every function here runs the second-order code).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub cubic_pa: f64,
+    /// Newtonian viscosity η of the film, Pa·s (≥ 0; 0, the default, is the paper's film with
+    /// no viscous stress, and then no step computes anything for it): τ gains
+    /// η·(Ẋ − u̇3D)/h0 (docs/model.md#viscosity). The film's kinetics (Eq. 8) do not see it.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub viscosity_pa_s: f64,
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -95,6 +100,7 @@ impl LandauParams {
             a_pa,
             gamma_per_pa_s,
             cubic_pa: 0.0,
+            viscosity_pa_s: 0.0,
         };
         params.validate()?;
         Ok(params)
@@ -110,7 +116,7 @@ impl LandauParams {
         Ok(params)
     }
 
-    /// Checks that τmax, εmax, a, γ are finite and > 0 and b₃ is finite and ≥ 0.
+    /// Checks that τmax, εmax, a, γ are finite and > 0 and b₃ and η are finite and ≥ 0.
     ///
     /// # Errors
     /// [`LandauParamError`] naming the first offending field.
@@ -119,6 +125,13 @@ impl LandauParams {
         require_positive("eps_max", self.eps_max)?;
         require_positive("a_pa", self.a_pa)?;
         require_positive("gamma_per_pa_s", self.gamma_per_pa_s)?;
+        if !(self.viscosity_pa_s.is_finite() && self.viscosity_pa_s >= 0.0) {
+            return Err(LandauParamError {
+                field: "viscosity_pa_s",
+                value: self.viscosity_pa_s,
+                allowed: "finite and >= 0",
+            });
+        }
         if self.cubic_pa.is_finite() && self.cubic_pa >= 0.0 {
             Ok(())
         } else {

@@ -74,6 +74,45 @@ pub struct Preflight {
     /// The first-order film's thresholds (none for the second-order film, b₃ = 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub first_order: Option<FirstOrderFilm>,
+    /// The viscous film's scales (none for η = 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscous: Option<ViscousFilm>,
+}
+
+/// The viscous film's scales (`lubricant.viscosity` = η > 0; docs/model.md#viscosity).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ViscousFilm {
+    /// η, Pa·s.
+    pub viscosity_pa_s: f64,
+    /// c_v = η·π·a0²/h0, N·s/m: a liquid film's drag on the stamp per velocity on a rigid
+    /// substrate (the Couette force is c_v·V).
+    pub drag_n_s_per_m: f64,
+    /// η·a0/(h0·G*), s: the time on which the substrate's displacement relaxes through the
+    /// viscous film (0 on a rigid substrate).
+    pub time_s: f64,
+}
+
+impl ViscousFilm {
+    /// The scales of `config`'s viscous film; none for η = 0.
+    #[must_use]
+    pub fn of(config: &SimConfig) -> Option<Self> {
+        let eta = config.lubricant.viscosity_pa_s;
+        if eta == 0.0 {
+            return None;
+        }
+        let c = &config.contact;
+        let time_s = match c.substrate {
+            crate::config::Substrate::Elastic => {
+                eta * c.radius_m / (c.film_thickness_m * c.g_eff_pa)
+            }
+            crate::config::Substrate::Rigid => 0.0,
+        };
+        Some(Self {
+            viscosity_pa_s: eta,
+            drag_n_s_per_m: eta * PI * c.radius_m * c.radius_m / c.film_thickness_m,
+            time_s,
+        })
+    }
 }
 
 /// The first-order film's thresholds at t = 0 (docs/model.md#the-first-order-film).
@@ -352,6 +391,7 @@ impl Preflight {
             contact_spring: contact,
             findings,
             first_order: FirstOrderFilm::of(config),
+            viscous: ViscousFilm::of(config),
         }
     }
 

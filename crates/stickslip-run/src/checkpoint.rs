@@ -511,6 +511,9 @@ mod tests {
         state.physical.u0_m[2] = -0.0;
         state.stepper.u3d_prev2_m = vec![f64::MIN_POSITIVE; 8];
         state.stepper.accel_change_prev_m_per_s2 = -1e300;
+        state.stepper.mean_v_m_per_s = 1.0 / 3.0;
+        state.stepper.viscous_v_m_per_s = -0.0;
+        state.stepper.viscous_rate_prev_m_per_s = vec![1e-300; 8];
         state.controller.next_dt_s = 1e-9 / 3.0;
         state.controller.rejected_last = true;
         state.counters.onset_retakes = u64::MAX;
@@ -519,6 +522,10 @@ mod tests {
         let back = Checkpoint::decode(&c.encode().unwrap()).unwrap();
         assert_eq!(back, c);
         assert_eq!(back.sim.physical.u0_m[2].to_bits(), (-0.0f64).to_bits());
+        assert_eq!(
+            back.sim.stepper.viscous_v_m_per_s.to_bits(),
+            (-0.0f64).to_bits()
+        );
         assert_eq!(
             back.driver.recorder.last_series_t_s.map(f64::to_bits),
             Some(1 << 63)

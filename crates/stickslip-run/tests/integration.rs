@@ -18,3 +18,4 @@ mod schema;
 mod sim;
 mod slips;
 mod steady;
+mod viscosity;

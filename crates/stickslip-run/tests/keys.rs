@@ -81,6 +81,7 @@ gamma = 1.0
 melt_threshold = 1.0
 cubic = 1.0
 eps_melt = 1.0
+viscosity = 1.0
 [lubricant.noise]
 kind = "floor"
 sigma = 1.0

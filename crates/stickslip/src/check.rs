@@ -81,6 +81,19 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
             spring.damping_n_s_per_m
         );
     }
+    if let Some(v) = &p.viscous {
+        say!(
+            "viscous_drag = {:e} N*s/m (c_v = eta*pi*a0^2/h0 of lubricant.viscosity = {:e} Pa*s: \
+             a liquid film's force per stamp velocity on a rigid substrate; docs/model.md#viscosity)",
+            v.drag_n_s_per_m,
+            v.viscosity_pa_s
+        );
+        say!(
+            "viscous_time = {:e} s (eta*a0/(h0*G*): the substrate relaxes through the viscous film \
+             on this scale; 0 on a rigid substrate)",
+            v.time_s
+        );
+    }
     say!("g_eff = {:e} Pa", c.contact.g_eff_pa);
     say!("nodes = {}", c.simulated_nodes());
     if c.time.adaptive.is_some() {

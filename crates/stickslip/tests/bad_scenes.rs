@@ -442,6 +442,22 @@ const CASES: &[Case] = &[
         &["drive.damping = -0.5", "finite and >= 0 N·s/m"],
     ),
     case(
+        "negative viscosity",
+        None,
+        &["lubricant.viscosity=-2"],
+        &["lubricant.viscosity = -2", "finite and >= 0 Pa·s"],
+    ),
+    case(
+        "viscosity with the literal scheme",
+        None,
+        &["time.scheme=literal", "lubricant.viscosity=2.5"],
+        &[
+            "lubricant.viscosity = 2.5",
+            "0 with time.scheme = \"literal\"",
+            "time.scheme = \"accurate\"",
+        ],
+    ),
+    case(
         "infinite damping",
         None,
         &["drive.damping=inf"],

@@ -357,6 +357,27 @@ fn check_prints_derived_parameters() {
 }
 
 #[test]
+fn check_prints_the_viscous_films_scales() {
+    let fig2 = scene("fig2").display().to_string();
+    let out = run(&["check", &fig2]);
+    assert_ok(&out);
+    assert!(!texts(&out).0.contains("viscous_"));
+    // c_v = η·π·a0²/h0 = 2·π·4e-10/1e-7 = 8π·1e-3 N·s/m; η·a0/(h0·G*) = 2·2e-5/(1e-7·1e9) s.
+    let out = run(&["check", &fig2, "--set", "lubricant.viscosity=2"]);
+    assert_ok(&out);
+    let (stdout, _) = texts(&out);
+    // To rounding: the last digits depend on the order of the products.
+    assert!(
+        stdout.contains("viscous_drag = 2.51327412287183"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("viscous_time = 4.0000000000000"),
+        "{stdout}"
+    );
+}
+
+#[test]
 fn check_prints_the_drives_damping_ratio() {
     let fig2 = scene("fig2").display().to_string();
     let out = run(&["check", &fig2]);

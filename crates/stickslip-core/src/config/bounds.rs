@@ -235,6 +235,8 @@ pub const CUBIC: Bound = bound(
     "Pa",
     Range::Closed(0.0, MODULUS_RANGE_PA.1),
 );
+/// `lubricant.viscosity`: η of the film's Newtonian viscous stress.
+pub const VISCOSITY: Bound = bound("lubricant.viscosity", "Pa·s", Range::NonNegative);
 /// `lubricant.noise.sigma`.
 pub const NOISE_SIGMA: Bound = bound("lubricant.noise.sigma", "s^-1/2", Range::NonNegative);
 /// `lubricant.noise.floor` (below the melting threshold: a rule).

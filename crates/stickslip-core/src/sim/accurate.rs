@@ -22,7 +22,10 @@ impl Simulation {
         let two_gamma = 2.0 * params.gamma_per_pa_s;
         let thr = self.config.melt_threshold;
         let h0 = self.config.contact.film_thickness_m;
-        let drive_before = (self.state.physical.drive, self.state.physical.force_n);
+        self.viscous_step_start();
+        // The force the drive's kicks carry: F, or with viscosity its part outside the spring's
+        // flow.
+        let drive_before = (self.state.physical.drive, self.kick_force_n());
         let dx = self.drive_first_half(dt_s);
         // The substrate's change over this step, predicted by linear extrapolation of the last
         // one (the coupling solve below corrects u3D itself; only the strain seen by φ uses it).
@@ -152,10 +155,11 @@ impl Simulation {
                 *u0 = 0.0;
             }
         }
-        self.solve_coupling(self.state.counters.step + 1, t0 + dt_s, dt_s)?;
+        self.solve_coupling(self.state.counters.step + 1, t0 + dt_s, dt_s, dx)?;
         self.state.stepper.prev_dt_s = self.state.stepper.last_dt_s;
         self.state.stepper.last_dt_s = dt_s;
         self.update_strain_and_stress();
+        self.add_viscous_stress(dt_s, dx);
         self.state.physical.force_n = self.force_3d();
         self.drive_second_half(dt_s);
         self.estimate_step_error(dt_s, drive_before);
@@ -169,6 +173,8 @@ impl Simulation {
     /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an error in
     /// X that grows with time.
     fn estimate_step_error(&mut self, dt_s: f64, (before, f_before): (DriveState, f64)) {
+        // The kicks' force at the step's end (F itself without viscosity).
+        let f_after = self.kick_force_n();
         let (s, memory) = (&self.state.physical, &self.state.stepper);
         let mut phi_err = 0.0_f64;
         for i in 0..s.phi.len() {
@@ -182,10 +188,23 @@ impl Simulation {
                 // Verlet's remainder on the acceleration's change over the step; with the split
                 // integrator only the friction force's kicks carry an error (a = −F/m).
                 let change = if integrator == Integrator::Split {
-                    -(s.force_n - f_before) / sp.mass_kg
+                    -(f_after - f_before) / sp.mass_kg
+                } else if let Some(v) = &self.viscous {
+                    // The viscous drag as a dashpot on the absolute velocity (see
+                    // `viscous_drive_half`).
+                    let loaded = sp.with_drag(v.drag_n_s_per_m);
+                    let offset = v.drag_n_s_per_m * sp.velocity_m_per_s;
+                    let d = &s.drive;
+                    loaded.acceleration_m_per_s2(d.t_s, d.x_m, d.v_m_per_s, f_after + offset)
+                        - loaded.acceleration_m_per_s2(
+                            before.t_s,
+                            before.x_m,
+                            before.v_m_per_s,
+                            f_before + offset,
+                        )
                 } else {
                     let d = &s.drive;
-                    sp.acceleration_m_per_s2(d.t_s, d.x_m, d.v_m_per_s, s.force_n)
+                    sp.acceleration_m_per_s2(d.t_s, d.x_m, d.v_m_per_s, f_after)
                         - sp.acceleration_m_per_s2(
                             before.t_s,
                             before.x_m,
@@ -203,8 +222,31 @@ impl Simulation {
                 est
             }
             (Drive::Spring(sp), Integrator::Rk4) => {
-                error_estimate::frozen_force_error(dt_s, s.force_n - f_before, sp.mass_kg)
+                let est = error_estimate::frozen_force_error(dt_s, f_after - f_before, sp.mass_kg);
+                match &self.viscous {
+                    None => est,
+                    Some(v) => {
+                        // RK4 takes the drag explicitly: its error on the damping's own decay of
+                        // V − V0, which also rejects steps beyond RK4's stability bound.
+                        let rate = (sp.damping_n_s_per_m + v.drag_n_s_per_m) / sp.mass_kg;
+                        let extra = error_estimate::rk4_decay_error(
+                            rate * dt_s,
+                            before.v_m_per_s - sp.velocity_m_per_s,
+                        );
+                        error_estimate::DriveError {
+                            x_m: est.x_m + dt_s * extra,
+                            v_m_per_s: est.v_m_per_s + extra,
+                        }
+                    }
+                }
             }
+        };
+        // The viscous coupling's backward-Euler error in u3D shifts the strain as the stamp's
+        // position error does (0 without viscosity, and then not taken).
+        let eps_shift_m = if self.viscous.is_some() {
+            drive.x_m.max(self.viscous_step_end(dt_s))
+        } else {
+            drive.x_m
         };
         let s = &self.state.physical;
         let a_now = self.config.temperature.a_coeff_pa(s.drive.t_s);
@@ -218,7 +260,7 @@ impl Simulation {
         let v0 = self.config.drive.velocity_m_per_s().abs();
         self.last_error = StepError {
             phi: phi_err,
-            eps: drive.x_m / (h0 * eps_scale),
+            eps: eps_shift_m / (h0 * eps_scale),
             x: drive.x_m / s.drive.x_m.abs().max(X_FLOOR * h0),
             v: drive.v_m_per_s
                 / s.drive

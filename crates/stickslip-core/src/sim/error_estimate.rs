@@ -119,6 +119,16 @@ pub fn frozen_force_error(h_s: f64, force_change_n: f64, mass_kg: f64) -> DriveE
     }
 }
 
+/// RK4's error on a decay y' = −λ·y over one step, |R(−z) − e^(−z)|·|y0| with z = λ·h and
+/// R(x) = 1 + x + x²/2 + x³/6 + x⁴/24 its stability polynomial (≈ z⁵/120·|y0| for small z,
+/// growing as z⁴/24 beyond RK4's stability bound z ≈ 2.79, where the step must be rejected).
+#[must_use]
+pub fn rk4_decay_error(z: f64, y0: f64) -> f64 {
+    let x = -z;
+    let r = 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x / 24.0)));
+    (r - x.exp()).abs() * y0.abs()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -34,6 +34,7 @@ mod literal;
 pub mod state;
 pub mod step_control;
 mod stepper;
+mod viscous;
 
 pub use adaptive::StepError;
 pub use failure::NumericalFailure;
@@ -128,6 +129,9 @@ pub struct Simulation {
     /// [`Simulation::lagged_sweep_contraction`]): bounds K's spectrum for the coupling solve's
     /// relaxation of accepted guesses.
     rho0: f64,
+    /// The film's viscous stress (`lubricant.viscosity` > 0, accurate scheme); `None` for η = 0,
+    /// which then costs nothing and changes no bit.
+    viscous: Option<viscous::Viscous>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -206,6 +210,9 @@ impl Simulation {
                 last_dt_s: 0.0,
                 prev_dt_s: 0.0,
                 accel_change_prev_m_per_s2: 0.0,
+                mean_v_m_per_s: 0.0,
+                viscous_v_m_per_s: 0.0,
+                viscous_rate_prev_m_per_s: Vec::new(),
             },
             controller: ControllerMemory::default(),
             counters: StepCounters::default(),
@@ -236,8 +243,33 @@ impl Simulation {
             first_melt_fraction: 1.0,
             recovered_at_s: f64::NEG_INFINITY,
             rho0: 0.0,
+            viscous: None,
         };
         sim.rho0 = sim.lagged_sweep_contraction();
+        let eta = sim.config.lubricant.viscosity_pa_s;
+        if eta > 0.0 {
+            // The contact's area as the force quadrature integrates a uniform stress (πa0² up
+            // to rounding), and κ·C's spectral radius at unit film stiffness.
+            let (area_m2, unit) = match &sim.contact {
+                Contact::Radial { ops, solver } => {
+                    let area = ops.force_3d_n(&vec![1.0; n]);
+                    let unit = if solver.is_some() {
+                        sim.contraction_with(&vec![1.0; n])
+                    } else {
+                        0.0
+                    };
+                    (area, unit)
+                }
+                Contact::Homogeneous { area_m2, .. } => (*area_m2, 0.0),
+            };
+            let drag = eta * area_m2 / c.film_thickness_m;
+            let relaxation = if elastic {
+                eta * PI * c.radius_m / (2.0 * c.g_eff_pa * c.film_thickness_m)
+            } else {
+                0.0
+            };
+            sim.viscous = Some(viscous::Viscous::new(eta, (drag, relaxation), unit, n));
+        }
         sim.observe_events();
         Ok(sim)
     }
@@ -301,6 +333,12 @@ impl Simulation {
 
     fn drive_first_half(&mut self, dt_s: f64) -> f64 {
         let x0 = self.state.physical.drive.x_m;
+        if let Some(v) = &self.viscous {
+            let f = self.kick_force_n();
+            let drag = v.drag_n_s_per_m;
+            self.viscous_drive_half(dt_s, f, drag, true);
+            return self.state.physical.drive.x_m - x0;
+        }
         let f = self.state.physical.force_n;
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Verlet) => {
@@ -317,6 +355,12 @@ impl Simulation {
     }
 
     fn drive_second_half(&mut self, dt_s: f64) {
+        if let Some(v) = &self.viscous {
+            let f = self.kick_force_n();
+            let drag = v.drag_n_s_per_m;
+            self.viscous_drive_half(dt_s, f, drag, false);
+            return;
+        }
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Verlet) => {
                 s.closing_half_kick(
@@ -333,6 +377,44 @@ impl Simulation {
                 );
             }
             _ => {}
+        }
+    }
+
+    /// A half of the stamp's step with the film's viscous drag c_v = `drag` (first half when
+    /// `first`), the kicks carrying `kick_n` = F − c_v·Ẋ (Ẋ of the viscous stress) (docs/model.md#viscosity): split,
+    /// the drag inside the spring's exact flow; Verlet and RK4, the drag as a dashpot on the
+    /// absolute velocity, −c_v·Ẋ = c_v·(V0 − Ẋ) − c_v·V0 (Verlet's closing kick implicit in
+    /// it); the rigid drive as without viscosity.
+    fn viscous_drive_half(&mut self, dt_s: f64, kick_n: f64, drag: f64, first: bool) {
+        let state = &mut self.state.physical.drive;
+        match (&self.config.drive, self.config.integrator) {
+            (Drive::Spring(s), Integrator::Split) => {
+                s.friction_half_kick(state, kick_n, dt_s);
+                if first {
+                    s.spring_flow_with_drag(state, dt_s, drag);
+                }
+            }
+            (Drive::Spring(s), Integrator::Verlet) => {
+                let loaded = s.with_drag(drag);
+                let f = kick_n + drag * s.velocity_m_per_s;
+                if first {
+                    loaded.half_kick(state, f, dt_s);
+                    loaded.drift(state, dt_s);
+                } else {
+                    loaded.closing_half_kick(state, f, dt_s);
+                }
+            }
+            (Drive::Spring(s), Integrator::Rk4) => {
+                if first {
+                    let f = kick_n + drag * s.velocity_m_per_s;
+                    s.with_drag(drag).rk4_step(state, dt_s, f);
+                }
+            }
+            (d @ Drive::Rigid(_), integrator) => {
+                if first {
+                    d.step(integrator, state, dt_s, kick_n);
+                }
+            }
         }
     }
 
@@ -381,7 +463,15 @@ impl Simulation {
         }
     }
 
-    fn solve_coupling(&mut self, step: u64, t_s: f64, dt_s: f64) -> Result<(), NumericalFailure> {
+    /// The coupling solve at the end of a step of `dt_s` in which the stamp advanced `dx_m`
+    /// (which only the viscous stress uses).
+    fn solve_coupling(
+        &mut self,
+        step: u64,
+        t_s: f64,
+        dt_s: f64,
+        dx_m: f64,
+    ) -> Result<(), NumericalFailure> {
         if matches!(
             self.contact,
             Contact::Radial {
@@ -390,6 +480,9 @@ impl Simulation {
             }
         ) {
             self.extrapolate_u3d(dt_s);
+        }
+        if self.viscous.is_some() {
+            return self.solve_viscous_coupling(step, t_s, dt_s, dx_m);
         }
         match &mut self.contact {
             Contact::Radial {
@@ -443,6 +536,92 @@ impl Simulation {
         Ok(())
     }
 
+    /// [`solve_coupling`](Self::solve_coupling) with the viscous stress (after the guess is in
+    /// place): (I + κ·C·diag(w))·u3D = κ·C·diag(w)·s (see [`viscous`]), the same solve and
+    /// the same one-node formula with φ² → w and u0 → s.
+    fn solve_viscous_coupling(
+        &mut self,
+        step: u64,
+        t_s: f64,
+        dt_s: f64,
+        dx_m: f64,
+    ) -> Result<(), NumericalFailure> {
+        let memory = &mut self.state.stepper;
+        if matches!(self.contact, Contact::Homogeneous { .. }) {
+            // Kept for the next step's strain prediction and the viscous rates' history, as in
+            // the radial solve (whose guess has already shifted u3D's history).
+            memory.u3d_prev2_m.clone_from(&memory.u3d_prev_m);
+            memory.u3d_prev_m[0] = self.state.physical.u3d_m[0];
+        }
+        let Some(v) = self.viscous.as_mut() else {
+            return Ok(());
+        };
+        let p = &mut self.state.physical;
+        let n = p.phi.len();
+        // u3D one step before this one's start (zeros on a rigid substrate, as u3D itself).
+        let before = if memory.u3d_prev2_m.len() == n {
+            &memory.u3d_prev2_m
+        } else {
+            &memory.u3d_prev_m
+        };
+        let history = (memory.last_dt_s > 0.0).then_some((
+            memory.last_dt_s,
+            memory.mean_v_m_per_s * memory.last_dt_s,
+            before.as_slice(),
+        ));
+        let bound = v.prepare(
+            self.config.lubricant.a_pa,
+            dt_s,
+            dx_m,
+            (&p.phi, &p.u0_m, &memory.u3d_prev_m),
+            history,
+        );
+        match &mut self.contact {
+            Contact::Radial {
+                ops,
+                solver: Some(solver),
+            } => {
+                let report = solver.solve(
+                    ops,
+                    v.w(),
+                    self.kappa,
+                    v.s(),
+                    &mut p.u3d_m,
+                    CouplingTolerance {
+                        rel_tol: self.config.numerics.coupling_tol,
+                        spectral_bound: bound,
+                    },
+                );
+                self.state.counters.coupling_iterations += report.iterations as u64;
+                if !report.converged {
+                    return Err(NumericalFailure {
+                        t_s,
+                        step,
+                        node: 0,
+                        r_m: 0.0,
+                        quantity: "coupling residual",
+                        value: report.rel_residual,
+                        diagnosis: format!(
+                            "the elastic coupling solve with the viscous stress did not reach \
+                             numerics.coupling_tol = {:e} in {} iterations",
+                            self.config.numerics.coupling_tol, report.iterations
+                        ),
+                    });
+                }
+            }
+            Contact::Radial { solver: None, .. } => {}
+            Contact::Homogeneous {
+                compliance_m_per_pa,
+                ..
+            } => {
+                let k = *compliance_m_per_pa * self.config.lubricant.a_pa * v.w()[0]
+                    / self.config.contact.film_thickness_m;
+                p.u3d_m[0] = k * v.s()[0] / (1.0 + k);
+            }
+        }
+        Ok(())
+    }
+
     fn force_3d(&self) -> f64 {
         match &self.contact {
             Contact::Radial { ops, .. } => ops.force_3d_n(&self.state.physical.tau_pa),
@@ -457,8 +636,14 @@ impl Simulation {
     /// K has non-negative entries, so power iteration from a positive vector converges to ρ
     /// (Perron–Frobenius); 0 for a rigid substrate.
     pub fn lagged_sweep_contraction(&mut self) -> f64 {
-        let n = self.state.physical.phi.len();
         let phi_sq: Vec<f64> = self.state.physical.phi.iter().map(|p| p * p).collect();
+        self.contraction_with(&phi_sq)
+    }
+
+    /// ρ(κ·C·diag(`phi_sq`)) by power iteration (see
+    /// [`lagged_sweep_contraction`](Self::lagged_sweep_contraction)); 0 for a rigid substrate.
+    fn contraction_with(&mut self, phi_sq: &[f64]) -> f64 {
+        let n = phi_sq.len();
         match &self.contact {
             _ if self.config.contact.substrate == Substrate::Rigid => 0.0,
             Contact::Homogeneous {
@@ -673,8 +858,15 @@ impl Simulation {
         let mut sum = 0.0;
         for (i, (&tau, &phi)) in s.tau_pa.iter().zip(&s.phi).enumerate() {
             sum += tau + phi + s.u3d_m[i];
-            if tau.abs() > worst.1 {
-                worst = (i, tau.abs());
+            // The film's elastic stress runs away, not the viscous one, which is the drive's
+            // rate: with viscosity the limit applies to a·φ²·ε alone.
+            let tau_film = if self.viscous.is_some() {
+                l.a_pa * phi * phi * s.eps[i]
+            } else {
+                tau
+            };
+            if tau_film.abs() > worst.1 {
+                worst = (i, tau_film.abs());
             }
         }
         if !sum.is_finite() {

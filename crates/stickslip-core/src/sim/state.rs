@@ -69,6 +69,16 @@ pub struct StepperMemory {
     /// Change of the stamp's acceleration over the last step, m/s² (for the velocity's error
     /// estimate; 0 before the first step).
     pub accel_change_prev_m_per_s2: f64,
+    /// The stamp's mean velocity over the last step, ΔX/Δt, m/s (0 before the first step and
+    /// without viscosity; docs/model.md#viscosity): with the last step's length, the stamp's
+    /// history for the viscous stress's second-order rate.
+    pub mean_v_m_per_s: f64,
+    /// The Ẋ of the film's viscous stress at the state's time, m/s, which the drive's kicks
+    /// leave to the spring's flow (0 before the first step and without viscosity).
+    pub viscous_v_m_per_s: f64,
+    /// The film's shear rate r = Ẋ − u̇3D per node one step earlier, m/s (empty without
+    /// viscosity): for the viscous coupling's error estimate.
+    pub viscous_rate_prev_m_per_s: Vec<f64>,
 }
 
 /// Steps, attempts and solver iterations so far.
@@ -194,6 +204,9 @@ impl Clone for StepperMemory {
             last_dt_s,
             prev_dt_s,
             accel_change_prev_m_per_s2,
+            mean_v_m_per_s,
+            viscous_v_m_per_s,
+            viscous_rate_prev_m_per_s,
         } = self;
         Self {
             u3d_prev_m: u3d_prev_m.clone(),
@@ -201,6 +214,9 @@ impl Clone for StepperMemory {
             last_dt_s: *last_dt_s,
             prev_dt_s: *prev_dt_s,
             accel_change_prev_m_per_s2: *accel_change_prev_m_per_s2,
+            mean_v_m_per_s: *mean_v_m_per_s,
+            viscous_v_m_per_s: *viscous_v_m_per_s,
+            viscous_rate_prev_m_per_s: viscous_rate_prev_m_per_s.clone(),
         }
     }
 
@@ -211,12 +227,19 @@ impl Clone for StepperMemory {
             last_dt_s,
             prev_dt_s,
             accel_change_prev_m_per_s2,
+            mean_v_m_per_s,
+            viscous_v_m_per_s,
+            viscous_rate_prev_m_per_s,
         } = source;
         self.u3d_prev_m.clone_from(u3d_prev_m);
         self.u3d_prev2_m.clone_from(u3d_prev2_m);
         self.last_dt_s = *last_dt_s;
         self.prev_dt_s = *prev_dt_s;
         self.accel_change_prev_m_per_s2 = *accel_change_prev_m_per_s2;
+        self.mean_v_m_per_s = *mean_v_m_per_s;
+        self.viscous_v_m_per_s = *viscous_v_m_per_s;
+        self.viscous_rate_prev_m_per_s
+            .clone_from(viscous_rate_prev_m_per_s);
     }
 }
 
@@ -272,11 +295,19 @@ impl SimState {
             ("last_melt", e.last_melt_s.len()),
             ("swept", e.swept.len()),
         ];
-        let prev2 = ("u3d_prev2", s.u3d_prev2_m.len());
+        // Empty or one value per node.
+        let optional = [
+            ("u3d_prev2", s.u3d_prev2_m.len()),
+            ("viscous_rate_prev", s.viscous_rate_prev_m_per_s.len()),
+        ];
         let wrong = lengths
             .into_iter()
             .find(|&(_, len)| len != nodes)
-            .or((prev2.1 != 0 && prev2.1 != nodes).then_some(prev2));
+            .or_else(|| {
+                optional
+                    .into_iter()
+                    .find(|&(_, len)| len != 0 && len != nodes)
+            });
         match wrong {
             Some((name, len)) => Err(format!(
                 "checkpoint has {len} values of {name}, the scene {nodes} nodes"

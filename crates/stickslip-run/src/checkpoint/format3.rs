@@ -69,6 +69,21 @@ struct Stepper {
     last_dt_s: f64,
     prev_dt_s: f64,
     accel_change_prev_m_per_s2: f64,
+    /// +0 without viscosity, and then not written: such a checkpoint's bytes are as before the
+    /// field existed (−0 is written, to keep its bit).
+    #[serde(default, skip_serializing_if = "is_positive_zero")]
+    mean_v_m_per_s: f64,
+    /// As `mean_v_m_per_s`.
+    #[serde(default, skip_serializing_if = "is_positive_zero")]
+    viscous_v_m_per_s: f64,
+    /// Empty without viscosity, and then not written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    viscous_rate_prev_m_per_s: Vec<f64>,
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_positive_zero(v: &f64) -> bool {
+    v.to_bits() == 0
 }
 
 /// [`ControllerMemory`].
@@ -168,6 +183,9 @@ impl From<&SimState> for Sim {
                     last_dt_s,
                     prev_dt_s,
                     accel_change_prev_m_per_s2,
+                    mean_v_m_per_s,
+                    viscous_v_m_per_s,
+                    viscous_rate_prev_m_per_s,
                 },
             controller:
                 ControllerMemory {
@@ -212,6 +230,9 @@ impl From<&SimState> for Sim {
                 last_dt_s: *last_dt_s,
                 prev_dt_s: *prev_dt_s,
                 accel_change_prev_m_per_s2: *accel_change_prev_m_per_s2,
+                mean_v_m_per_s: *mean_v_m_per_s,
+                viscous_v_m_per_s: *viscous_v_m_per_s,
+                viscous_rate_prev_m_per_s: viscous_rate_prev_m_per_s.clone(),
             },
             controller: Controller {
                 next_dt_s: *next_dt_s,
@@ -269,6 +290,9 @@ impl From<Sim> for SimState {
                 last_dt_s: st.last_dt_s,
                 prev_dt_s: st.prev_dt_s,
                 accel_change_prev_m_per_s2: st.accel_change_prev_m_per_s2,
+                mean_v_m_per_s: st.mean_v_m_per_s,
+                viscous_v_m_per_s: st.viscous_v_m_per_s,
+                viscous_rate_prev_m_per_s: st.viscous_rate_prev_m_per_s,
             },
             controller: ControllerMemory {
                 next_dt_s: c.next_dt_s,

@@ -199,6 +199,14 @@ section! {
                 rule: "finite and > eps_c = √(A0·b)/a at the initial temperature (0 when A0 <= 0); not with lubricant.cubic",
                 usual: Some((1e-3, 1e2)),
             }
+        VISCOSITY viscosity "viscosity" @ bounds::VISCOSITY: f64 =
+            "η: Newtonian viscosity of the film, a stress η·(Ẋ − u̇3D)/h0 added to τ solid or liquid (Kelvin–Voigt while solid); 0 = the paper's film"
+            {
+                default: Value(&0.0),
+                rule: "0 with time.scheme = \"literal\"",
+                usual: Some((1e-4, 1e4)),
+                since: "0.2.0",
+            }
     }
     sections {
         /// `[lubricant.noise]` (optional; default: the floor).

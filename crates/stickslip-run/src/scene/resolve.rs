@@ -499,10 +499,18 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         a_pa: lubricant::A.value(l.a, &nothing())?,
         gamma_per_pa_s: lubricant::GAMMA.value(l.gamma, &nothing())?,
         cubic_pa: 0.0,
+        viscosity_pa_s: 0.0,
     };
     // b and the default A derive from these: before A's default is taken from them.
     stickslip_core::config::bounds::check_film(&lubricant)?;
     let melt_threshold = lubricant::MELT_THRESHOLD.value(l.melt_threshold, &nothing())?;
+    // -0.0 is 0: the paper's film, bit for bit.
+    let viscosity = lubricant::VISCOSITY.value(l.viscosity, &nothing())?;
+    let viscosity = if viscosity == 0.0 { 0.0 } else { viscosity };
+    let lubricant = LandauParams {
+        viscosity_pa_s: viscosity,
+        ..lubricant
+    };
     let (noise, noise_section) = resolve_noise(&l.noise.clone().unwrap_or_default())?;
     // The scene as resolved so far, for the derived defaults of the sections that follow.
     let mut so_far = Scene {
@@ -515,6 +523,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
             melt_threshold: Some(melt_threshold),
             cubic: None,
             eps_melt: None,
+            viscosity: Some(viscosity),
             noise: Some(noise_section),
         }),
         ..Scene::default()

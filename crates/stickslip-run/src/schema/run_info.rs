@@ -121,6 +121,12 @@ pub struct DerivedReport {
     /// First-order film with A ≤ 0 only: whether it starts as a metastable solid.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub metastable_solid: Option<bool>,
+    /// Viscous film only (absent for η = 0): c_v = η·π·a0²/h0, N·s/m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscous_drag: Option<f64>,
+    /// Viscous film only: η·a0/(h0·G*), s (0 on a rigid substrate).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscous_time: Option<f64>,
 }
 
 impl DerivedReport {
@@ -149,6 +155,8 @@ impl DerivedReport {
             hysteresis_width: preflight.first_order.map(|f| f.hysteresis_width),
             tau_melt: preflight.first_order.map(|f| f.tau_melt_pa),
             metastable_solid: preflight.first_order.and_then(|f| f.metastable_solid),
+            viscous_drag: preflight.viscous.map(|v| v.drag_n_s_per_m),
+            viscous_time: preflight.viscous.map(|v| v.time_s),
         }
     }
 }
