@@ -13,7 +13,10 @@
 //! - [`rigid_first_order`]: the first-order film under the rigid drive, melting strain × speed:
 //!   the advance per cycle on paper, the fold's delay, the abrupt loss of recovery;
 //! - [`steady`]: the rigid drive's regimes on the steady state (`time.until = "periodic"`), in a
-//!   window and in one twice as long.
+//!   window and in one twice as long;
+//! - [`viscous`]: the h0 = 1 nm contact's spring stiffness × film viscosity: where the stamp's
+//!   slips stop, the kinetic friction against the Couette force, and the critical speed of the
+//!   spring drive at two stiffnesses (`boundary` on the stamp's scale).
 //!
 //! Invariant: every number in the report's prose is computed from the maps it describes;
 //! nothing here steps a simulation (the sweep engine does).
@@ -24,6 +27,7 @@ pub mod rigid;
 pub mod rigid_first_order;
 pub mod spring;
 pub mod steady;
+pub mod viscous;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -319,6 +323,7 @@ pub fn run(opts: &Options) -> Result<bool, String> {
     let model_fo_map = showcase("model_first_order")?;
     let rigid_fo_map = showcase("rigid_first_order")?;
     let steady_map = showcase("rigid_steady")?;
+    let viscous_map = showcase("viscous")?;
     let sections = vec![
         rigid::section(&rigid_map, &uniform_map)?,
         spring::section(&spring_map)?,
@@ -326,6 +331,7 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         model_first_order::section(&model_fo_map, &model_map)?,
         rigid_first_order::section(&rigid_fo_map)?,
         steady::section(&steady_map)?,
+        viscous::section(&viscous_map, opts.jobs)?,
     ];
     for s in &sections {
         let cols = 2;
@@ -345,6 +351,7 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         &model_fo_map,
         &rigid_fo_map,
         &steady_map,
+        &viscous_map,
     ];
     let titled: Vec<(&str, &Map)> = sections
         .iter()

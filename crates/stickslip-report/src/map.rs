@@ -10,18 +10,20 @@ use crate::plot::{Cell, ColorBar, Marker, Panel, Scale, Segment, Series};
 use plotters::style::RGBColor;
 use std::collections::{BTreeMap, HashMap};
 use stickslip_run::summary::Regime;
-use stickslip_run::sweep::map::{MapJson, MapRow, SUMMARY_COLUMNS};
+use stickslip_run::sweep::map::{MapJson, MapRow, STAMP_COLUMNS, SUMMARY_COLUMNS};
 use stickslip_run::sweep::record::PointStatus;
 use stickslip_run::sweep::refine::{self, geometry};
 use stickslip_run::sweep::{Axis, Sweep, value_text};
 
 /// Quantities a map can show as colours: every numeric column of map.csv after the axes
-/// (the summary's numbers and `wall_s`); a numeric axis may be shown too.
+/// (the summary's numbers, `wall_s`, and the stamp's `n_slips` and median intervals); a
+/// numeric axis may be shown too.
 pub fn quantities() -> Vec<&'static str> {
     SUMMARY_COLUMNS
         .iter()
+        .chain(STAMP_COLUMNS.iter())
         .map(|c| c.name)
-        .filter(|&n| n != "regime")
+        .filter(|&n| n != "regime" && n != "stamp_regime")
         .collect()
 }
 
@@ -77,6 +79,7 @@ fn label(axis: &Axis) -> String {
 pub fn unit(column: &str) -> &'static str {
     SUMMARY_COLUMNS
         .iter()
+        .chain(STAMP_COLUMNS.iter())
         .find(|c| c.name == column)
         .map_or("", |c| c.unit)
 }

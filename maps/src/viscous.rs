@@ -1,0 +1,287 @@
+//! The viscous map, spring stiffness × film viscosity on the h0 = 1 nm contact at a fixed
+//! drive speed (maps/viscous.toml), and the critical speed of the spring drive at two
+//! stiffnesses found by `boundary` on the stamp's scale.
+//!
+//! Physics: the molten film's viscous stress loads the substrate, u3D ≈ C·η·V/h0 with C the
+//! flat punch's compliance π·a0/(2G*); a molten node's strain is −u3D/h0, and once its size
+//! passes εc the film cannot re-solidify. Slips then stop recurring: the stamp slides steadily
+//! with the Couette force η·V0·πa0²/h0. The threshold is a critical η·V, of the film and the
+//! substrate, not of the spring: V_c ≈ εc·h0²/(C·η) on paper.
+
+use crate::{Check, Map, Section};
+use std::f64::consts::PI;
+use stickslip_report::fmt::sig;
+use stickslip_report::map::panels;
+use stickslip_run::boundary::Scale;
+use stickslip_run::boundary::scan::{Scan, ScanOptions, scan};
+use stickslip_run::cycles::StampRegime;
+use stickslip_run::summary::{Regime, RegimeThresholds};
+use stickslip_run::sweep::map::MapRow;
+
+const K: &str = "drive.stiffness";
+const ETA: &str = "lubricant.viscosity";
+/// Kinetic friction in steady sliding against the Couette force, where the film is liquid
+/// (film regime `sliding`): relative agreement required.
+pub const COUETTE_TOLERANCE: f64 = 0.02;
+/// The critical speeds found must lie within this factor of the estimate on paper (a
+/// compliance from the flat punch's mean, a threshold from the rim's strain).
+pub const PAPER_FACTOR: f64 = 2.5;
+/// The viscosity of the critical-speed scans, Pa·s.
+pub const SCAN_ETA: f64 = 10.0;
+/// The drive speeds the critical-speed scans cover, m/s.
+pub const SCAN_RANGE: (f64, f64) = (3e-6, 1e-4);
+/// The stiffnesses of the critical-speed scans, N/m.
+pub const SCAN_K: [f64; 2] = [2e3, 2e4];
+
+/// The critical speed at one stiffness: the scan and its stick–slip → steady-sliding change.
+struct Critical {
+    k: f64,
+    scan: Scan,
+}
+
+impl Critical {
+    /// The change from `stick_slip` below to `steady_sliding` above, if found.
+    fn change(&self) -> Option<&stickslip_run::boundary::scan::Change> {
+        self.scan.changes.iter().find(|c| {
+            c.below.regime.name() == StampRegime::StickSlip.name()
+                && c.above.regime.name() == StampRegime::SteadySliding.name()
+        })
+    }
+}
+
+/// Runs `boundary` on the stamp's scale along the drive speed for each of [`SCAN_K`].
+fn critical_speeds(map: &Map, jobs: usize) -> Result<Vec<Critical>, String> {
+    let base = map.unswept_scene()?;
+    let mut out = Vec::new();
+    for k in SCAN_K {
+        // Long enough for five sticks at the slowest speed: a stick lasts about
+        // F_peak/(K·V0), F_peak ≈ 0.47 mN on this contact.
+        let end = (5.0 * 0.47e-3 / (k * SCAN_RANGE.0)).max(0.3);
+        let scene = base
+            .with_overrides(&[
+                format!("{K}={k:e}"),
+                format!("{ETA}={SCAN_ETA:e}"),
+                format!("time.end={end:e}"),
+            ])
+            .map_err(|e| e.to_string())?;
+        let found = scan(
+            &scene,
+            "drive.velocity",
+            SCAN_RANGE,
+            0.05,
+            ScanOptions {
+                points: 7,
+                jobs,
+                scale: Scale::Stamp,
+            },
+            RegimeThresholds::default(),
+            None,
+            &|_| {},
+            &mut || {},
+        )
+        .map_err(|e| format!("critical speed at K = {k}: {e}"))?;
+        out.push(Critical { k, scan: found });
+    }
+    Ok(out)
+}
+
+/// The viscous map's section.
+///
+/// # Errors
+/// If the base scene does not resolve, or a critical-speed scan fails.
+pub fn section(map: &Map, jobs: usize) -> Result<Section, String> {
+    let scene = map.base_scene()?;
+    let c = &scene.config.contact;
+    let (a0, h0, g) = (c.radius_m, c.film_thickness_m, c.g_eff_pa);
+    let v0 = scene.config.drive.velocity_m_per_s();
+    let lub = &scene.config.lubricant;
+    let eps_c = lub.melting_strain(scene.derived.a_coeff_pa);
+    let compliance = PI * a0 / (2.0 * g);
+    let vc_eta_paper = eps_c * h0 * h0 / compliance;
+    let couette = |eta: f64| eta * v0 * PI * a0 * a0 / h0;
+    let rows: Vec<&MapRow> = map.json.table.rows.iter().collect();
+    let ks = map.values(K);
+    let etas = map.values(ETA);
+    let stamp = |r: &MapRow| r.summary.stamp_regime;
+
+    // Along η at each K: the lowest η of steady sliding, and whether the change is single.
+    let mut critical_eta = Vec::new();
+    let mut monotone = true;
+    for &k in &ks {
+        let mut line: Vec<&&MapRow> = rows
+            .iter()
+            .filter(|r| (map.axis(r, K) / k - 1.0).abs() < 1e-9)
+            .collect();
+        line.sort_by(|a, b| map.axis(a, ETA).total_cmp(&map.axis(b, ETA)));
+        let first_steady = line
+            .iter()
+            .position(|r| stamp(r) == Some(StampRegime::SteadySliding));
+        if let Some(i) = first_steady {
+            monotone &= line[i..]
+                .iter()
+                .all(|r| stamp(r) == Some(StampRegime::SteadySliding));
+            if i > 0 {
+                // The change lies between the last other point and the first steady one.
+                let (lo, hi) = (map.axis(line[i - 1], ETA), map.axis(line[i], ETA));
+                critical_eta.push((k, (lo * hi).sqrt(), hi / lo));
+            }
+        }
+    }
+    let lowest_eta_stick = rows
+        .iter()
+        .filter(|r| (map.axis(r, ETA) / etas[0] - 1.0).abs() < 1e-9)
+        .all(|r| {
+            r.summary.regime == Regime::StickSlip && stamp(r) == Some(StampRegime::StickSlip)
+        });
+    let highest_eta_steady = rows
+        .iter()
+        .filter(|r| (map.axis(r, ETA) / etas[etas.len() - 1] - 1.0).abs() < 1e-9)
+        .all(|r| {
+            r.summary.regime == Regime::Sliding && stamp(r) == Some(StampRegime::SteadySliding)
+        });
+    let mut checks = vec![Check {
+        claim: format!(
+            "at the lowest viscosity ({} Pa·s) film and stamp stick and slip at every \
+             stiffness; at the highest ({} Pa·s) the film stays liquid (`sliding`) and the \
+             stamp slides steadily; along η, once steady, always steady (one change per \
+             stiffness)",
+            sig(etas[0], 2),
+            sig(etas[etas.len() - 1], 2)
+        ),
+        measured: format!(
+            "lowest η all stick_slip: {lowest_eta_stick}; highest η all sliding and \
+             steady_sliding: {highest_eta_steady}; one change per stiffness: {monotone} \
+             ({} of {} stiffnesses with a change inside the map)",
+            critical_eta.len(),
+            ks.len()
+        ),
+        pass: lowest_eta_stick && highest_eta_steady && monotone,
+    }];
+    // The critical viscosity per stiffness: a finding (the spring moves it), in the prose.
+    let per_k = critical_eta
+        .iter()
+        .map(|(k, e, _)| format!("{} Pa·s at K = {} N/m", sig(*e, 2), sig(*k, 3)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    // Kinetic friction where the film is liquid throughout the settled sliding and the
+    // spring has had time to take up the drag: its approach time c_v/K (overdamped) well
+    // inside the settled part.
+    let mut worst: f64 = 0.0;
+    let mut compared = 0;
+    let mut skipped = 0;
+    for r in &rows {
+        if stamp(r) != Some(StampRegime::SteadySliding) || r.summary.regime != Regime::Sliding {
+            continue;
+        }
+        let Some(cycles) = r.summary.cycles.as_ref() else {
+            continue;
+        };
+        let Some(f) = cycles.slips.f_mean_n else {
+            continue;
+        };
+        let rise = map.axis(r, ETA) * PI * a0 * a0 / h0 / map.axis(r, K);
+        if rise > 0.1 * (scene.config.time.end_s - cycles.settled_from_s) {
+            skipped += 1;
+            continue;
+        }
+        let expected = couette(map.axis(r, ETA));
+        worst = worst.max((f / expected - 1.0).abs());
+        compared += 1;
+    }
+    checks.push(Check {
+        claim: format!(
+            "kinetic friction in steady sliding with the film liquid: the spring's mean force \
+             over the settled part is the Couette force η·V0·πa0²/h0 within {} (where the \
+             drag's rise time c_v/K is under a tenth of the settled part)",
+            sig(COUETTE_TOLERANCE, 2)
+        ),
+        measured: format!(
+            "largest relative difference {} over {compared} points ({skipped} still rising)",
+            sig(worst, 2)
+        ),
+        pass: compared > 0 && worst <= COUETTE_TOLERANCE,
+    });
+    // The critical speed of the spring drive at two stiffnesses.
+    let crit = critical_speeds(map, jobs)?;
+    let found: Vec<(f64, f64, f64)> = crit
+        .iter()
+        .filter_map(|c| c.change().map(|ch| (c.k, ch.value, ch.error)))
+        .collect();
+    let describe = found
+        .iter()
+        .map(|(k, v, e)| {
+            format!(
+                "K = {} N/m: V_c = {} ± {} m/s (η·V_c = {} Pa·m)",
+                sig(*k, 3),
+                sig(*v, 4),
+                sig(*e, 2),
+                sig(v * SCAN_ETA, 3)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    let paper = vc_eta_paper / SCAN_ETA;
+    let agree = found.len() == 2
+        && found
+            .iter()
+            .all(|(_, v, _)| (v / paper).max(paper / v) <= PAPER_FACTOR);
+    checks.push(Check {
+        claim: format!(
+            "with η = {} Pa·s slips stop recurring above a critical speed of the spring drive, \
+             which `boundary --scale stamp` finds at K = {} and {} N/m, each within a factor \
+             {} of the estimate on paper εc·h0²/(C·η) = {} m/s (which has no spring in it; the \
+             spring decides how the film gets into steady sliding, so the two may differ)",
+            sig(SCAN_ETA, 2),
+            sig(SCAN_K[0], 3),
+            sig(SCAN_K[1], 3),
+            sig(PAPER_FACTOR, 2),
+            sig(paper, 3)
+        ),
+        measured: if describe.is_empty() {
+            "no stick_slip → steady_sliding change found".into()
+        } else {
+            describe.clone()
+        },
+        pass: agree,
+    });
+    let mut figure = panels(&map.json, "n_slips")?;
+    for p in &mut figure {
+        p.hlines.push((vc_eta_paper / v0, "η_c on paper".into()));
+    }
+    let text = format!(
+        "The base scene is `{}` (a0 = {} m, h0 = {} m, G* = {} Pa) at N = {} nodes, V0 = {} m/s, \
+         time.end = {} s, stopped after {} meltings. Axes: K = {} … {} N/m and η = {} … {} Pa·s. \
+         Colours: the slips of the stamp in the run (the regime panel is the film's). What to \
+         see: below a critical viscosity the stamp slips; above it the molten film's viscous \
+         stress keeps the substrate strained past εc = {}, the film stays liquid and the stamp \
+         slides steadily with the Couette force. The critical viscosity at this speed (the geometric \
+         middle of the cell where steady sliding begins): {}, against {} Pa·s on paper (no \
+         spring in it). The critical-speed scans (N = {}, η = {} \
+         Pa·s, 7 scan points from 3e-6 to 1e-4 m/s, bisected to 5 %, errors from 2N and a \
+         tenth of the tolerance): {}.",
+        map.scene_file(),
+        sig(a0, 3),
+        sig(h0, 3),
+        sig(g, 3),
+        c.nodes,
+        sig(v0, 3),
+        sig(scene.config.time.end_s, 3),
+        scene.max_events.unwrap_or(0),
+        sig(ks[0], 3),
+        sig(ks[ks.len() - 1], 3),
+        sig(etas[0], 3),
+        sig(etas[etas.len() - 1], 3),
+        sig(eps_c, 3),
+        if per_k.is_empty() { "none found".to_string() } else { per_k },
+        sig(vc_eta_paper / v0, 3),
+        c.nodes,
+        sig(SCAN_ETA, 2),
+        describe
+    );
+    Ok(Section {
+        title: "Viscous film: stiffness × viscosity, and the critical speed".into(),
+        text,
+        figure: ("maps_viscous.svg".into(), figure),
+        checks,
+    })
+}
