@@ -394,6 +394,56 @@ fn one_node_liquid_contact_on_a_spring_elastic_substrate() {
 }
 
 #[test]
+fn a_rigid_film_on_an_elastic_substrate_under_a_stiff_drag() {
+    // η = 1e6 Pa·s: t_v = 0.31 s ≫ Δt, so the film barely shears and the stamp and substrate
+    // move together, while c_v·Δt/m reaches 12.6. A flow that took all of c_v would hold the
+    // stamp back while the kicks gave the substrate's rate back (87 % off at 5 steps when it
+    // did); the flow takes c_v·(1 − J), J the substrate's share of the stamp's rate, and the
+    // step stays accurate and second order (docs/model.md#viscosity).
+    let (k, m, v0, eta) = (500.0, 0.1, 1.0, 1e6);
+    let contact = "nodes = 1\nmodel = \"homogeneous\"\nsubstrate = \"elastic\"";
+    let cv = eta * PI * RADIUS_M * RADIUS_M / H0_M;
+    let end = 5e-4;
+    let [x_ex, _, f_ex] = one_node_exact(eta, k, m, 0.0, v0, true, end);
+    let drive = format!(
+        "kind = \"spring\"\nstiffness = {k:e}\nmass = {m:e}\nvelocity = {v0:e}\nintegrator = \"split\""
+    );
+    let error = |x: f64, f: f64| ((x - x_ex) / x_ex).abs().max(((f - f_ex) / f_ex).abs());
+    let mut errors = Vec::new();
+    for n in [5, 20, 200, 400] {
+        let s = liquid(eta, contact, &drive, end, end / f64::from(n));
+        let (_, x, _, f, _) = run(&s);
+        let e = error(x, f);
+        eprintln!(
+            "rigid film, stiff drag, {n} steps (c_v dt/m = {:.2}): error {e:.3e}",
+            cv * end / f64::from(n) / m
+        );
+        errors.push(e);
+    }
+    assert!(errors[0] < 1e-3, "{errors:?}");
+    let p = order(errors[2], errors[3]);
+    assert!((p - 2.0).abs() < 0.15, "order {p} ({errors:?})");
+    let s = liquid_stepped(
+        eta,
+        contact,
+        &drive,
+        &format!("end = {end:e}\ndt = 1e-8\nstepping = \"adaptive\""),
+    );
+    let mut driver = Driver::start(&s, &mut NullSink).unwrap();
+    driver
+        .advance(&mut NullSink, &mut Control::default(), Limit::None)
+        .unwrap();
+    let sim = driver.simulation();
+    let st = &sim.state().physical;
+    let e = error(st.drive.x_m, st.force_n);
+    eprintln!(
+        "rigid film, stiff drag, adaptive (tolerance 5e-5): error {e:.3e} in {} steps",
+        sim.state().counters.accepted_steps
+    );
+    assert!(e < 1e-4, "{e:e}");
+}
+
+#[test]
 fn stiff_viscous_coupling_stays_stable_and_accurate() {
     // t_v = η·C/h0 ≈ 3e-9 s against steps of 0.25 to 4 µs (Δt/t_v = 80 to 1300), one node
     // and radial: the implicit (L-stable) coupling takes the quasi-static limit, stable and
@@ -495,7 +545,7 @@ fn adaptive_steps_follow_the_tolerance_with_the_viscous_coupling() {
     let slopes: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log10()).collect();
     eprintln!("adaptive, viscous coupling: error ∝ tolerance^p, observed p {slopes:.3?}");
     for p in &slopes {
-        assert!((0.5..=0.85).contains(p), "{slopes:?} ({errors:?})");
+        assert!((0.5..=0.95).contains(p), "{slopes:?} ({errors:?})");
     }
     assert!(errors[3] < 1e-4, "{errors:?}");
 }

@@ -22,7 +22,7 @@ impl Simulation {
         let two_gamma = 2.0 * params.gamma_per_pa_s;
         let thr = self.config.melt_threshold;
         let h0 = self.config.contact.film_thickness_m;
-        self.viscous_step_start();
+        self.viscous_step_start(dt_s);
         // The force the drive's kicks carry: F, or with viscosity its part outside the spring's
         // flow.
         let drive_before = (self.state.physical.drive, self.kick_force_n());
@@ -192,8 +192,8 @@ impl Simulation {
                 } else if let Some(v) = &self.viscous {
                     // The viscous drag as a dashpot on the absolute velocity (see
                     // `viscous_drive_half`).
-                    let loaded = sp.with_drag(v.drag_n_s_per_m);
-                    let offset = v.drag_n_s_per_m * sp.velocity_m_per_s;
+                    let loaded = sp.with_drag(v.flow_drag_n_s_per_m);
+                    let offset = v.flow_drag_n_s_per_m * sp.velocity_m_per_s;
                     let d = &s.drive;
                     loaded.acceleration_m_per_s2(d.t_s, d.x_m, d.v_m_per_s, f_after + offset)
                         - loaded.acceleration_m_per_s2(
@@ -228,7 +228,7 @@ impl Simulation {
                     Some(v) => {
                         // RK4 takes the drag explicitly: its error on the damping's own decay of
                         // V − V0, which also rejects steps beyond RK4's stability bound.
-                        let rate = (sp.damping_n_s_per_m + v.drag_n_s_per_m) / sp.mass_kg;
+                        let rate = (sp.damping_n_s_per_m + v.flow_drag_n_s_per_m) / sp.mass_kg;
                         let extra = error_estimate::rk4_decay_error(
                             rate * dt_s,
                             before.v_m_per_s - sp.velocity_m_per_s,

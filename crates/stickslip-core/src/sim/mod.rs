@@ -335,7 +335,7 @@ impl Simulation {
         let x0 = self.state.physical.drive.x_m;
         if let Some(v) = &self.viscous {
             let f = self.kick_force_n();
-            let drag = v.drag_n_s_per_m;
+            let drag = v.flow_drag_n_s_per_m;
             self.viscous_drive_half(dt_s, f, drag, true);
             return self.state.physical.drive.x_m - x0;
         }
@@ -357,7 +357,7 @@ impl Simulation {
     fn drive_second_half(&mut self, dt_s: f64) {
         if let Some(v) = &self.viscous {
             let f = self.kick_force_n();
-            let drag = v.drag_n_s_per_m;
+            let drag = v.flow_drag_n_s_per_m;
             self.viscous_drive_half(dt_s, f, drag, false);
             return;
         }
@@ -380,11 +380,12 @@ impl Simulation {
         }
     }
 
-    /// A half of the stamp's step with the film's viscous drag c_v = `drag` (first half when
-    /// `first`), the kicks carrying `kick_n` = F − c_v·Ẋ (Ẋ of the viscous stress) (docs/model.md#viscosity): split,
-    /// the drag inside the spring's exact flow; Verlet and RK4, the drag as a dashpot on the
-    /// absolute velocity, −c_v·Ẋ = c_v·(V0 − Ẋ) − c_v·V0 (Verlet's closing kick implicit in
-    /// it); the rigid drive as without viscosity.
+    /// A half of the stamp's step (the first when `first`) with the part c = `drag` of the
+    /// film's viscous drag that the flow takes, the kicks carrying `kick_n` = F − c·Ẋ (Ẋ of the
+    /// viscous stress; docs/model.md#viscosity): split, the drag inside the spring's exact
+    /// flow; Verlet and RK4, the drag as a dashpot on the absolute velocity,
+    /// −c·Ẋ = c·(V0 − Ẋ) − c·V0 (Verlet's closing kick implicit in it); the rigid drive as
+    /// without viscosity.
     fn viscous_drive_half(&mut self, dt_s: f64, kick_n: f64, drag: f64, first: bool) {
         let state = &mut self.state.physical.drive;
         match (&self.config.drive, self.config.integrator) {

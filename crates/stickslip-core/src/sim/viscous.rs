@@ -24,6 +24,11 @@ pub(super) struct Viscous {
     /// c_v = η·A/h0, N·s/m, with A = πa0² as the force quadrature integrates a uniform stress
     /// (so that on a rigid substrate the kicks carry no part of the drag at all).
     pub drag_n_s_per_m: f64,
+    /// The drag this step's spring flow takes, c_v·(1 − J), N·s/m: J ≈ ∂u̇3D/∂Ẋ, the share of
+    /// the stamp's velocity the substrate follows through the film (0 on a rigid substrate,
+    /// → 1 for a film too viscous to shear within the step), estimated at the step's start
+    /// for the one-node contact of the mean φ² (see [`Simulation::viscous_step_start`]).
+    pub flow_drag_n_s_per_m: f64,
     /// Spectral radius of κ·C (the compliance at unit film stiffness; radial elastic contacts):
     /// κ·C·diag(w) has its spectrum within [0, this·max w], the coupling solve's bound.
     pub unit_contraction: f64,
@@ -55,6 +60,7 @@ impl Viscous {
         Self {
             eta_pa_s,
             drag_n_s_per_m,
+            flow_drag_n_s_per_m: drag_n_s_per_m,
             relaxation_s,
             unit_contraction,
             w: vec![0.0; n],
@@ -129,33 +135,59 @@ impl Viscous {
 }
 
 impl Simulation {
-    /// The force the drive's kicks carry: F itself without viscosity; with it F − c_v·Ẋ (the Ẋ
-    /// of the viscous stress), the part of the film's force the spring's flow does not take
-    /// (F_el − (η/h0)·∫u̇3D dA).
+    /// The force the drive's kicks carry: F itself without viscosity; with it F − c·Ẋ (the Ẋ
+    /// of the viscous stress, c the step's flow drag), the part of the film's force the
+    /// spring's flow does not take (on a rigid substrate c = c_v and this is F_el).
     pub(super) fn kick_force_n(&self) -> f64 {
         match &self.viscous {
             None => self.state.physical.force_n,
             Some(v) => {
                 self.state.physical.force_n
-                    - v.drag_n_s_per_m * self.state.stepper.viscous_v_m_per_s
+                    - v.flow_drag_n_s_per_m * self.state.stepper.viscous_v_m_per_s
             }
         }
     }
 
-    /// Before the step's film update: the film's shear rate r = Ẋ − u̇3D per node at the
-    /// step's start, from the viscous stress of the state, τ − a·φ²·ε = η·r/h0 (valid after
-    /// any step, also one whose history the adaptive control cleared).
-    pub(super) fn viscous_step_start(&mut self) {
+    /// Before a step of `dt_s`: the film's shear rate r = Ẋ − u̇3D per node at the step's
+    /// start, from the viscous stress of the state, τ − a·φ²·ε = η·r/h0 (valid after any step,
+    /// also one whose history the adaptive control cleared); and the drag the spring's flow
+    /// takes over the step.
+    ///
+    /// The flow may take any part c of the drag: the kicks carry F − c·Ẋ, and the split stays
+    /// consistent and second order. The part that keeps the kicks free of stiffness is the
+    /// force's own dependence on Ẋ, c_v·(1 − J) with J = ∂u̇3D/∂Ẋ: on a rigid substrate J = 0
+    /// (all of c_v), for a film too viscous to shear within the step J → 1 (the stamp and the
+    /// substrate move together, and a flow with all of c_v would hold the stamp back while the
+    /// kicks gave the substrate's rate back). On the one-node contact of compliance C per
+    /// stress, the coupling gives J = (k/(1 + k))·(β/w) with β = η·α0/(a·Δt), w = φ² + β,
+    /// k = C·a·w/h0; a radial contact uses it with the mean φ² and C = πa0/(2G*).
+    pub(super) fn viscous_step_start(&mut self, dt_s: f64) {
         let Some(v) = self.viscous.as_mut() else {
             return;
         };
         let s = &self.state.physical;
         let a = self.config.lubricant.a_pa;
         let h0 = self.config.contact.film_thickness_m;
+        let mut y_mean = 0.0;
         for i in 0..s.phi.len() {
-            let tau_v = s.tau_pa[i] - a * s.phi[i] * s.phi[i] * s.eps[i];
+            let y = s.phi[i] * s.phi[i];
+            let tau_v = s.tau_pa[i] - a * y * s.eps[i];
             v.rate_before[i] = h0 * tau_v / v.eta_pa_s;
+            y_mean += self.area_weights[i] * y;
         }
+        let last = self.state.stepper.last_dt_s;
+        let alpha0 = if last > 0.0 && dt_s <= 2.0 * last {
+            let omega = dt_s / last;
+            (1.0 + 2.0 * omega) / (1.0 + omega)
+        } else {
+            1.0
+        };
+        let beta = v.eta_pa_s * alpha0 / (a * dt_s);
+        let w = y_mean + beta;
+        // k = C·a·w/h0 with C = t_v·h0/η.
+        let k = v.relaxation_s * a * w / v.eta_pa_s;
+        let share = k / (1.0 + k) * (beta / w);
+        v.flow_drag_n_s_per_m = v.drag_n_s_per_m * (1.0 - share);
     }
 
     /// After ε and τ of the step's end (Eqs. 11–12): τ gains η·α0/(Δt·h0)·(g − u3D), and the
