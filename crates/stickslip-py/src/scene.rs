@@ -152,7 +152,9 @@ impl PyScene {
     /// when a run would stop before its first step), ``derived`` (as run.json's: b Pa, A Pa,
     /// eps_c, phi0, omega rad/s, g_eff Pa, nodes, steps_planned, lagged_sweep_contraction,
     /// melting_force N, critical_displacement m, spring_period s, euler_number,
-    /// first_onset_estimate s; plus stamp_travel m, the free stamp's position at time.end),
+    /// first_onset_estimate s; with a viscous film also viscous_drag N·s/m, the drag
+    /// η·πa0²/h0, and viscous_time s, η·a0/(h0·G*); plus stamp_travel m, the free stamp's
+    /// position at time.end),
     /// ``cost`` (probe_steps, seconds_per_step s, steps, seconds s: the estimated wall time of
     /// a run, from a timed probe of about 0.05 s of this scene, ``None`` when the probe's own
     /// pace contradicts the estimate; probe_pace_seconds s: that pace carried to time.end;

@@ -4,6 +4,7 @@ its RunResult, to_pandas, the GIL released during a run, the package's public na
 from __future__ import annotations
 
 import copy
+import math
 import pickle
 import sys
 import threading
@@ -255,6 +256,12 @@ def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
         w["severity"] == "warning" and w["key"] == "contact.radius" and "usual range" in
         w["message"] for w in slip["warnings"]
     ), slip["warnings"]
+    # A viscous film: the drag η·πa0²/h0 and the viscous time η·a0/(h0·G*) join the derived
+    # numbers (fig2: a0 = 20 µm, h0 = 100 nm, G* = 1e9 Pa).
+    viscous = scene.with_overrides({"lubricant.viscosity": 10.0}).check()["derived"]
+    assert viscous["viscous_drag"] == pytest.approx(10.0 * math.pi * 4e-10 / 1e-7)
+    assert viscous["viscous_time"] == pytest.approx(10.0 * 2e-5 / (1e-7 * 1e9))
+    assert "viscous_drag" not in c["derived"]
     refused = stickslip.Scene.load(
         HARD / "soft_substrate.toml", {"time.scheme": "literal", "contact.nodes": 50}
     ).check()

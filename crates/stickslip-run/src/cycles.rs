@@ -16,7 +16,9 @@
 //! meltings, the drive force for slips.
 //!
 //! **The stamp-scale regime**, decided in this order:
-//! - `stick_slip`: two or more slips start in the settled part (slips recur);
+//! - `stick_slip`: two or more slips with meltings inside start in the settled part (slips
+//!   recur; a slip without a melting is the stamp ringing on its spring, a drop the film did
+//!   not cause);
 //! - `steady_sliding`: over the last half of the settled part (from t_s + (t_final − t_s)/2:
 //!   a contact that slid into steady motion after its last slip reloads for a while first)
 //!   no slip starts, the drive force stays within a band of the slip hysteresis, and the
@@ -260,7 +262,8 @@ pub fn summarize_stamp(
     };
 
     let tail = settled + 0.5 * (t_final_s - settled).max(0.0);
-    let stamp_regime = if settled_slips.len() >= 2 {
+    let film_slips = settled_slips.iter().filter(|s| s.meltings > 0).count();
+    let stamp_regime = if film_slips >= 2 {
         StampRegime::StickSlip
     } else if slips.iter().all(|s| s.t_start_s < tail)
         && steady_sliding(env, tail, tracker.drop_n, v0_m_per_s)
@@ -324,9 +327,41 @@ mod tests {
 
     /// A tracker fed `f(t)` with the stamp at `x(t)`, 10 000 steps over [0, end].
     fn fed(end: f64, f: impl Fn(f64) -> f64, x: impl Fn(f64) -> f64, drop: f64) -> SlipTracker {
+        fed_melting(end, f, x, drop, &[]).0
+    }
+
+    /// As [`fed`], with meltings at `onsets`; also returns them as events.
+    fn fed_melting(
+        end: f64,
+        f: impl Fn(f64) -> f64,
+        x: impl Fn(f64) -> f64,
+        drop: f64,
+        onsets: &[f64],
+    ) -> (SlipTracker, Vec<MeltingEvent>) {
+        let event = |k: usize, t: f64| MeltingEvent {
+            k,
+            t_onset_s: t,
+            r_first_m: 0.0,
+            x_onset_m: x(t),
+            f_peak_n: f(t),
+            r_min_m: 0.0,
+            t_center_s: None,
+            max_melted_fraction: 1.0,
+            t_end_s: Some(t),
+            recovery: 1.0,
+            f_mean_n: 0.0,
+            melted_area: 1.0,
+        };
         let mut tr = SlipTracker::new(drop, end);
+        let mut events = Vec::new();
         for i in 0..=10_000 {
             let t = end * f64::from(i) / 10_000.0;
+            while let Some(&o) = onsets.get(events.len()) {
+                if o > t {
+                    break;
+                }
+                events.push(event(events.len() + 1, o));
+            }
             tr.observe(
                 Moment {
                     t_s: t,
@@ -334,19 +369,26 @@ mod tests {
                     x_m: x(t),
                 },
                 f(t),
-                &[],
+                &events,
             );
         }
-        tr
+        (tr, events)
     }
 
     #[test]
     fn the_stamp_regimes_on_constructed_traces() {
         // A sawtooth of period 1 and height 1 over 10 s (V0 = 1): stick–slip, 9 slips ended
         // and the tenth open at the end.
-        let saw = fed(10.0, |t| t.fract(), |t| t - t.fract(), 0.5);
-        let s = summarize_stamp(&saw, &[], 10.0, 1.0);
+        // A melting sets off each slip, just before the peak.
+        let onsets: Vec<f64> = (1..=10).map(|k| f64::from(k) - 2e-3).collect();
+        let (saw, events) = fed_melting(10.0, |t| t.fract(), |t| t - t.fract(), 0.5, &onsets);
+        let s = summarize_stamp(&saw, &events, 10.0, 1.0);
         assert_eq!(s.stamp_regime, StampRegime::StickSlip);
+        assert!(saw.slips.iter().all(|s| s.meltings == 1), "{:?}", saw.slips);
+        // The same drops without meltings are the stamp ringing on its spring: no stick–slip.
+        let rings = fed(10.0, |t| t.fract(), |t| t - t.fract(), 0.5);
+        let ringing = summarize_stamp(&rings, &[], 10.0, 1.0);
+        assert_eq!(ringing.stamp_regime, StampRegime::Transient);
         assert_eq!((saw.slips.len(), s.n_slips), (9, 10));
         // The first slip ends at ≈ 1: settled from ≈ 5.5, slips at 5.999, …, 9.999.
         assert_eq!(s.cycles.slips.count, 5);
