@@ -99,3 +99,24 @@ fn a_resumed_run_finds_the_same_slips() {
     assert_eq!(resumed.slips, whole.slips);
     assert_eq!(resumed.summary, whole.summary);
 }
+
+#[test]
+fn before_its_first_slip_the_stamp_creeps() {
+    // K = 5000 N/m loads the contact quasi-statically: the first melting comes at ≈ 0.107 s,
+    // so in 0.05 s the spring force only grows.
+    let scene = Scene::from_path(
+        &common::scene("sfa"),
+        &[
+            "contact.nodes=50",
+            "time.end=0.05",
+            "output.profile_times=[0.05]",
+        ],
+    )
+    .unwrap();
+    let outcome = stickslip_run::run(&scene, &mut NullSink, &mut Control::default()).unwrap();
+    assert!(outcome.slips.is_empty() && outcome.events.is_empty());
+    assert_eq!(outcome.summary.stamp_regime, Some(StampRegime::Creep));
+    let cycles = outcome.summary.cycles.unwrap();
+    assert_eq!((cycles.meltings.count, cycles.slips.count), (0, 0));
+    assert_eq!(cycles.settled_from_s, 0.025);
+}
