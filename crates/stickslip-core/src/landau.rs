@@ -554,6 +554,34 @@ pub(crate) fn bernoulli_phi(
     params: &LandauParams,
     t_s: f64,
 ) -> f64 {
+    let (e, m) = crate::vexp::exp_expm1(bernoulli_exponent(eps, a_coeff_pa, params, t_s));
+    bernoulli_finish(phi0, eps, a_coeff_pa, params, t_s, (e, m))
+}
+
+/// The argument −w = −2γ·|c|·t of [`bernoulli_phi`]'s one exponential (ignored when |c| is
+/// not a normal number): computed for every node first, so that the exponentials of all nodes
+/// are taken in one vectorised loop ([`crate::vexp::exp_expm1_all`]).
+#[inline(always)]
+pub(crate) fn bernoulli_exponent(
+    eps: f64,
+    a_coeff_pa: f64,
+    params: &LandauParams,
+    t_s: f64,
+) -> f64 {
+    let two_gamma = 2.0 * params.gamma_per_pa_s;
+    -(two_gamma * params.bernoulli_c_pa(eps, a_coeff_pa).abs() * t_s)
+}
+
+/// [`bernoulli_phi`] given (e^(−w), e^(−w) − 1) of [`bernoulli_exponent`]'s argument.
+#[inline(always)]
+pub(crate) fn bernoulli_finish(
+    phi0: f64,
+    eps: f64,
+    a_coeff_pa: f64,
+    params: &LandauParams,
+    t_s: f64,
+    (e_w, m_w): (f64, f64),
+) -> f64 {
     let phi0 = phi0.abs();
     if t_s == 0.0 || phi0 == 0.0 {
         return phi0;
@@ -565,15 +593,13 @@ pub(crate) fn bernoulli_phi(
     let s = c.abs();
     let (e, h) = if s.is_normal() {
         let w = two_gamma * s * t_s;
-        // One exponential per call (this runs for every node at every step): below ln 2,
+        // One exponential per node (`vexp`, within 2 ulp of libm's): below ln 2,
         // e = 1 + expm1(−w) ≥ ½ is as accurate as exp(−w); above, 1 − e with e < ½ has no
-        // cancellation. Both to within 2 ulp.
+        // cancellation.
         if w <= std::f64::consts::LN_2 {
-            let m = (-w).exp_m1();
-            (1.0 + m, -m / s)
+            (1.0 + m_w, -m_w / s)
         } else {
-            let e = (-w).exp();
-            (e, (1.0 - e) / s)
+            (e_w, (1.0 - e_w) / s)
         }
     } else {
         (1.0, two_gamma * t_s)

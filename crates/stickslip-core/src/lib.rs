@@ -20,3 +20,4 @@ pub mod mdr;
 pub mod noise;
 pub mod preflight;
 pub mod sim;
+pub mod vexp;

@@ -41,6 +41,15 @@
 #[must_use]
 pub fn defect_weights(z: f64) -> (f64, f64) {
     let z = z.max(-40.0);
+    defect_weights_from(z, crate::vexp::exp_expm1(-z))
+}
+
+/// [`defect_weights`] of a `z` already clamped below at −40, given (e^(−z), e^(−z) − 1): the
+/// accurate step takes the exponentials of all nodes in one vectorised loop
+/// ([`crate::vexp::exp_expm1_all`]) and then the weights here.
+#[inline(always)]
+#[must_use]
+pub fn defect_weights_from(z: f64, (e, m): (f64, f64)) -> (f64, f64) {
     if z > STIFF_Z {
         let inv = 1.0 / z;
         return (inv * inv, (z - 1.0) * inv * inv);
@@ -51,13 +60,8 @@ pub fn defect_weights(z: f64) -> (f64, f64) {
         let w1 = 0.5 - z / 6.0 + z * z / 24.0 - z * z * z / 120.0;
         return (w0, w1);
     }
-    let e = (-z).exp();
     // 1 − e^(−z) directly where it does not cancel, expm1 where it would.
-    let one_minus_e = if z.abs() > 0.5 {
-        1.0 - e
-    } else {
-        -(-z).exp_m1()
-    };
+    let one_minus_e = if z.abs() > 0.5 { 1.0 - e } else { -m };
     let w0 = (one_minus_e - z * e) / (z * z);
     let w1 = (z - one_minus_e) / (z * z);
     (w0, w1)

@@ -8,12 +8,31 @@
 //! exactly the arithmetic it always ran.
 
 use super::error_estimate;
-use crate::landau::{LandauParams, bernoulli_phi, first_order};
+use crate::landau::{
+    LandauParams, bernoulli_exponent, bernoulli_finish, bernoulli_phi, first_order,
+};
 
 /// What the accurate step needs from the film's kinetics (y = φ²; c = a·ε² − A·b/a, Pa).
 pub(super) trait Film {
     /// The exact frozen-strain step of φ over `dt_s` at strain `eps` and coefficient A.
     fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64;
+    /// [`Film::step`] at every node, `out[i] = step(phi0[i], eps[i], …)` bit for bit; `e` and
+    /// `m` are scratch of the same length (a film whose step takes an exponential takes
+    /// those of all nodes in one vectorised loop there).
+    fn step_all(
+        &self,
+        phi0: &[f64],
+        eps: &[f64],
+        a_coeff: f64,
+        dt_s: f64,
+        out: &mut [f64],
+        (e, m): (&mut [f64], &mut [f64]),
+    ) {
+        let _ = (e, m);
+        for ((o, &p), &ep) in out.iter_mut().zip(phi0).zip(eps) {
+            *o = self.step(p, ep, a_coeff, dt_s);
+        }
+    }
     /// The local relaxation rate λ = −∂(dy/dt)/∂y of y = φ² at (φ, c), 1/s: the weight θ(λΔt)
     /// of the effective strain.
     fn rate(&self, c: f64, phi: f64, y: f64) -> f64;
@@ -48,6 +67,27 @@ impl SecondOrder {
 impl Film for SecondOrder {
     fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {
         bernoulli_phi(phi0, eps, a_coeff, &self.params, dt_s)
+    }
+
+    /// The arguments of all nodes first, their exponentials in one vectorised loop, then the
+    /// closed form: the same arithmetic as [`bernoulli_phi`] node by node.
+    fn step_all(
+        &self,
+        phi0: &[f64],
+        eps: &[f64],
+        a_coeff: f64,
+        dt_s: f64,
+        out: &mut [f64],
+        (e, m): (&mut [f64], &mut [f64]),
+    ) {
+        let p = &self.params;
+        for (o, &ep) in out.iter_mut().zip(eps) {
+            *o = bernoulli_exponent(ep, a_coeff, p, dt_s);
+        }
+        crate::vexp::exp_expm1_all(out, e, m);
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = bernoulli_finish(phi0[i], eps[i], a_coeff, p, dt_s, (e[i], m[i]));
+        }
     }
 
     fn rate(&self, c: f64, _phi: f64, y: f64) -> f64 {

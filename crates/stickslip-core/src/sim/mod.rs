@@ -116,6 +116,13 @@ pub struct Simulation {
     est_gain: Vec<f64>,
     est_eps_eff: Vec<f64>,
     est_norm: Vec<f64>,
+    /// Per node, scratch of the accurate step, which takes the exponentials of all nodes in
+    /// vectorised loops ([`crate::vexp::exp_expm1_all`]): their arguments, e^x, e^x − 1, and
+    /// the film's φ at the step's end.
+    node_arg: Vec<f64>,
+    node_exp: Vec<f64>,
+    node_expm1: Vec<f64>,
+    node_phi1: Vec<f64>,
     /// The last step's estimated local error, in units of the error scales.
     last_error: StepError,
     /// Adaptive stepping: the state before the attempted step.
@@ -238,6 +245,10 @@ impl Simulation {
             est_gain: vec![0.0; n],
             est_eps_eff: vec![0.0; n],
             est_norm: vec![0.0; n],
+            node_arg: vec![0.0; n],
+            node_exp: vec![0.0; n],
+            node_expm1: vec![0.0; n],
+            node_phi1: vec![0.0; n],
             last_error: StepError::default(),
             saved: None,
             first_melt_fraction: 1.0,
