@@ -4,33 +4,12 @@
 
 use crate::common;
 
-use std::path::Path;
 use stickslip_core::drive::{Drive, free_spring_exact};
 use stickslip_run::driver::{Control, Driver, Limit, NullSink};
 use stickslip_run::{DirOptions, ResolvedScene, Scene, run_to_dir};
 
 fn scene(sets: &[&str]) -> ResolvedScene {
     Scene::from_path(&common::scene("fig2"), sets).unwrap()
-}
-
-/// Every output file of a run written to `dir` (run.json without its wall time).
-fn outputs(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| {
-            let path = e.unwrap().path();
-            let name = path.file_name().unwrap().to_string_lossy().to_string();
-            let mut bytes = std::fs::read(&path).unwrap();
-            if name == "run.json" {
-                let mut v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
-                v.as_object_mut().unwrap().remove("wall_seconds");
-                bytes = serde_json::to_vec_pretty(&v).unwrap();
-            }
-            (name, bytes)
-        })
-        .collect();
-    files.sort();
-    files
 }
 
 #[test]
@@ -56,7 +35,7 @@ fn zero_damping_is_the_papers_drive_byte_for_byte() {
                 checkpoint_every_s: 0.0,
             };
             run_to_dir(&s, &dir, &options, &mut Control::default()).unwrap();
-            runs.push((s, outputs(&dir)));
+            runs.push((s, common::outputs(&dir)));
         }
         let (plain, files) = &runs[0];
         assert!(files.iter().any(|(n, _)| n == "events.csv"));

@@ -22,26 +22,6 @@ fn scene(name: &str, sets: &[&str]) -> ResolvedScene {
     Scene::from_path(&common::scene(name), sets).unwrap()
 }
 
-/// Every output file of a run written to `dir` (run.json without its wall time).
-fn outputs(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| {
-            let path = e.unwrap().path();
-            let name = path.file_name().unwrap().to_string_lossy().to_string();
-            let mut bytes = std::fs::read(&path).unwrap();
-            if name == "run.json" {
-                let mut v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
-                v.as_object_mut().unwrap().remove("wall_seconds");
-                bytes = serde_json::to_vec_pretty(&v).unwrap();
-            }
-            (name, bytes)
-        })
-        .collect();
-    files.sort();
-    files
-}
-
 fn run_dir(scene: &ResolvedScene, dir: &Path) {
     let options = DirOptions {
         force: false,
@@ -70,7 +50,7 @@ fn cubic_zero_is_the_second_order_film_byte_for_byte() {
         let s = scene("fig2", &sets);
         let dir = tmp.path().join(format!("run{}", runs.len()));
         run_dir(&s, &dir);
-        runs.push((s, outputs(&dir)));
+        runs.push((s, common::outputs(&dir)));
     }
     let (plain, files) = &runs[0];
     assert!(files.iter().any(|(n, _)| n == "events.csv"));

@@ -7,7 +7,6 @@
 use crate::common;
 
 use std::f64::consts::PI;
-use std::path::Path;
 use stickslip_run::driver::{Control, Driver, Limit, NullSink};
 use stickslip_run::outcome::StopReason;
 use stickslip_run::{DirOptions, ResolvedScene, Scene, run_to_dir};
@@ -620,26 +619,6 @@ fn the_films_kinetics_see_only_the_elastic_strain() {
     assert!(worst < 1e-9, "{worst:e}");
 }
 
-/// Every output file of a run written to `dir` (run.json without its wall time).
-fn outputs(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| {
-            let path = e.unwrap().path();
-            let name = path.file_name().unwrap().to_string_lossy().to_string();
-            let mut bytes = std::fs::read(&path).unwrap();
-            if name == "run.json" {
-                let mut v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
-                v.as_object_mut().unwrap().remove("wall_seconds");
-                bytes = serde_json::to_vec_pretty(&v).unwrap();
-            }
-            (name, bytes)
-        })
-        .collect();
-    files.sort();
-    files
-}
-
 #[test]
 fn zero_viscosity_is_the_papers_film_byte_for_byte() {
     // Through the first event and into the second stick phase: each integrator (adaptive
@@ -680,7 +659,7 @@ fn zero_viscosity_is_the_papers_film_byte_for_byte() {
                 checkpoint_every_s: 0.0,
             };
             run_to_dir(&s, &dir, &options, &mut Control::default()).unwrap();
-            runs.push((s, outputs(&dir)));
+            runs.push((s, common::outputs(&dir)));
         }
         let (plain, files) = &runs[0];
         assert!(files.iter().any(|(n, _)| n == "events.csv"));
