@@ -550,3 +550,113 @@ fn damping_is_checked_and_zero_damping_is_the_undamped_spring() {
     let (y, yv) = damped_textbook(half.omega_rad_per_s(), 0.5, 0.0, -1.0, 0.05);
     assert!((x - (0.05 + y)).abs() <= 1e-15 && (v - (1.0 + yv)).abs() <= 1e-14);
 }
+
+/// RK4 with `n` steps of m·Ẍ = K·(V0·t − X) + c_d·(V0 − Ẋ) − c_v·Ẋ − k·X from `s` over `t`:
+/// the reference for the loaded flow, independent of its closed form.
+fn loaded_rk4(d: &SpringDrive, k: f64, c_v: f64, s: DriveState, t: f64, n: u32) -> DriveState {
+    let acc = |t: f64, x: f64, v: f64| {
+        (d.stiffness_n_per_m * (d.velocity_m_per_s * t - x)
+            + d.damping_n_s_per_m * (d.velocity_m_per_s - v)
+            - c_v * v
+            - k * x)
+            / d.mass_kg
+    };
+    let h = t / f64::from(n);
+    let (mut t, mut x, mut v) = (s.t_s, s.x_m, s.v_m_per_s);
+    for _ in 0..n {
+        let (k1x, k1v) = (v, acc(t, x, v));
+        let (k2x, k2v) = (
+            v + 0.5 * h * k1v,
+            acc(t + 0.5 * h, x + 0.5 * h * k1x, v + 0.5 * h * k1v),
+        );
+        let (k3x, k3v) = (
+            v + 0.5 * h * k2v,
+            acc(t + 0.5 * h, x + 0.5 * h * k2x, v + 0.5 * h * k2v),
+        );
+        let (k4x, k4v) = (v + h * k3v, acc(t + h, x + h * k3x, v + h * k3v));
+        x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+        v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        t += h;
+    }
+    DriveState {
+        t_s: t,
+        x_m: x,
+        v_m_per_s: v,
+    }
+}
+
+#[test]
+fn the_loaded_flow_solves_the_spring_with_the_contact_stiffness_and_drag_exactly() {
+    // The SFA contact's numbers: K = 500 N/m, m = 0.1 kg, V0 = 1 µm/s, the contact as a spring
+    // of 3.7e4 N/m (74 K); from a state off the rest point, over 3 periods of the loaded spring,
+    // in one step and in 64.
+    let base = SpringDrive::new(500.0, 0.1, 1e-6).unwrap();
+    let start = DriveState {
+        t_s: 0.25,
+        x_m: 3e-9,
+        v_m_per_s: 2e-8,
+    };
+    for zeta_d in [0.0, 0.3] {
+        let d = base
+            .with_damping(2.0 * zeta_d * (base.stiffness_n_per_m * base.mass_kg).sqrt())
+            .unwrap();
+        for (k, c_v) in [(3.7e4, 0.0), (3.7e4, 20.0), (0.0, 5.0), (3.7e4, 400.0)] {
+            let period = std::f64::consts::TAU / ((d.stiffness_n_per_m + k) / d.mass_kg).sqrt();
+            let t = 3.0 * period;
+            let reference = loaded_rk4(&d, k, c_v, start, t, 1 << 16);
+            let scale_x = reference.x_m.abs().max(1e-12);
+            let scale_v = reference.v_m_per_s.abs().max(1e-12 / period);
+            for steps in [1u32, 64] {
+                let mut s = start;
+                for _ in 0..steps {
+                    d.loaded_flow(&mut s, t / f64::from(steps), k, c_v);
+                }
+                let ex = (s.x_m - reference.x_m).abs() / scale_x;
+                let ev = (s.v_m_per_s - reference.v_m_per_s).abs() / scale_v;
+                assert!(
+                    ex <= 1e-9 && ev <= 1e-9,
+                    "zeta_d {zeta_d}, k {k}, c_v {c_v}, {steps} steps: X {:e} vs {:e} ({ex:e}), \
+                     V {:e} vs {:e} ({ev:e})",
+                    s.x_m,
+                    reference.x_m,
+                    s.v_m_per_s,
+                    reference.v_m_per_s
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_loaded_flow_without_load_is_the_springs_own_flow() {
+    let base = SpringDrive::new(500.0, 0.1, 1e-6).unwrap();
+    let start = DriveState {
+        t_s: 0.25,
+        x_m: 3e-9,
+        v_m_per_s: 2e-8,
+    };
+    for zeta_d in [0.0, 0.3, 2.0] {
+        let d = base
+            .with_damping(2.0 * zeta_d * (base.stiffness_n_per_m * base.mass_kg).sqrt())
+            .unwrap();
+        for h in [1e-6, 1e-3, 0.05] {
+            let (mut a, mut b) = (start, start);
+            d.loaded_flow(&mut a, h, 0.0, 0.0);
+            d.spring_flow(&mut b, h);
+            assert_eq!(a.t_s, b.t_s);
+            assert!(
+                (a.x_m - b.x_m).abs() <= 1e-14 * b.x_m.abs()
+                    && (a.v_m_per_s - b.v_m_per_s).abs() <= 1e-13 * b.v_m_per_s.abs().max(1e-9),
+                "zeta_d {zeta_d}, h {h}: {a:?} vs {b:?}"
+            );
+            let (mut a, mut b) = (start, start);
+            d.loaded_flow(&mut a, h, 0.0, 7.0);
+            d.spring_flow_with_drag(&mut b, h, 7.0);
+            assert!(
+                (a.x_m - b.x_m).abs() <= 1e-12 * b.x_m.abs()
+                    && (a.v_m_per_s - b.v_m_per_s).abs() <= 1e-10 * b.v_m_per_s.abs().max(1e-9),
+                "drag, zeta_d {zeta_d}, h {h}: {a:?} vs {b:?}"
+            );
+        }
+    }
+}

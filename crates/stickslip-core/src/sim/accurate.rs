@@ -229,7 +229,9 @@ impl Simulation {
                 // Verlet's remainder on the acceleration's change over the step; with the split
                 // integrator only the friction force's kicks carry an error (a = −F/m).
                 let change = if integrator == Integrator::Split {
-                    -(f_after - f_before) / sp.mass_kg
+                    // The kicks carry F − k·X (the flow takes the contact's stiffness k).
+                    let k = self.flow_stiffness_n_per_m;
+                    -((f_after - k * s.drive.x_m) - (f_before - k * before.x_m)) / sp.mass_kg
                 } else if let Some(v) = &self.viscous {
                     // The viscous drag as a dashpot on the absolute velocity (see
                     // `viscous_drive_half`).

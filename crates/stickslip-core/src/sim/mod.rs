@@ -139,6 +139,11 @@ pub struct Simulation {
     /// The film's viscous stress (`lubricant.viscosity` > 0, accurate scheme); `None` for η = 0,
     /// which then costs nothing and changes no bit.
     viscous: Option<viscous::Viscous>,
+    /// The contact's linear stiffness k that the split integrator's exact flow carries, N/m
+    /// (see [`crate::drive::SpringDrive::loaded_flow`]): the contact as a spring at t = 0
+    /// ([`Simulation::contact_spring`]); 0 for the other integrators, the rigid drive and the
+    /// literal scheme, whose flow is the spring's alone.
+    flow_stiffness_n_per_m: f64,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -255,8 +260,16 @@ impl Simulation {
             recovered_at_s: f64::NEG_INFINITY,
             rho0: 0.0,
             viscous: None,
+            flow_stiffness_n_per_m: 0.0,
         };
         sim.rho0 = sim.lagged_sweep_contraction();
+        if matches!(sim.config.drive, Drive::Spring(_))
+            && sim.config.integrator == Integrator::Split
+            && sim.config.time.scheme == Scheme::Accurate
+            && let Some(k) = sim.contact_spring()
+        {
+            sim.flow_stiffness_n_per_m = k.stiffness_n_per_m();
+        }
         let eta = sim.config.lubricant.viscosity_pa_s;
         if eta > 0.0 {
             // The contact's area as the force quadrature integrates a uniform stress (πa0² up
@@ -351,10 +364,16 @@ impl Simulation {
             return self.state.physical.drive.x_m - x0;
         }
         let f = self.state.physical.force_n;
+        let k = self.flow_stiffness_n_per_m;
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Verlet) => {
                 s.half_kick(&mut self.state.physical.drive, f, dt_s);
                 s.drift(&mut self.state.physical.drive, dt_s);
+            }
+            (Drive::Spring(s), Integrator::Split) if k > 0.0 => {
+                // The kicks carry F − k·X, the flow the contact's linear part k·X.
+                s.friction_half_kick(&mut self.state.physical.drive, f - k * x0, dt_s);
+                s.loaded_flow(&mut self.state.physical.drive, dt_s, k, 0.0);
             }
             (Drive::Spring(s), Integrator::Split) => {
                 s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
@@ -381,9 +400,10 @@ impl Simulation {
                 );
             }
             (Drive::Spring(s), Integrator::Split) => {
+                let x1 = self.state.physical.drive.x_m;
                 s.friction_half_kick(
                     &mut self.state.physical.drive,
-                    self.state.physical.force_n,
+                    self.state.physical.force_n - self.flow_stiffness_n_per_m * x1,
                     dt_s,
                 );
             }
@@ -401,8 +421,11 @@ impl Simulation {
         let state = &mut self.state.physical.drive;
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Split) => {
-                s.friction_half_kick(state, kick_n, dt_s);
-                if first {
+                let k = self.flow_stiffness_n_per_m;
+                s.friction_half_kick(state, kick_n - k * state.x_m, dt_s);
+                if first && k > 0.0 {
+                    s.loaded_flow(state, dt_s, k, drag);
+                } else if first {
                     s.spring_flow_with_drag(state, dt_s, drag);
                 }
             }

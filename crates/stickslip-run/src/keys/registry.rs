@@ -354,7 +354,7 @@ section! {
             "V0: velocity of the spring's free end (or of the rigid coupler)"
             { usual: Some((1e-9, 1e2)) }
         INTEGRATOR integrator "integrator": Integrator =
-            "integrator of the spring drive: split (the spring's motion exact, the friction force as Verlet half kicks; symplectic), velocity Verlet, or RK4 (friction held over the step)"
+            "integrator of the spring drive: split (the motion of the spring and, with the accurate scheme, of the contact as a linear spring exact, the rest of the friction force as Verlet half kicks; symplectic), velocity Verlet, or RK4 (friction held over the step)"
             { default: Value(&Integrator::Split), range: Range::Word }
     }
 }
