@@ -267,6 +267,9 @@ impl SolveProblem {
                 / (config.contact.film_thickness_m * config.contact.g_eff_pa),
             tolerance: CouplingTolerance {
                 rel_tol: config.numerics.coupling_tol,
+                // The relative criterion alone, so that the guesses compare on one criterion
+                // (adaptive runs also accept a residual below their absolute floor).
+                abs_rms_m: 0.0,
                 spectral_bound: rho0,
             },
             guesses: [

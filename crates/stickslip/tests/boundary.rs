@@ -320,18 +320,25 @@ fn the_stamp_scale_finds_where_the_stamp_stops_slipping() {
     // The bracket's ends, where boundary ran: a run there reports the same regime. (Points
     // farther out need not: at N = 20 the stamp regime changes back and forth below 5e5 Pa,
     // where single slips come and go — the scan of 3 points sees one change.)
-    let at = |side: &str| {
+    // "below: REGIME (at VALUE); above: REGIME (at VALUE); …"
+    let side = |name: &str| {
         let text = first[1]
             .split(';')
-            .find(|part| part.trim_start().starts_with(side))
-            .unwrap();
-        let inner = text.split("(at ").nth(1).unwrap();
-        num(inner.trim_end_matches(')').trim())
+            .find(|part| part.trim_start().starts_with(name))
+            .unwrap()
+            .trim_start()
+            .trim_start_matches(name)
+            .trim_start_matches(':')
+            .trim();
+        let (regime, at) = text.split_once(" (at ").unwrap();
+        (regime.to_string(), num(at.trim_end_matches(')')))
     };
-    let (below, above) = (at("below"), at("above"));
+    let ((regime_below, below), (regime_above, above)) = (side("below"), side("above"));
     assert!(below < value && value < above, "{stdout}");
-    assert_eq!(stamp_regime_at(below), "steady_sliding");
-    assert_eq!(stamp_regime_at(above), "stick_slip");
+    assert_eq!(regime_below, "steady_sliding", "{stdout}");
+    assert_ne!(regime_above, "steady_sliding", "{stdout}");
+    assert_eq!(stamp_regime_at(below), regime_below);
+    assert_eq!(stamp_regime_at(above), regime_above);
     // An unknown scale exits 2 naming the allowed ones.
     let bad = run(&[
         "boundary",

@@ -291,6 +291,9 @@ impl Simulation {
         } else {
             drive.x_m
         };
+        // The coupling solve's residual shifts the strain as much (see
+        // `Simulation::coupling_abs_rms_m`).
+        let eps_shift_m = eps_shift_m.max(self.last_coupling_rms_m);
         let s = &self.state.physical;
         let a_now = self.config.temperature.a_coeff_pa(s.drive.t_s);
         let eps_c = self.config.lubricant.melting_strain(a_now);

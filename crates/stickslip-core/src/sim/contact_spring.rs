@@ -62,6 +62,7 @@ impl Simulation {
                         &mut u,
                         CouplingTolerance {
                             rel_tol: 1e-10,
+                            abs_rms_m: 0.0,
                             spectral_bound: self.rho0 * phi_sq
                                 / self.phi0_sq().max(f64::MIN_POSITIVE),
                         },

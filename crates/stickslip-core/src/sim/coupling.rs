@@ -135,8 +135,12 @@ impl std::fmt::Debug for CouplingSolver {
 /// What a coupling solve must reach, and what it knows of the operator.
 #[derive(Debug, Clone, Copy)]
 pub struct CouplingTolerance {
-    /// ‖K·(u0 − u) − u‖ ≤ `rel_tol`·‖u‖ at the end (`numerics.coupling_tol`).
+    /// ‖K·(u0 − u) − u‖ ≤ `rel_tol`·‖u‖ at the end (`numerics.coupling_tol`) …
     pub rel_tol: f64,
+    /// … or the residual's root mean square over the nodes ≤ this, m: the displacement
+    /// whose strain the step's error estimate tolerates anyway (0: none; see
+    /// `Simulation::coupling_tolerance`).
+    pub abs_rms_m: f64,
     /// ρ ≥ the spectral radius of K (the lagged sweep's contraction factor); sets the relaxed
     /// correction of an accepted guess.
     pub spectral_bound: f64,
@@ -149,6 +153,9 @@ pub struct CouplingReport {
     pub iterations: usize,
     /// Final relative residual.
     pub rel_residual: f64,
+    /// The final residual's root mean square over the nodes, m (before an accepted guess's
+    /// relaxed correction, which only shrinks it).
+    pub rms_residual_m: f64,
     /// Whether the tolerance was met.
     pub converged: bool,
 }
@@ -199,9 +206,11 @@ impl CouplingSolver {
     ) -> CouplingReport {
         let CouplingTolerance {
             rel_tol,
+            abs_rms_m,
             spectral_bound: rho,
         } = tolerance;
         let n = self.n;
+        let abs_norm = abs_rms_m * (n as f64).sqrt();
         // A contact melted at every node has u0 = 0, and I + K is non-singular: u3D = 0 exactly
         // (and so F = 0). The relative criterion below cannot say so: it would shrink the
         // extrapolated guess by the tolerance each step, towards the underflow.
@@ -210,6 +219,7 @@ impl CouplingSolver {
             return CouplingReport {
                 iterations: 0,
                 rel_residual: 0.0,
+                rms_residual_m: 0.0,
                 converged: true,
             };
         }
@@ -229,7 +239,7 @@ impl CouplingSolver {
             }
             (rr.sqrt(), uu.sqrt())
         };
-        if r_norm <= rel_tol * u_norm || r_norm == 0.0 {
+        if r_norm <= (rel_tol * u_norm).max(abs_norm) || r_norm == 0.0 {
             let relax = 1.0 / (1.0 + 0.5 * rho.max(0.0));
             for (i, u) in u3d.iter_mut().enumerate() {
                 *u += relax * self.rhs[i];
@@ -237,6 +247,7 @@ impl CouplingSolver {
             return CouplingReport {
                 iterations: 0,
                 rel_residual: if u_norm > 0.0 { r_norm / u_norm } else { 0.0 },
+                rms_residual_m: r_norm / (n as f64).sqrt(),
                 converged: true,
             };
         }
@@ -246,9 +257,9 @@ impl CouplingSolver {
         // guess's error enters the next three extrapolations with weights 3, −3, 1 (measured:
         // about one guess in three passes at 1e-8 … 1e-10), and costs iterations.
         let target = if u_norm > 0.0 {
-            (rel_tol * u_norm / r_norm).min(0.5)
+            ((rel_tol * u_norm).max(abs_norm) / r_norm).min(0.5)
         } else {
-            rel_tol
+            rel_tol.max(abs_norm / r_norm).min(0.5)
         };
         // BiCGSTAB's inner products square the residual: a film melted to φ ≈ 0.01 leaves
         // ‖r‖ ≈ 1e-150 m, whose squares underflow and turn the iteration into 0/0 (hard case
@@ -300,16 +311,19 @@ impl CouplingSolver {
         // norm (not the guess's, which is 0 at the first step).
         let u_final = u3d.iter().map(|u| u * u).sum::<f64>().sqrt();
         let scale = |r: f64| r * r_norm / u_final.max(f64::MIN_POSITIVE);
+        let rms = |r: f64| r * r_norm / (n as f64).sqrt();
         match result {
             Ok(info) => CouplingReport {
                 iterations: info.iter_count.max(1),
                 rel_residual: scale(info.rel_residual),
+                rms_residual_m: rms(info.rel_residual),
                 converged: true,
             },
             Err(faer::matrix_free::bicgstab::BicgError::NoConvergence { rel_residual, .. }) => {
                 CouplingReport {
                     iterations: params.max_iters,
                     rel_residual: scale(rel_residual),
+                    rms_residual_m: rms(rel_residual),
                     converged: false,
                 }
             }
@@ -342,6 +356,7 @@ mod tests {
             &mut u3d,
             CouplingTolerance {
                 rel_tol: 1e-10,
+                abs_rms_m: 0.0,
                 spectral_bound: 0.0,
             },
         );
@@ -392,6 +407,42 @@ mod tests {
     }
 
     #[test]
+    fn a_residual_below_the_absolute_floor_is_accepted_without_iterating() {
+        let n = 32;
+        let ops = MdrOperators::new(Grid::new(2e-5, n).unwrap(), Quadrature::Product);
+        let phi_sq = vec![1.5; n];
+        let u0: Vec<f64> = (0..n).map(|i| 1e-7 * (1.0 + i as f64 / n as f64)).collect();
+        let solve = |abs_rms_m: f64| {
+            let mut u3d = vec![0.0; n];
+            let mut solver = CouplingSolver::new(n);
+            let tol = CouplingTolerance {
+                rel_tol: 1e-12,
+                abs_rms_m,
+                spectral_bound: 0.5,
+            };
+            // The exact solution first, then a guess off it by 1e-12 m at every node.
+            solver.solve(&ops, &phi_sq, 1e2, &u0, &mut u3d, tol);
+            for u in &mut u3d {
+                *u += 1e-12;
+            }
+            let report = solver.solve(&ops, &phi_sq, 1e2, &u0, &mut u3d, tol);
+            (report, u3d)
+        };
+        // Its residual is about (I + K)·1e-12 m: above a floor of 1e-14 m, below one of 1e-9 m.
+        let (strict, _) = solve(1e-14);
+        assert!(
+            strict.iterations > 0 && strict.rms_residual_m <= 1e-14,
+            "{strict:?}"
+        );
+        let (loose, _) = solve(1e-9);
+        assert_eq!(loose.iterations, 0, "{loose:?}");
+        assert!(
+            loose.rms_residual_m > 1e-14 && loose.rms_residual_m <= 1e-9,
+            "{loose:?}"
+        );
+    }
+
+    #[test]
     fn a_contact_melted_everywhere_has_no_substrate_displacement() {
         let n = 16;
         let ops = MdrOperators::new(Grid::new(2e-5, n).unwrap(), Quadrature::Product);
@@ -406,6 +457,7 @@ mod tests {
             &mut u3d,
             CouplingTolerance {
                 rel_tol: 1e-10,
+                abs_rms_m: 0.0,
                 spectral_bound: 0.0,
             },
         );

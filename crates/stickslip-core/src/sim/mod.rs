@@ -144,7 +144,14 @@ pub struct Simulation {
     /// ([`Simulation::contact_spring`]); 0 for the other integrators, the rigid drive and the
     /// literal scheme, whose flow is the spring's alone.
     flow_stiffness_n_per_m: f64,
+    /// The last coupling solve's residual, root mean square over the nodes, m: its strain
+    /// enters the step's error estimate (0 without a solve).
+    last_coupling_rms_m: f64,
 }
+
+/// The share of the step's strain tolerance a coupling residual may take (see
+/// [`Simulation::coupling_abs_rms_m`]).
+pub const COUPLING_STRAIN_SHARE: f64 = 0.1;
 
 impl std::fmt::Debug for Simulation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -261,6 +268,7 @@ impl Simulation {
             rho0: 0.0,
             viscous: None,
             flow_stiffness_n_per_m: 0.0,
+            last_coupling_rms_m: 0.0,
         };
         sim.rho0 = sim.lagged_sweep_contraction();
         if matches!(sim.config.drive, Drive::Spring(_))
@@ -469,6 +477,27 @@ impl Simulation {
     /// history shifts (u3d_prev2 ← u3d_prev ← u3d): the quadratic through the last three
     /// values when there are three (an error of O(Δt³), which in the stick phase already meets
     /// the coupling tolerance, so the solve only checks it), else the linear one.
+    /// The coupling solve's absolute floor at `t_s` with adaptive steps: a residual of RMS
+    /// [`COUPLING_STRAIN_SHARE`]·`time.tolerance`·εc(t)·h0 over the nodes, m (εc: the melting
+    /// strain, as in the error estimate's strain scale; εmax when nothing melts). Its
+    /// displacement shifts the strain by that share of what the step's error estimate accepts
+    /// (the stamp's position error is measured against the same h0·εc), so solving further is
+    /// work the step cannot use; `numerics.coupling_tol`'s relative bound still applies where it
+    /// is looser. 0 with fixed steps, which keep `numerics.coupling_tol` alone.
+    fn coupling_abs_rms_m(&self, t_s: f64) -> f64 {
+        let Some(adaptive) = self.config.time.adaptive else {
+            return 0.0;
+        };
+        let a = self.config.temperature.a_coeff_pa(t_s);
+        let eps_c = self.config.lubricant.melting_strain(a);
+        let scale = if eps_c > 0.0 {
+            eps_c
+        } else {
+            self.config.lubricant.eps_max
+        };
+        COUPLING_STRAIN_SHARE * adaptive.tolerance * scale * self.config.contact.film_thickness_m
+    }
+
     fn extrapolate_u3d(&mut self, dt_s: f64) {
         let (p, s) = (&mut self.state.physical, &mut self.state.stepper);
         let n = p.u3d_m.len();
@@ -507,6 +536,8 @@ impl Simulation {
         dt_s: f64,
         dx_m: f64,
     ) -> Result<(), NumericalFailure> {
+        let coupling_abs_rms_m = self.coupling_abs_rms_m(t_s);
+        self.last_coupling_rms_m = 0.0;
         if matches!(
             self.contact,
             Contact::Radial {
@@ -535,10 +566,12 @@ impl Simulation {
                     &mut self.state.physical.u3d_m,
                     CouplingTolerance {
                         rel_tol: self.config.numerics.coupling_tol,
+                        abs_rms_m: coupling_abs_rms_m,
                         spectral_bound: self.rho0,
                     },
                 );
                 self.state.counters.coupling_iterations += report.iterations as u64;
+                self.last_coupling_rms_m = report.rms_residual_m;
                 if !report.converged {
                     return Err(NumericalFailure {
                         t_s,
@@ -581,6 +614,7 @@ impl Simulation {
         dt_s: f64,
         dx_m: f64,
     ) -> Result<(), NumericalFailure> {
+        let coupling_abs_rms_m = self.coupling_abs_rms_m(t_s);
         let memory = &mut self.state.stepper;
         if matches!(self.contact, Contact::Homogeneous { .. }) {
             // Kept for the next step's strain prediction and the viscous rates' history, as in
@@ -624,10 +658,12 @@ impl Simulation {
                     &mut p.u3d_m,
                     CouplingTolerance {
                         rel_tol: self.config.numerics.coupling_tol,
+                        abs_rms_m: coupling_abs_rms_m,
                         spectral_bound: bound,
                     },
                 );
                 self.state.counters.coupling_iterations += report.iterations as u64;
+                self.last_coupling_rms_m = report.rms_residual_m;
                 if !report.converged {
                     return Err(NumericalFailure {
                         t_s,

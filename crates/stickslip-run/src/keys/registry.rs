@@ -496,7 +496,7 @@ section! {
     /// `[numerics]`: numerical controls.
     NumericsSection in numerics, "numerics" {
         COUPLING_TOL coupling_tol "coupling_tol" @ bounds::COUPLING_TOL: f64 =
-            "relative residual to which the accurate scheme solves the elastic coupling"
+            "relative residual to which the accurate scheme solves the elastic coupling (with adaptive steps a residual whose RMS over the nodes is below time.tolerance/10 of the melting displacement εc·h0 also passes: its strain is a tenth of what the step's error estimate accepts, and it enters that estimate)"
             {
                 default: Derived {
                     doc: "time.tolerance / 100 (adaptive), 1e-10 (fixed)",
