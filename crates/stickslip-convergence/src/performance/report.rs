@@ -409,6 +409,8 @@ mod tests {
             shipped: timed(1.9, 3392),
             shipped_reference_settings: vec!["time.tolerance=1e-6".into()],
             shipped_speedup: 97.0 / 1.9,
+            fig2_literal_capped_s: 89.7,
+            shipped_speedup_capped: 89.7 / 1.9,
             shipped_rigid: timed(1.0, 2000),
             shipped_approach: timed(0.2, 380),
             shipped_first_event: timed(0.25, 400),
@@ -501,10 +503,16 @@ mod tests {
             "{md}"
         );
         // P1: 97 s / 1.9 s; P2: 28 s / 20 s; P4: 150 s / 200 s; P5: (50 − 48)/48, 50/(2·26).
+        // P1 capped: the literal window's 0.9·2.6 s over 3400 steps is 688 µs per step.
         assert!(
-            md.contains("| 51.1× (1.90 s against 97.0 s extrapolated)"),
+            md.contains(
+                "| 47.2× capped (1.90 s against 89.7 s; literal step 688 µs), 51.1× as \
+                 measured (97.0 s extrapolated);"
+            ),
             "{md}"
         );
+        assert!(md.contains("| ≥ 500×, onsets within 0.01 µs |"), "{md}");
+        assert!(md.contains("below the cap: as measured"), "{md}");
         assert!(
             md.contains("| 1.40×; 28.0 s (measured in full) | **not met** |"),
             "{md}"
