@@ -44,7 +44,7 @@ pub use report::write_report;
 
 use crate::same_n::{EventErrors, EventValues, SameNReference, event_errors};
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 use stickslip_core::mdr::OperatorForm;
 use stickslip_report::binary;
@@ -209,14 +209,29 @@ pub struct Measured {
     pub resolved: Resolved,
 }
 
+/// Runs `stickslip run SCENE --out WORK/TAG --quiet --force --set …` on the fig2 scene
+/// ([`run_cli_scene`] with `s.scene`).
+///
+/// # Errors
+/// As [`run_cli_scene`].
+pub fn run_cli(
+    s: &BenchSettings,
+    tag: &str,
+    sets: &[String],
+    threads: usize,
+) -> Result<Measured, String> {
+    run_cli_scene(s, &s.scene, tag, sets, threads)
+}
+
 /// Runs `stickslip run SCENE --out WORK/TAG --quiet --force --set …` with `threads` rayon
 /// threads and reads what it wrote.
 ///
 /// # Errors
 /// The process could not start or failed, its outputs do not read, or run.json does not say
 /// `ok`.
-pub fn run_cli(
+pub fn run_cli_scene(
     s: &BenchSettings,
+    scene: &Path,
     tag: &str,
     sets: &[String],
     threads: usize,
@@ -225,7 +240,7 @@ pub fn run_cli(
     let threads = threads.to_string();
     let run = binary::run_scene(
         &s.binary,
-        &s.scene,
+        scene,
         &out,
         sets,
         &[("RAYON_NUM_THREADS", threads.as_str())],
@@ -348,8 +363,23 @@ impl Timed {
     }
 }
 
+/// `repeats` runs of the fig2 scene ([`timed_scene`] with `s.scene`).
 fn timed(
     s: &BenchSettings,
+    tag: &str,
+    sets: &[String],
+    threads: usize,
+    repeats: usize,
+    reference_s: &[f64],
+) -> Result<Timed, String> {
+    timed_scene(s, &s.scene, tag, sets, threads, repeats, reference_s)
+}
+
+/// `repeats` runs of `scene` with `sets` ([`run_cli_scene`]): median times, the last run's
+/// counts, its onsets against `reference_s`.
+fn timed_scene(
+    s: &BenchSettings,
+    scene: &Path,
     tag: &str,
     sets: &[String],
     threads: usize,
@@ -360,7 +390,7 @@ fn timed(
     let mut loops = Vec::new();
     let mut last = None;
     for _ in 0..repeats.max(1) {
-        let r = run_cli(s, tag, sets, threads)?;
+        let r = run_cli_scene(s, scene, tag, sets, threads)?;
         walls.push(r.wall_s);
         loops.push(r.loop_s);
         last = Some(r);
