@@ -1,7 +1,7 @@
-//! `cargo xtask bench`: the performance targets P1–P5 (issue 14) and the supporting
-//! measurements T3–T4,
-//! measured end to end on the release `stickslip` binary and written to
-//! `reports/performance.{md,json}` with two SVG figures ([`report`]).
+//! `cargo xtask bench`: the performance targets P1–P5 (issue 14), P6–P8 and M1–M2, V1–V2
+//! (issue 31's P7–P8: the SFA contact) and the supporting measurements T3–T4,
+//! measured end to end on the release `stickslip` binary (the step trace in-process) and
+//! written to `reports/performance.{md,json}` with three SVG figures ([`report`]).
 //!
 //! Every run is a subprocess started by the reporting kit ([`stickslip_report::binary`]);
 //! what it measured is read back through the run library's schema (run.json's typed fields:
@@ -30,10 +30,13 @@
 //!   critical speed by bisection ([`refine`]).
 //! - **P6** fig2 at N = [`T1_NODES`] with the first-order film ([`P6_SCENE`]'s b₃) against
 //!   the paper's film, whole process and per step evaluation.
+//! - **P7–P8** the SFA contact with a soft drive spring: step evaluations and meltings against
+//!   tighter-tolerance references, and the steps through one melting cycle ([`experiment`]).
 //! - **T3** loop time per step against N (fixed steps, fast and dense operators), log–log slope.
 //! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`], against a
 //!   same-N reference at N = [`T4_NODES`] as for P3.
 
+pub mod experiment;
 pub mod refine;
 pub mod report;
 pub mod sweep;
@@ -535,6 +538,8 @@ pub struct Performance {
     pub refine: refine::RefineBench,
     /// V1–V2: what verify and a map's spot checks cost.
     pub verify_cost: verify_cost::VerifyCost,
+    /// P7–P8: the SFA contact, and the step trace of one melting cycle.
+    pub sfa: experiment::SfaBench,
     /// Total time of the benchmark, s.
     pub total_s: f64,
     /// Machine note.
@@ -815,6 +820,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let refine = refine::measure(s, &rigid_scene)?;
     progress("V1-V2: verify of fig2 at N = 200, a map with spot checks");
     let verify_cost = verify_cost::measure(s)?;
+    let sfa = experiment::measure(s, &progress)?;
     let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
     let shipped_speedup = fig2_literal_extrapolated_s / shipped.wall_s;
@@ -834,6 +840,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         sweep,
         refine,
         verify_cost,
+        sfa,
         paper_nodes,
         paper_dt_s,
         scene_end_s,
