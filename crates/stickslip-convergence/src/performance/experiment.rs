@@ -614,6 +614,14 @@ pub(super) fn targets_rows(m: &mut String, b: &SfaBench) {
     );
 }
 
+/// The run's tolerance as resolved (`–` without one).
+fn tolerance_words(t: &SfaTarget) -> String {
+    t.run
+        .resolved
+        .tolerance
+        .map_or_else(|| "–".into(), |x| format!("{x:e}"))
+}
+
 /// One target's run and reference in a sentence's words.
 fn runs_words(t: &SfaTarget) -> String {
     let r = &t.run;
@@ -665,11 +673,16 @@ pub(super) fn section(m: &mut String, b: &SfaBench) {
     let _ = writeln!(
         m,
         "## P7–P8: the SFA contact\n\n\
-         `{}` (beside fig2's scene) with `{}`, N = {} and the default tolerance, once on 2 \
-         threads: {}; {deviation}. The evaluations are {}.\n",
+         `{}` (beside fig2's scene) with a soft drive spring, K = {} N/m (`drive.stiffness`), \
+         to time.end = {} s with small outputs (a series row every {} ms, one profile at the \
+         end), N = {} and the default tolerance {}, once on 2 threads: {}; {deviation}. The \
+         evaluations are {}.\n",
         b.scene,
-        p7.settings.join("`, `"),
+        tick(SFA_STIFFNESS),
+        tick(p7.run.resolved.end_s),
+        tick(1e3 * SFA_SERIES_INTERVAL_S),
         p7.run.resolved.nodes,
+        tolerance_words(p7),
         runs_words(p7),
         against_goal(p7.evaluations, P7_EVALUATIONS_GOAL),
     );
@@ -686,8 +699,10 @@ pub(super) fn section(m: &mut String, b: &SfaBench) {
     );
     let _ = writeln!(
         m,
-        "P8, the same scene with `{}`: {}; {difference}. The evaluations are {}.\n",
-        p8.settings.join("`, `"),
+        "P8, the same scene with the drive at V0 = {} m/s (`drive.velocity`) to time.end = {} \
+         s: {}; {difference}. The evaluations are {}.\n",
+        tick(P8_VELOCITY),
+        tick(p8.run.resolved.end_s),
         runs_words(p8),
         against_goal(p8.evaluations, P8_EVALUATIONS_GOAL),
     );
@@ -786,8 +801,7 @@ pub(super) fn trace_figure(t: &StepTrace) -> Result<String, String> {
     let whole = step_panel(
         t,
         &format!(
-            "SFA contact (P7 scene, N = {}, tolerance {:e}): accepted steps through one melting \
-             cycle",
+            "P7's SFA contact (N = {}, tolerance {:e}): the steps of one melting cycle",
             t.nodes, t.tolerance
         ),
         "time after the first onset (ms)",
@@ -813,16 +827,14 @@ pub(super) fn trace_figure(t: &StepTrace) -> Result<String, String> {
         .map(|r| (1e6 * (r.t_s - t.first_onset_s), r.melted as f64))
         .collect();
     let mut nodes = Panel::new(
-        "melted nodes in the first cascade",
+        "nodes melted (φ below the melt threshold) in the first cascade",
         "time after the first onset (µs)",
         "melted nodes",
     )
     .legend_outside();
-    nodes.series.push(Series::new(
-        "melted nodes (φ below the threshold)",
-        melted,
-        PALETTE[4],
-    ));
+    nodes
+        .series
+        .push(Series::new("melted nodes", melted, PALETTE[4]));
     render_svg(&[whole, zoom, nodes], 1, 900, 380)
 }
 
