@@ -1,4 +1,4 @@
-//! `performance`: the headline benchmarks of `cargo xtask bench` (P1–P5 and T3–T4, reports/performance.*).
+//! `performance`: the headline benchmarks of `cargo xtask bench` (P1–P8 and T3–T4, reports/performance.*).
 //!
 //! Options: see [`HELP`].
 
@@ -10,9 +10,10 @@ use stickslip_convergence::performance::{BenchSettings, measure, write_report};
 const HELP: &str = "\
 cargo xtask bench [options]
 
-Runs the headline performance targets P1-P5 (and T3-T4) on the release stickslip binary (every run a
-subprocess, read back through run.json and events.csv) and writes reports/performance.md,
-performance.json, performance_cost.svg and performance_work_precision.svg. P4 (a fresh
+Runs the headline performance targets P1-P8 (and T3-T4) on the release stickslip binary (every run a
+subprocess, read back through run.json and events.csv; the step trace of one SFA melting
+in-process) and writes reports/performance.md, performance.json, performance_cost.svg,
+performance_work_precision.svg and performance_steptrace.svg. P4 (a fresh
 clone's build and test times) is read from reports/build-timing.json, which
 `cargo xtask build-timing` writes.
 

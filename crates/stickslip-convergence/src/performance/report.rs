@@ -1,5 +1,6 @@
-//! The performance report: `performance.md`, `performance.json` and the two figures
-//! (`performance_cost.svg`, T3; `performance_work_precision.svg`, T4), written from a
+//! The performance report: `performance.md`, `performance.json` and the three figures
+//! (`performance_cost.svg`, T3; `performance_work_precision.svg`, T4;
+//! `performance_steptrace.svg`, the SFA step trace of [`super::experiment`]), written from a
 //! [`Performance`] with the reporting kit. Every number in the text comes from the
 //! measurements or from the goals of [`super`].
 
@@ -16,7 +17,7 @@ use stickslip_report::stats::log_log_slope;
 use stickslip_report::write_atomic;
 use stickslip_run::scene::DEFAULT_TOLERANCE;
 
-/// Writes performance.json, performance.md and the two SVGs into `dir`.
+/// Writes performance.json, performance.md and the three SVGs into `dir`.
 ///
 /// # Errors
 /// An I/O or rendering error, as text.
@@ -33,6 +34,10 @@ pub fn write_report(p: &Performance, dir: &Path) -> Result<Vec<PathBuf>, String>
     put("performance.json", json + "\n")?;
     put("performance_cost.svg", cost_figure(p)?)?;
     put("performance_work_precision.svg", wp_figure(p)?)?;
+    put(
+        "performance_steptrace.svg",
+        super::experiment::trace_figure(&p.sfa.step_trace)?,
+    )?;
     put("performance.md", markdown(p))?;
     Ok(files)
 }
@@ -135,6 +140,7 @@ fn markdown(p: &Performance) -> String {
         "| target | goal | measured | verdict |\n|---|---|---|---|"
     );
     super::targets::targets_table(&mut m, p);
+    super::experiment::targets_rows(&mut m, &p.sfa);
     let cheapest = |method: &str| {
         p.work_precision
             .iter()
@@ -166,6 +172,7 @@ fn markdown(p: &Performance) -> String {
     super::targets::p4_section(&mut m, p);
     super::targets::p5_section(&mut m, p);
     super::targets::v_section(&mut m, p);
+    super::experiment::section(&mut m, &p.sfa);
     let _ = writeln!(
         m,
         "## T3 — cost per step against N\n\n![cost](performance_cost.svg)\n\n\
@@ -313,6 +320,7 @@ fn t2_section(m: &mut String, p: &Performance) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::performance::experiment::{SfaBench, SfaTarget, StepTrace, TraceRow};
     use crate::performance::sweep::{SweepBench, SweepRun};
     use crate::performance::{CostPoint, Resolved, Timed, WpPoint};
     use stickslip_report::build_timing::{BuildTiming, StageTime};
@@ -355,6 +363,66 @@ mod tests {
             events: 10,
             coupling_iterations: 2 * steps,
             event_values: crate::same_n::EventValues::default(),
+        }
+    }
+
+    /// P7–P8 and a step trace: two meltings 10 µs off the reference's; 100 against 101.
+    fn sfa() -> SfaBench {
+        let with_onsets = |mut t: Timed, onsets_s: &[f64]| {
+            t.event_values.onsets_s = onsets_s.to_vec();
+            t.events = onsets_s.len();
+            t
+        };
+        let p7 = SfaTarget::from_runs(
+            vec!["drive.stiffness=500".into()],
+            with_onsets(timed(9.0, 298_000), &[0.9448, 0.9473]),
+            with_onsets(timed(60.0, 1_400_000), &[0.94481, 0.9473]),
+            5e-7,
+        );
+        let mut p8_run = timed(80.0, 2_500_000);
+        p8_run.events = 100;
+        let mut p8_reference = timed(200.0, 5_000_000);
+        p8_reference.events = 101;
+        let p8 = SfaTarget::from_runs(
+            vec!["drive.velocity=1e-4".into()],
+            p8_run,
+            p8_reference,
+            5e-6,
+        );
+        let error = |phi| stickslip_core::sim::StepError {
+            phi,
+            eps: 1e-9,
+            x: 0.0,
+            v: 0.0,
+        };
+        let row = |t_s: f64, h_s: f64, melted: usize| TraceRow {
+            t_s,
+            h_s,
+            error: error(3e-5),
+            melted,
+            rejected: 1,
+        };
+        let step_trace = StepTrace {
+            nodes: 200,
+            tolerance: DEFAULT_TOLERANCE,
+            first_onset_s: 0.9448,
+            second_onset_s: 0.9473,
+            ..StepTrace::from_rows(
+                0.944_795,
+                vec![
+                    row(0.944_796, 1e-7, 0),
+                    row(0.944_800_001, 1e-9, 3),
+                    row(0.944_800_003, 2e-9, 0),
+                    row(0.9473, 1e-5, 1),
+                    row(0.947_305, 1e-9, 1),
+                ],
+            )
+        };
+        SfaBench {
+            scene: "sfa.toml".into(),
+            p7,
+            p8,
+            step_trace,
         }
     }
 
@@ -409,6 +477,8 @@ mod tests {
             shipped: timed(1.9, 3392),
             shipped_reference_settings: vec!["time.tolerance=1e-6".into()],
             shipped_speedup: 97.0 / 1.9,
+            fig2_literal_capped_s: 89.7,
+            shipped_speedup_capped: 89.7 / 1.9,
             shipped_rigid: timed(1.0, 2000),
             shipped_approach: timed(0.2, 380),
             shipped_first_event: timed(0.25, 400),
@@ -473,6 +543,7 @@ mod tests {
                 sampled_checked: 29,
                 ..Default::default()
             },
+            sfa: sfa(),
             total_s: 97.0,
             machine: "2 logical CPUs".into(),
         };
@@ -501,10 +572,16 @@ mod tests {
             "{md}"
         );
         // P1: 97 s / 1.9 s; P2: 28 s / 20 s; P4: 150 s / 200 s; P5: (50 − 48)/48, 50/(2·26).
+        // P1 capped: the literal window's 0.9·2.6 s over 3400 steps is 688 µs per step.
         assert!(
-            md.contains("| 51.1× (1.90 s against 97.0 s extrapolated)"),
+            md.contains(
+                "| 47.2× capped (1.90 s against 89.7 s; literal step 688 µs), 51.1× as \
+                 measured (97.0 s extrapolated);"
+            ),
             "{md}"
         );
+        assert!(md.contains("| ≥ 500×, onsets within 0.01 µs |"), "{md}");
+        assert!(md.contains("below the cap: as measured"), "{md}");
         assert!(
             md.contains("| 1.40×; 28.0 s (measured in full) | **not met** |"),
             "{md}"
@@ -528,6 +605,36 @@ mod tests {
         );
         assert!(md.contains("| 20 evaluations | |"), "{md}");
         assert!(md.contains("| 300 evaluations | |"), "{md}");
+        // P7: 298 020 evaluations in 0.9·9 s; the second onset 10 µs off. P8: 100 against 101.
+        assert!(
+            md.contains(
+                "| 298020 evaluations (9.00 s, 27.2 µs per evaluation); 2 meltings against 2; \
+                 largest onset deviation 10 µs | **not met** |"
+            ),
+            "{md}"
+        );
+        assert!(
+            md.contains("100 meltings against 101 (-0.99 %) | **not met** |"),
+            "{md}"
+        );
+        assert!(md.contains("9.93× the goal of 30000"), "{md}");
+        assert!(
+            md.contains("the counts differ by 1 (0.99 %, the goal allows 2 %)"),
+            "{md}"
+        );
+        assert!(
+            md.contains("(melting 1 of 2); 2 of the 2 onsets are within 100 µs"),
+            "{md}"
+        );
+        // The trace: three of five steps melted, in two cascades.
+        assert!(
+            md.contains("3 steps (60.0 %, 3 rejected attempts) came while at least one node"),
+            "{md}"
+        );
+        assert!(md.contains("in 2 cascade(s)"), "{md}");
+        assert!(md.contains("the cascade steps 3 by the film φ"), "{md}");
         assert!(cost_figure(&p).is_ok() && wp_figure(&p).is_ok());
+        let svg = crate::performance::experiment::trace_figure(&p.sfa.step_trace);
+        assert!(svg.is_ok_and(|s| s.contains("limited by φ")));
     }
 }
