@@ -36,6 +36,7 @@
 //! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`], against a
 //!   same-N reference at N = [`T4_NODES`] as for P3.
 
+pub mod effects;
 pub mod experiment;
 pub mod refine;
 pub mod report;
@@ -126,7 +127,7 @@ pub struct BenchSettings {
 }
 
 /// The time stepping and operator a run resolved to (run.json's `scene`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Resolved {
     /// `accurate` or `literal`.
     pub scheme: String,
@@ -315,7 +316,7 @@ pub fn capped_literal_s(
 }
 
 /// Timed runs of one configuration.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Default, Serialize)]
 pub struct Timed {
     /// What was run (the `--set` overrides).
     pub settings: Vec<String>,
@@ -540,6 +541,8 @@ pub struct Performance {
     pub verify_cost: verify_cost::VerifyCost,
     /// P7–P8: the SFA contact, and the step trace of one melting cycle.
     pub sfa: experiment::SfaBench,
+    /// V3: the viscous film and the dashpot on the h0 = 1 nm contact against neither.
+    pub effects: effects::EffectsBench,
     /// Total time of the benchmark, s.
     pub total_s: f64,
     /// Machine note.
@@ -821,6 +824,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     progress("V1-V2: verify of fig2 at N = 200, a map with spot checks");
     let verify_cost = verify_cost::measure(s)?;
     let sfa = experiment::measure(s, &progress)?;
+    let effects = effects::measure(s, &progress)?;
     let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
     let shipped_speedup = fig2_literal_extrapolated_s / shipped.wall_s;
@@ -841,6 +845,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         refine,
         verify_cost,
         sfa,
+        effects,
         paper_nodes,
         paper_dt_s,
         scene_end_s,

@@ -141,6 +141,7 @@ fn markdown(p: &Performance) -> String {
     );
     super::targets::targets_table(&mut m, p);
     super::experiment::targets_rows(&mut m, &p.sfa);
+    super::effects::targets_row(&mut m, &p.effects);
     let cheapest = |method: &str| {
         p.work_precision
             .iter()
@@ -544,6 +545,7 @@ mod tests {
                 ..Default::default()
             },
             sfa: sfa(),
+            effects: super::super::effects::EffectsBench::default(),
             total_s: 97.0,
             machine: "2 logical CPUs".into(),
         };
