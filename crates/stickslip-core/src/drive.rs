@@ -392,25 +392,26 @@ impl SpringDrive {
     }
 
     /// Exact motion over `dt_s`, and time advance, of the stamp on the spring and dashpot with
-    /// an extra linear stiffness k = `extra_n_per_m` about X = 0 and a drag c_v =
-    /// `drag_n_s_per_m` on its absolute velocity, without friction:
-    /// m·Ẍ = K·(V0·t − X) + c_d·(V0 − Ẋ) − c_v·Ẋ − k·X.
+    /// an extra linear stiffness k = `extra_n_per_m`, a constant force P = `force_n` and a drag
+    /// c_v = `drag_n_s_per_m` on its absolute velocity, without friction:
+    /// m·Ẍ = K·(V0·t − X) + c_d·(V0 − Ẋ) − c_v·Ẋ − k·X + P.
     ///
-    /// The split integrator lets this flow carry the contact's linear stiffness (the film and
-    /// substrate as a spring, [`crate::preflight::ContactSpring`]), so that its kicks carry
-    /// only the friction force's departure from k·X: in the stick phase the contact is the
-    /// stiffest spring on the stamp, and the stamp's oscillation on it is then followed exactly
-    /// rather than by kicks whose phase error grows with every period.
+    /// The split integrator lets this flow carry the friction force linearised at the step's
+    /// start, F ≈ F0 + k·(X − X0), i.e. P = k·X0 − F0, so that its kicks carry only the
+    /// departure F − F0 − k·(X − X0): in the stick phase the contact is the stiffest spring on
+    /// the stamp, and the stamp's oscillation on it is then followed exactly rather than by
+    /// kicks whose phase error grows with every period.
     ///
     /// With K' = K + k and c = c_d + c_v the motion is the damped oscillator
     /// m·Ÿ = −K'·Y − c·Ẏ about the moving rest point X_p = α + β·t, β = K·V0/K',
-    /// α = (c_d·V0 − c·β)/K' (for k = c_v = 0: β = V0, α = 0, the plain spring's flow).
+    /// α = (c_d·V0 + P − c·β)/K' (for k = c_v = P = 0: β = V0, α = 0, the plain spring's flow).
     pub fn loaded_flow(
         &self,
         state: &mut DriveState,
         dt_s: f64,
         extra_n_per_m: f64,
         drag_n_s_per_m: f64,
+        force_n: f64,
     ) {
         let m = self.mass_kg;
         let k_total = self.stiffness_n_per_m + extra_n_per_m;
@@ -419,7 +420,7 @@ impl SpringDrive {
         let zeta = c / (2.0 * (k_total * m).sqrt());
         let alpha_decay = zeta * omega;
         let beta = self.stiffness_n_per_m * self.velocity_m_per_s / k_total;
-        let alpha = (self.damping_n_s_per_m * self.velocity_m_per_s - c * beta) / k_total;
+        let alpha = (self.damping_n_s_per_m * self.velocity_m_per_s + force_n - c * beta) / k_total;
         let (ec, ec_minus_one, es) = damped_flow_factors(omega, zeta, dt_s);
         let y = state.x_m - alpha - beta * state.t_s;
         let yv = state.v_m_per_s - beta;

@@ -553,12 +553,19 @@ fn damping_is_checked_and_zero_damping_is_the_undamped_spring() {
 
 /// RK4 with `n` steps of m·Ẍ = K·(V0·t − X) + c_d·(V0 − Ẋ) − c_v·Ẋ − k·X from `s` over `t`:
 /// the reference for the loaded flow, independent of its closed form.
-fn loaded_rk4(d: &SpringDrive, k: f64, c_v: f64, s: DriveState, t: f64, n: u32) -> DriveState {
+fn loaded_rk4(
+    d: &SpringDrive,
+    (k, c_v, p): (f64, f64, f64),
+    s: DriveState,
+    t: f64,
+    n: u32,
+) -> DriveState {
     let acc = |t: f64, x: f64, v: f64| {
         (d.stiffness_n_per_m * (d.velocity_m_per_s * t - x)
             + d.damping_n_s_per_m * (d.velocity_m_per_s - v)
             - c_v * v
-            - k * x)
+            - k * x
+            + p)
             / d.mass_kg
     };
     let h = t / f64::from(n);
@@ -600,22 +607,27 @@ fn the_loaded_flow_solves_the_spring_with_the_contact_stiffness_and_drag_exactly
         let d = base
             .with_damping(2.0 * zeta_d * (base.stiffness_n_per_m * base.mass_kg).sqrt())
             .unwrap();
-        for (k, c_v) in [(3.7e4, 0.0), (3.7e4, 20.0), (0.0, 5.0), (3.7e4, 400.0)] {
+        for (k, c_v, p) in [
+            (3.7e4, 0.0, 0.0),
+            (3.7e4, 20.0, 1e-4),
+            (0.0, 5.0, 0.0),
+            (3.7e4, 400.0, -2e-4),
+        ] {
             let period = std::f64::consts::TAU / ((d.stiffness_n_per_m + k) / d.mass_kg).sqrt();
             let t = 3.0 * period;
-            let reference = loaded_rk4(&d, k, c_v, start, t, 1 << 16);
+            let reference = loaded_rk4(&d, (k, c_v, p), start, t, 1 << 16);
             let scale_x = reference.x_m.abs().max(1e-12);
             let scale_v = reference.v_m_per_s.abs().max(1e-12 / period);
             for steps in [1u32, 64] {
                 let mut s = start;
                 for _ in 0..steps {
-                    d.loaded_flow(&mut s, t / f64::from(steps), k, c_v);
+                    d.loaded_flow(&mut s, t / f64::from(steps), k, c_v, p);
                 }
                 let ex = (s.x_m - reference.x_m).abs() / scale_x;
                 let ev = (s.v_m_per_s - reference.v_m_per_s).abs() / scale_v;
                 assert!(
                     ex <= 1e-9 && ev <= 1e-9,
-                    "zeta_d {zeta_d}, k {k}, c_v {c_v}, {steps} steps: X {:e} vs {:e} ({ex:e}), \
+                    "zeta_d {zeta_d}, k {k}, c_v {c_v}, p {p}, {steps} steps: X {:e} vs {:e} ({ex:e}), \
                      V {:e} vs {:e} ({ev:e})",
                     s.x_m,
                     reference.x_m,
@@ -641,7 +653,7 @@ fn the_loaded_flow_without_load_is_the_springs_own_flow() {
             .unwrap();
         for h in [1e-6, 1e-3, 0.05] {
             let (mut a, mut b) = (start, start);
-            d.loaded_flow(&mut a, h, 0.0, 0.0);
+            d.loaded_flow(&mut a, h, 0.0, 0.0, 0.0);
             d.spring_flow(&mut b, h);
             assert_eq!(a.t_s, b.t_s);
             assert!(
@@ -650,7 +662,7 @@ fn the_loaded_flow_without_load_is_the_springs_own_flow() {
                 "zeta_d {zeta_d}, h {h}: {a:?} vs {b:?}"
             );
             let (mut a, mut b) = (start, start);
-            d.loaded_flow(&mut a, h, 0.0, 7.0);
+            d.loaded_flow(&mut a, h, 0.0, 7.0, 0.0);
             d.spring_flow_with_drag(&mut b, h, 7.0);
             assert!(
                 (a.x_m - b.x_m).abs() <= 1e-12 * b.x_m.abs()

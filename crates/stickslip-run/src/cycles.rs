@@ -205,13 +205,23 @@ pub fn summarize_stamp(
 ) -> StampScale {
     let all = tracker.all_slips(events);
     let slips: &[Slip] = &all;
-    let t_a = slips
-        .first()
-        .map(|s| s.t_end_s)
-        .or_else(|| events.first().map(|e| e.t_onset_s))
-        .unwrap_or(0.0);
-    let settled = t_a + 0.5 * (t_final_s - t_a).max(0.0);
     let env = &tracker.envelope;
+    let t_a = match slips.first() {
+        // The first slip is still open and its force still falling at the run's end, by less
+        // and less (a stamp sliding into steady motion: its least force comes at the very
+        // end). It is over, for this rule, once the force has come within the hysteresis of
+        // its least: smaller changes are below the tracker's resolution.
+        Some(first) if tracker.slips.is_empty() && first.t_end_s >= t_final_s * (1.0 - 1e-12) => {
+            env.from_time(first.t_start_s)
+                .find(|b| b.f_min_n <= first.f_end_n + tracker.drop_n)
+                .map_or(first.t_end_s, |b| {
+                    b.t0_s.max(first.t_start_s).min(first.t_end_s)
+                })
+        }
+        Some(first) => first.t_end_s,
+        None => events.first().map_or(0.0, |e| e.t_onset_s),
+    };
+    let settled = t_a + 0.5 * (t_final_s - t_a).max(0.0);
 
     let settled_slips: Vec<&Slip> = slips.iter().filter(|s| s.t_start_s >= settled).collect();
     let starts: Vec<(f64, f64)> = settled_slips
@@ -420,6 +430,34 @@ mod tests {
         );
         let s = summarize_stamp(&settle, &[], 10.0, 1.0);
         assert_eq!((s.n_slips, s.stamp_regime), (1, StampRegime::SteadySliding));
+        // One slip into steady sliding whose force falls ever more slowly to its level, so
+        // that the slip is still open at the end: over once within the hysteresis (0.5) of
+        // its least force, at t ≈ 1.1, so the settled part starts at ≈ 5.6.
+        let glide = fed(
+            10.0,
+            |t| {
+                if t < 1.0 {
+                    t
+                } else {
+                    0.2 + 0.8 * (-(t - 1.0) / 0.5).exp()
+                }
+            },
+            |t| if t < 1.0 { 0.0 } else { t - 1.0 },
+            0.5,
+        );
+        let s = summarize_stamp(&glide, &[], 10.0, 1.0);
+        assert!(
+            glide.slips.is_empty() && glide.falling,
+            "the slip is still open"
+        );
+        assert_eq!((s.n_slips, s.stamp_regime), (1, StampRegime::SteadySliding));
+        assert!(
+            (s.cycles.settled_from_s - 5.57).abs() < 0.05,
+            "{}",
+            s.cycles.settled_from_s
+        );
+        let f_mean = s.cycles.slips.f_mean_n.unwrap();
+        assert!((f_mean - 0.2).abs() < 1e-3, "{f_mean}");
         // The same with the stamp at rest after the slip (the force still constant): no V0.
         let stuck = fed(10.0, |t| if t < 1.0 { t } else { 0.2 }, |_| 0.0, 0.5);
         assert_eq!(

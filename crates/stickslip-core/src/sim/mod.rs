@@ -139,11 +139,15 @@ pub struct Simulation {
     /// The film's viscous stress (`lubricant.viscosity` > 0, accurate scheme); `None` for η = 0,
     /// which then costs nothing and changes no bit.
     viscous: Option<viscous::Viscous>,
-    /// The contact's linear stiffness k that the split integrator's exact flow carries, N/m
-    /// (see [`crate::drive::SpringDrive::loaded_flow`]): the contact as a spring at t = 0
+    /// The contact's linear stiffness k with which the split integrator's exact flow carries
+    /// the friction force linearised at each step's start, N/m (see
+    /// [`crate::drive::SpringDrive::loaded_flow`]): the contact as a spring at t = 0
     /// ([`Simulation::contact_spring`]); 0 for the other integrators, the rigid drive and the
     /// literal scheme, whose flow is the spring's alone.
     flow_stiffness_n_per_m: f64,
+    /// Where the split flow linearised the kick force in the step being taken: (X0 in m, F0 in
+    /// N) at its start (with `flow_stiffness_n_per_m` > 0).
+    flow_anchor: (f64, f64),
     /// The last coupling solve's residual, root mean square over the nodes, m: its strain
     /// enters the step's error estimate (0 without a solve).
     last_coupling_rms_m: f64,
@@ -268,6 +272,7 @@ impl Simulation {
             rho0: 0.0,
             viscous: None,
             flow_stiffness_n_per_m: 0.0,
+            flow_anchor: (0.0, 0.0),
             last_coupling_rms_m: 0.0,
         };
         sim.rho0 = sim.lagged_sweep_contraction();
@@ -379,9 +384,10 @@ impl Simulation {
                 s.drift(&mut self.state.physical.drive, dt_s);
             }
             (Drive::Spring(s), Integrator::Split) if k > 0.0 => {
-                // The kicks carry F − k·X, the flow the contact's linear part k·X.
-                s.friction_half_kick(&mut self.state.physical.drive, f - k * x0, dt_s);
-                s.loaded_flow(&mut self.state.physical.drive, dt_s, k, 0.0);
+                // The flow carries F linearised at the step's start, F0 + k·(X − X0); the
+                // opening kick, of F's departure from it, is 0.
+                self.flow_anchor = (x0, f);
+                s.loaded_flow(&mut self.state.physical.drive, dt_s, k, 0.0, k * x0 - f);
             }
             (Drive::Spring(s), Integrator::Split) => {
                 s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
@@ -390,6 +396,19 @@ impl Simulation {
             (d, integrator) => d.step(integrator, &mut self.state.physical.drive, dt_s, f),
         }
         self.state.physical.drive.x_m - x0
+    }
+
+    /// The split integrator's closing kick force for the kick force `f_n` at the step's end:
+    /// F's departure from the linearisation the flow carried, f − F0 − k·(X − X0) (f itself
+    /// when the flow carries no stiffness).
+    fn departure_from_flow_n(&self, f_n: f64) -> f64 {
+        let k = self.flow_stiffness_n_per_m;
+        if k > 0.0 {
+            let (x0, f0) = self.flow_anchor;
+            f_n - f0 - k * (self.state.physical.drive.x_m - x0)
+        } else {
+            f_n
+        }
     }
 
     fn drive_second_half(&mut self, dt_s: f64) {
@@ -408,12 +427,9 @@ impl Simulation {
                 );
             }
             (Drive::Spring(s), Integrator::Split) => {
-                let x1 = self.state.physical.drive.x_m;
-                s.friction_half_kick(
-                    &mut self.state.physical.drive,
-                    self.state.physical.force_n - self.flow_stiffness_n_per_m * x1,
-                    dt_s,
-                );
+                let f = self.state.physical.force_n;
+                let kick = self.departure_from_flow_n(f);
+                s.friction_half_kick(&mut self.state.physical.drive, kick, dt_s);
             }
             _ => {}
         }
@@ -430,11 +446,23 @@ impl Simulation {
         match (&self.config.drive, self.config.integrator) {
             (Drive::Spring(s), Integrator::Split) => {
                 let k = self.flow_stiffness_n_per_m;
-                s.friction_half_kick(state, kick_n - k * state.x_m, dt_s);
                 if first && k > 0.0 {
-                    s.loaded_flow(state, dt_s, k, drag);
+                    // As without viscosity: the flow carries the kick force linearised at the
+                    // step's start, and the opening kick is 0.
+                    let x0 = state.x_m;
+                    self.flow_anchor = (x0, kick_n);
+                    s.loaded_flow(state, dt_s, k, drag, k * x0 - kick_n);
                 } else if first {
+                    s.friction_half_kick(state, kick_n, dt_s);
                     s.spring_flow_with_drag(state, dt_s, drag);
+                } else {
+                    let kick = if k > 0.0 {
+                        let (x0, f0) = self.flow_anchor;
+                        kick_n - f0 - k * (state.x_m - x0)
+                    } else {
+                        kick_n
+                    };
+                    s.friction_half_kick(state, kick, dt_s);
                 }
             }
             (Drive::Spring(s), Integrator::Verlet) => {
