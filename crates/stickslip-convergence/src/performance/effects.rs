@@ -91,29 +91,23 @@ pub fn measure(s: &BenchSettings, progress: &dyn Fn(&str)) -> Result<EffectsBenc
         timed_scene(s, &scene, tag, &sets, 2, repeats, &[])
     };
     progress("V3: the h0 = 1 nm contact with a viscous film and with a dashpot");
-    let viscous_set = lubricant::VISCOSITY.set(VISCOSITY_PA_S).to_string();
-    let damped_set = drive::DAMPING.set(damping).to_string();
+    // The whole run and the approach with one effect switched on by `setting`.
+    let effect = |name: &str, setting: String| -> Result<EffectCost, String> {
+        let extra = std::slice::from_ref(&setting);
+        Ok(EffectCost {
+            run: run(&format!("v3_{name}"), extra, false)?,
+            approach: run(&format!("v3_{name}_approach"), extra, true)?,
+            setting,
+        })
+    };
     Ok(EffectsBench {
         base: run("v3_base", &[], false)?,
         base_approach: run("v3_base_approach", &[], true)?,
-        viscous: EffectCost {
-            run: run("v3_viscous", std::slice::from_ref(&viscous_set), false)?,
-            approach: run(
-                "v3_viscous_approach",
-                std::slice::from_ref(&viscous_set),
-                true,
-            )?,
-            setting: viscous_set,
-        },
-        damped: EffectCost {
-            run: run("v3_damped", std::slice::from_ref(&damped_set), false)?,
-            approach: run(
-                "v3_damped_approach",
-                std::slice::from_ref(&damped_set),
-                true,
-            )?,
-            setting: damped_set,
-        },
+        viscous: effect(
+            "viscous",
+            lubricant::VISCOSITY.set(VISCOSITY_PA_S).to_string(),
+        )?,
+        damped: effect("damped", drive::DAMPING.set(damping).to_string())?,
     })
 }
 

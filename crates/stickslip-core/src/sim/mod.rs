@@ -14,9 +14,10 @@
 //! from the located crossing time on; the coupling (I + K)·u3D = K·u0 solved to a tolerance
 //! (see [`coupling`]); product integration for Eq. 13–16.
 //!
-//! The stamp is advanced by the split integrator (friction half kick with F_n, the spring's exact
-//! flow, film update, friction half kick with F_{n+1}; or velocity Verlet: half kick with F_n, drift, film update, half kick
-//! with F_{n+1}) or RK4 with F frozen over the step; the rigid drive sets X = V0·t.
+//! The stamp is advanced by the split integrator (the exact flow of the spring with the friction
+//! force linearised at the step's start, film update, a half kick with F's departure from that
+//! linearisation; see [`drive_step`]), velocity Verlet (half kick with F_n, drift, film update,
+//! half kick with F_{n+1}) or RK4 with F frozen over the step; the rigid drive sets X = V0·t.
 //!
 //! Each scheme is an implementation of the `stepper` module's trait, chosen once in
 //! [`Simulation::new`]; the state it advances is [`state`]'s: the physical state apart from
@@ -26,6 +27,7 @@ mod accurate;
 mod adaptive;
 mod contact_spring;
 pub mod coupling;
+mod drive_step;
 pub mod error_estimate;
 pub mod events;
 pub mod failure;
@@ -366,127 +368,6 @@ impl Simulation {
         self.check_state()?;
         self.observe_events();
         Ok(())
-    }
-
-    fn drive_first_half(&mut self, dt_s: f64) -> f64 {
-        let x0 = self.state.physical.drive.x_m;
-        if let Some(v) = &self.viscous {
-            let f = self.kick_force_n();
-            let drag = v.flow_drag_n_s_per_m;
-            self.viscous_drive_half(dt_s, f, drag, true);
-            return self.state.physical.drive.x_m - x0;
-        }
-        let f = self.state.physical.force_n;
-        let k = self.flow_stiffness_n_per_m;
-        match (&self.config.drive, self.config.integrator) {
-            (Drive::Spring(s), Integrator::Verlet) => {
-                s.half_kick(&mut self.state.physical.drive, f, dt_s);
-                s.drift(&mut self.state.physical.drive, dt_s);
-            }
-            (Drive::Spring(s), Integrator::Split) if k > 0.0 => {
-                // The flow carries F linearised at the step's start, F0 + k·(X − X0); the
-                // opening kick, of F's departure from it, is 0.
-                self.flow_anchor = (x0, f);
-                s.loaded_flow(&mut self.state.physical.drive, dt_s, k, 0.0, k * x0 - f);
-            }
-            (Drive::Spring(s), Integrator::Split) => {
-                s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
-                s.spring_flow(&mut self.state.physical.drive, dt_s);
-            }
-            (d, integrator) => d.step(integrator, &mut self.state.physical.drive, dt_s, f),
-        }
-        self.state.physical.drive.x_m - x0
-    }
-
-    /// The split integrator's closing kick force for the kick force `f_n` at the step's end:
-    /// F's departure from the linearisation the flow carried, f − F0 − k·(X − X0) (f itself
-    /// when the flow carries no stiffness).
-    fn departure_from_flow_n(&self, f_n: f64) -> f64 {
-        let k = self.flow_stiffness_n_per_m;
-        if k > 0.0 {
-            let (x0, f0) = self.flow_anchor;
-            f_n - f0 - k * (self.state.physical.drive.x_m - x0)
-        } else {
-            f_n
-        }
-    }
-
-    fn drive_second_half(&mut self, dt_s: f64) {
-        if let Some(v) = &self.viscous {
-            let f = self.kick_force_n();
-            let drag = v.flow_drag_n_s_per_m;
-            self.viscous_drive_half(dt_s, f, drag, false);
-            return;
-        }
-        match (&self.config.drive, self.config.integrator) {
-            (Drive::Spring(s), Integrator::Verlet) => {
-                s.closing_half_kick(
-                    &mut self.state.physical.drive,
-                    self.state.physical.force_n,
-                    dt_s,
-                );
-            }
-            (Drive::Spring(s), Integrator::Split) => {
-                let f = self.state.physical.force_n;
-                let kick = self.departure_from_flow_n(f);
-                s.friction_half_kick(&mut self.state.physical.drive, kick, dt_s);
-            }
-            _ => {}
-        }
-    }
-
-    /// A half of the stamp's step (the first when `first`) with the part c = `drag` of the
-    /// film's viscous drag that the flow takes, the kicks carrying `kick_n` = F − c·Ẋ (Ẋ of the
-    /// viscous stress; docs/model.md#viscosity): split, the drag inside the spring's exact
-    /// flow; Verlet and RK4, the drag as a dashpot on the absolute velocity,
-    /// −c·Ẋ = c·(V0 − Ẋ) − c·V0 (Verlet's closing kick implicit in it); the rigid drive as
-    /// without viscosity.
-    fn viscous_drive_half(&mut self, dt_s: f64, kick_n: f64, drag: f64, first: bool) {
-        let state = &mut self.state.physical.drive;
-        match (&self.config.drive, self.config.integrator) {
-            (Drive::Spring(s), Integrator::Split) => {
-                let k = self.flow_stiffness_n_per_m;
-                if first && k > 0.0 {
-                    // As without viscosity: the flow carries the kick force linearised at the
-                    // step's start, and the opening kick is 0.
-                    let x0 = state.x_m;
-                    self.flow_anchor = (x0, kick_n);
-                    s.loaded_flow(state, dt_s, k, drag, k * x0 - kick_n);
-                } else if first {
-                    s.friction_half_kick(state, kick_n, dt_s);
-                    s.spring_flow_with_drag(state, dt_s, drag);
-                } else {
-                    let kick = if k > 0.0 {
-                        let (x0, f0) = self.flow_anchor;
-                        kick_n - f0 - k * (state.x_m - x0)
-                    } else {
-                        kick_n
-                    };
-                    s.friction_half_kick(state, kick, dt_s);
-                }
-            }
-            (Drive::Spring(s), Integrator::Verlet) => {
-                let loaded = s.with_drag(drag);
-                let f = kick_n + drag * s.velocity_m_per_s;
-                if first {
-                    loaded.half_kick(state, f, dt_s);
-                    loaded.drift(state, dt_s);
-                } else {
-                    loaded.closing_half_kick(state, f, dt_s);
-                }
-            }
-            (Drive::Spring(s), Integrator::Rk4) => {
-                if first {
-                    let f = kick_n + drag * s.velocity_m_per_s;
-                    s.with_drag(drag).rk4_step(state, dt_s, f);
-                }
-            }
-            (d @ Drive::Rigid(_), integrator) => {
-                if first {
-                    d.step(integrator, state, dt_s, kick_n);
-                }
-            }
-        }
     }
 
     /// ε = (u0 − u3D)/h0 (Eq. 11) and τ = aφ²ε (Eq. 12) from the current φ, u0 and u3D.
