@@ -125,6 +125,8 @@ pub struct Simulation {
     node_exp: Vec<f64>,
     node_expm1: Vec<f64>,
     node_phi1: Vec<f64>,
+    /// The accurate step's predicted u3D change per node over the step, m.
+    node_du3d: Vec<f64>,
     /// The last step's estimated local error, in units of the error scales.
     last_error: StepError,
     /// Adaptive stepping: the state before the attempted step.
@@ -267,6 +269,7 @@ impl Simulation {
             node_exp: vec![0.0; n],
             node_expm1: vec![0.0; n],
             node_phi1: vec![0.0; n],
+            node_du3d: vec![0.0; n],
             last_error: StepError::default(),
             saved: None,
             first_melt_fraction: 1.0,
