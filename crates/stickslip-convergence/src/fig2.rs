@@ -9,10 +9,10 @@
 
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
-use stickslip_core::config::Scheme;
+use stickslip_core::config::{FilmStep, Scheme};
 use stickslip_run::driver::{Control, Driver, Limit, NullSink};
 use stickslip_run::keys::words::{NoiseKindName, Stepping};
-use stickslip_run::keys::{contact, noise, output, time};
+use stickslip_run::keys::{contact, noise, numerics, output, time};
 use stickslip_run::{ResolvedScene, Scene, StopReason};
 
 /// Gap within which a new melting continues the previous event, s.
@@ -58,6 +58,9 @@ pub struct RunSpec {
     /// `Some((σ, seed))`: gaussian noise of amplitude σ from `seed` instead of the scene's
     /// floor (fixed steps only: the scene refuses adaptive steps with gaussian noise).
     pub noise: Option<(f64, u64)>,
+    /// The second-order film's step (`numerics.film_step`; the default: the ramp-corrected
+    /// one).
+    pub film_step: FilmStep,
 }
 
 impl RunSpec {
@@ -71,6 +74,7 @@ impl RunSpec {
             switch: None,
             tolerance: None,
             noise: None,
+            film_step: FilmStep::Ramp,
         }
     }
 
@@ -107,6 +111,7 @@ impl RunSpec {
             }
             None => sets.push(time::STEPPING.set(Stepping::Fixed)),
         }
+        sets.push(numerics::FILM_STEP.set(self.film_step));
         if let Some((sigma, seed)) = self.noise {
             sets.push(noise::KIND.set(NoiseKindName::Gaussian));
             sets.push(noise::SIGMA.set(sigma));

@@ -126,6 +126,26 @@ pub struct NumericsConfig {
     /// (the paper's direct sums) for the literal one.
     #[serde(default)]
     pub operator: Option<crate::mdr::OperatorForm>,
+    /// The accurate scheme's step of the second-order film (the first-order film's is always
+    /// the frozen-strain one).
+    #[serde(default)]
+    pub film_step: FilmStep,
+}
+
+/// The accurate scheme's step of the second-order film (docs/model.md#the-accurate-scheme).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FilmStep {
+    /// The frozen-strain exact step, corrected to first order in the film coefficient's
+    /// change along the step's strain ramp (u = 1/φ² obeys a linear equation; the correction
+    /// is a closed form): the frozen step's error on the approach to melting is removed, and
+    /// the step's error estimate is the end strain's prediction error and the correction's
+    /// second-order remainder.
+    #[default]
+    Ramp,
+    /// The exact step under a frozen effective strain, its error estimated from its defect
+    /// against the strain ramp (the scheme before the ramp correction; kept for comparison).
+    Frozen,
 }
 
 impl NumericsConfig {
@@ -135,6 +155,7 @@ impl NumericsConfig {
         coupling_tol: 1e-10,
         runaway_stress_factor: 10.0,
         operator: None,
+        film_step: FilmStep::Ramp,
     };
 }
 

@@ -133,6 +133,7 @@ series_interval = 1.0
 coupling_tol = 1.0
 runaway_stress_factor = 1.0
 operator = "auto"
+film_step = "frozen"
 "#;
     full = toml::from_str(text).unwrap_or(full);
     let mut paths = Vec::new();

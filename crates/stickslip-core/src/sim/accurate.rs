@@ -72,6 +72,7 @@ impl Simulation {
             // step — ½ (midpoint, second order) for slow relaxation, → 1 (the end-of-step
             // strain, no lag) for the stiff stick phase where φ is slaved to ε.
             let theta = linear_forcing_weight_from(-self.node_arg[i], self.node_exp[i]);
+            self.node_theta[i] = theta;
             self.est_eps_eff[i] = eps0 + theta * (eps1 - eps0);
         }
         film.step_all(
@@ -82,6 +83,45 @@ impl Simulation {
             &mut self.node_phi1,
             (&mut self.node_exp, &mut self.node_expm1),
         );
+        // (b′) The ramp correction (`numerics.film_step = "ramp"`): the frozen step's φ1
+        // corrected to first order in the coefficient's change along the strain ramp; the
+        // scratch θ then holds the correction's relative second-order remainder (v/u)²/2.
+        if F::RAMP {
+            for i in 0..n {
+                let phi0 = self.state.physical.phi[i];
+                let phi1 = self.node_phi1[i];
+                if phi0 <= 0.0 || phi1 <= 0.0 {
+                    self.node_theta[i] = 0.0;
+                    continue;
+                }
+                let solid0 = phi0 >= thr;
+                let du0 = if solid0 { dx } else { 0.0 };
+                let delta = (du0 - self.node_du3d[i]) / h0;
+                let eps_eff = self.est_eps_eff[i];
+                let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
+                let uf = 1.0 / (phi1 * phi1);
+                let v = film.ramp_correction(
+                    (1.0 / (phi0 * phi0), uf),
+                    (self.node_theta[i], eps_eff, delta),
+                    c_eff,
+                    self.node_exp[i],
+                    dt_s,
+                );
+                let u1 = uf + v;
+                // The expansion holds while the correction is small against u; a larger one
+                // means a step far too long for it (fixed steps of 100× the paper's Δt ran
+                // away with it), and the frozen step is kept.
+                if v.abs() <= RAMP_CORRECTION_MAX * uf && u1.is_finite() {
+                    self.node_phi1[i] = (1.0 / u1).sqrt();
+                    // The second-order remainder, relative: (v/u)²/2.
+                    self.node_theta[i] = 0.5 * (v / u1) * (v / u1);
+                } else {
+                    // The frozen φ1 stays, and the remainder, 1 (φ's whole size), rejects an
+                    // adaptive step.
+                    self.node_theta[i] = 1.0;
+                }
+            }
+        }
         // (c) The error estimate's propagator exponent z (see `error_estimate`), clamped as
         // `defect_weights` clamps it, and e^(−z).
         for i in 0..n {
@@ -115,6 +155,12 @@ impl Simulation {
             self.est_base[i] =
                 dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
             self.est_gain[i] = dt_s * w1 * (-two_gamma * a * y1);
+            if F::RAMP {
+                // The ramp step's error: its second-order remainder, and the end strain's
+                // prediction error (the defect at the end against ε1, the ramp's end).
+                self.est_base[i] = y1 * self.node_theta[i];
+                self.est_eps_eff[i] = eps1;
+            }
             self.est_norm[i] = 0.5 / y1.max(thr * thr);
             let u0 = self.state.physical.u0_m[i];
             // `path`: where the node's last exact path starts (φ, strain, offset and length in
@@ -322,6 +368,11 @@ impl Simulation {
         };
     }
 }
+
+/// Largest correction of the ramp step relative to the frozen step's u = 1/φ² that is
+/// applied (an accepted step at the default tolerance corrects by far less: its remainder
+/// (v/u)²/2 is within the tolerance).
+const RAMP_CORRECTION_MAX: f64 = 0.5;
 
 /// The substrate's displacement change over the coming step, per node, from its last values:
 /// the quadratic through the last three (u3D's error O(Δt³), so the strain the film steps

@@ -14,6 +14,23 @@ use crate::landau::{
 
 /// What the accurate step needs from the film's kinetics (y = φ²; c = a·ε² − A·b/a, Pa).
 pub(super) trait Film {
+    /// Whether the step is corrected along the strain ramp ([`Film::ramp_correction`]): the
+    /// error estimate then takes the end strain's prediction error and the correction's
+    /// second-order remainder instead of the frozen step's defect.
+    const RAMP: bool = false;
+    /// The first-order correction v of u = 1/φ² along the strain ramp (see
+    /// [`super::ramp::correction`]); 0 for a film without it.
+    fn ramp_correction(
+        &self,
+        u: (f64, f64),
+        ramp: (f64, f64, f64),
+        c_eff: f64,
+        e_w: f64,
+        h_s: f64,
+    ) -> f64 {
+        let _ = (u, ramp, c_eff, e_w, h_s);
+        0.0
+    }
     /// The exact frozen-strain step of φ over `dt_s` at strain `eps` and coefficient A.
     fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64;
     /// [`Film::step`] at every node, `out[i] = step(phi0[i], eps[i], …)` bit for bit; `e` and
@@ -124,6 +141,59 @@ impl Film for SecondOrder {
 
     fn regrows(&self, _phi: f64, c: f64) -> bool {
         c < 0.0
+    }
+}
+
+/// The paper's film with the ramp-corrected step (`numerics.film_step = "ramp"`): the
+/// frozen step of [`SecondOrder`], then [`super::ramp::correction`].
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SecondOrderRamp(pub SecondOrder);
+
+impl Film for SecondOrderRamp {
+    const RAMP: bool = true;
+
+    fn ramp_correction(
+        &self,
+        u: (f64, f64),
+        ramp: (f64, f64, f64),
+        c_eff: f64,
+        e_w: f64,
+        h_s: f64,
+    ) -> f64 {
+        let f = &self.0;
+        super::ramp::correction(u, ramp, (f.params.a_pa, f.b, f.two_gamma), c_eff, e_w, h_s)
+    }
+
+    fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {
+        self.0.step(phi0, eps, a_coeff, dt_s)
+    }
+
+    fn step_all(
+        &self,
+        phi0: &[f64],
+        eps: &[f64],
+        a_coeff: f64,
+        dt_s: f64,
+        out: &mut [f64],
+        scratch: (&mut [f64], &mut [f64]),
+    ) {
+        self.0.step_all(phi0, eps, a_coeff, dt_s, out, scratch);
+    }
+
+    fn rate(&self, c: f64, phi: f64, y: f64) -> f64 {
+        self.0.rate(c, phi, y)
+    }
+
+    fn exponent(&self, y0: f64, y1: f64, phi0: f64, phi1: f64, c: f64, h_s: f64) -> f64 {
+        self.0.exponent(y0, y1, phi0, phi1, c, h_s)
+    }
+
+    fn crossing(&self, phi0: f64, phi1: f64, level: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {
+        self.0.crossing(phi0, phi1, level, eps, a_coeff, dt_s)
+    }
+
+    fn regrows(&self, phi: f64, c: f64) -> bool {
+        self.0.regrows(phi, c)
     }
 }
 

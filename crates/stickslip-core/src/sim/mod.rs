@@ -33,6 +33,7 @@ pub mod events;
 pub mod failure;
 mod film;
 mod literal;
+mod ramp;
 pub mod state;
 pub mod step_control;
 mod stepper;
@@ -127,6 +128,8 @@ pub struct Simulation {
     node_phi1: Vec<f64>,
     /// The accurate step's predicted u3D change per node over the step, m.
     node_du3d: Vec<f64>,
+    /// The frozen strain's place θ on the step's strain ramp, per node.
+    node_theta: Vec<f64>,
     /// The last step's estimated local error, in units of the error scales.
     last_error: StepError,
     /// Adaptive stepping: the state before the attempted step.
@@ -270,6 +273,7 @@ impl Simulation {
             node_expm1: vec![0.0; n],
             node_phi1: vec![0.0; n],
             node_du3d: vec![0.0; n],
+            node_theta: vec![0.0; n],
             last_error: StepError::default(),
             saved: None,
             first_melt_fraction: 1.0,

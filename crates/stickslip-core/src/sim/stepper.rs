@@ -7,9 +7,9 @@
 //! step. The steps themselves are written in their own modules (`literal`, `accurate`), which
 //! do not refer to this one.
 
-use super::film::{Film, FirstOrder, SecondOrder};
+use super::film::{Film, FirstOrder, SecondOrder, SecondOrderRamp};
 use super::{NumericalFailure, Simulation};
-use crate::config::{Scheme, SimConfig};
+use crate::config::{FilmStep, Scheme, SimConfig};
 use std::sync::Arc;
 
 /// One step of a scheme.
@@ -42,8 +42,8 @@ impl<F: Film + Send + Sync> Stepper for Accurate<F> {
 }
 
 /// The stepper of `config`: the literal scheme, or the accurate scheme with the film's
-/// kinetics of the second-order film (b₃ = 0, the paper's arithmetic unchanged) or of the
-/// first-order one.
+/// kinetics of the second-order film (b₃ = 0; its step ramp-corrected, or frozen as before)
+/// or of the first-order one.
 ///
 /// Shared (`Arc`) so that a step can hold the stepper while it borrows the simulation
 /// mutably: taking a handle is a counter increment, no allocation in the step loop.
@@ -51,9 +51,14 @@ pub(super) fn for_config(config: &SimConfig) -> Arc<dyn Stepper> {
     let params = config.lubricant;
     match config.time.scheme {
         Scheme::Literal => Arc::new(Literal),
-        Scheme::Accurate if params.cubic_pa == 0.0 => Arc::new(Accurate {
-            film: SecondOrder::new(params),
-        }),
+        Scheme::Accurate if params.cubic_pa == 0.0 => match config.numerics.film_step {
+            FilmStep::Ramp => Arc::new(Accurate {
+                film: SecondOrderRamp(SecondOrder::new(params)),
+            }),
+            FilmStep::Frozen => Arc::new(Accurate {
+                film: SecondOrder::new(params),
+            }),
+        },
         Scheme::Accurate => Arc::new(Accurate {
             film: FirstOrder::new(params),
         }),

@@ -10,7 +10,7 @@
 //! every default filled in, so it can be written to `run.json` and read back as a scene.
 
 use super::words::{
-    ContactModel, DriveKind, Integrator, NoiseKindName, OperatorChoice, Scheme, Stepping,
+    ContactModel, DriveKind, FilmStep, Integrator, NoiseKindName, OperatorChoice, Scheme, Stepping,
     Substrate, TemperatureLaw, Until,
 };
 use super::{AnyKey, Key, KeyDefault, Range};
@@ -515,6 +515,9 @@ section! {
         OPERATOR operator "operator": OperatorChoice =
             "MDR transforms: fast (hierarchical low-rank, O(N)), dense (O(N²)); auto = fast for accurate, dense for literal"
             { default: Value(&OperatorChoice::Auto), range: Range::Word }
+        FILM_STEP film_step "film_step": FilmStep =
+            "the accurate scheme's step of the second-order film: ramp (the exact frozen-strain step corrected to first order in the film coefficient's change along the step's strain ramp, in closed form) or frozen (the exact step under one effective strain, as before the correction; for comparison). The first-order film always takes the frozen one"
+            { default: Value(&FilmStep::Ramp), range: Range::Word }
     }
 }
 

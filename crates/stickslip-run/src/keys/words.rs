@@ -3,7 +3,7 @@
 
 use super::values::Word;
 use serde::{Deserialize, Serialize};
-pub use stickslip_core::config::{ContactModel, Scheme, Substrate};
+pub use stickslip_core::config::{ContactModel, FilmStep, Scheme, Substrate};
 pub use stickslip_core::drive::Integrator;
 
 /// Implements [`Word`]: the variants and their serde words, in the reference's order.
@@ -28,6 +28,7 @@ pub enum NoiseKindName {
     Off,
 }
 words!(NoiseKindName: Gaussian = "gaussian", Floor = "floor", Off = "off");
+words!(FilmStep: Ramp = "ramp", Frozen = "frozen");
 
 /// `temperature.law`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -117,5 +118,6 @@ mod tests {
         check::<Substrate>();
         check::<Scheme>();
         check::<Integrator>();
+        check::<FilmStep>();
     }
 }

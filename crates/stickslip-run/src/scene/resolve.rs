@@ -392,6 +392,7 @@ fn resolve_numerics(
     so_far: &Scene,
 ) -> Result<(NumericsConfig, NumericsSection), SceneError> {
     let operator = numerics::OPERATOR.value(nm.operator, &nothing())?;
+    let film_step = numerics::FILM_STEP.value(nm.film_step, &nothing())?;
     let numerics = NumericsConfig {
         coupling_tol: numerics::COUPLING_TOL.value(nm.coupling_tol, so_far)?,
         runaway_stress_factor: numerics::RUNAWAY_STRESS_FACTOR
@@ -401,11 +402,13 @@ fn resolve_numerics(
             OperatorChoice::Dense => Some(OperatorForm::Dense),
             OperatorChoice::Auto => None,
         },
+        film_step,
     };
     let section = NumericsSection {
         coupling_tol: Some(numerics.coupling_tol),
         runaway_stress_factor: Some(numerics.runaway_stress_factor),
         operator: Some(operator),
+        film_step: Some(film_step),
     };
     Ok((numerics, section))
 }
