@@ -195,6 +195,7 @@ pub fn fit(
     };
     if let Some(nu) = optimise::noise(&mut problem, &first) {
         noise = Some(nu);
+        problem.stage = "local";
         // A few iterations from each start, then the best one on to convergence.
         let mut screened: Vec<(optimise::Local, Vec<f64>)> = Vec::new();
         for s in optimise::starts(&global) {

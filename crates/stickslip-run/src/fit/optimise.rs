@@ -268,7 +268,6 @@ pub fn levenberg_marquardt(
                     z
                 })
                 .collect();
-            problem.stage = "local";
             let Some(evals) = problem.evaluate_all(&zs, false) else {
                 return Local {
                     best: cur,
