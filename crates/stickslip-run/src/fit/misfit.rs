@@ -201,15 +201,20 @@ impl Target {
         let t = &self.trace.t_s;
         let model_f_n: Vec<f64> = t.iter().map(|&ti| model.at(ti + shift_s)).collect();
         match self.kind {
-            MisfitKind::Trace => Compared {
-                residuals: model_f_n
-                    .iter()
-                    .zip(&self.trace.f_n)
-                    .map(|(m, d)| (m - d) / self.sigma_f_n)
-                    .collect(),
-                model_f_n,
-                model_events: Vec::new(),
-            },
+            MisfitKind::Trace => {
+                // The model's events too, for fit.json and the figure (not in the misfit).
+                let found = find(t, &model_f_n, self.hysteresis_n);
+                let model_events = refine_model(t, &|x| model.at(x + shift_s), &self.found, &found);
+                Compared {
+                    residuals: model_f_n
+                        .iter()
+                        .zip(&self.trace.f_n)
+                        .map(|(m, d)| (m - d) / self.sigma_f_n)
+                        .collect(),
+                    model_f_n,
+                    model_events,
+                }
+            }
             MisfitKind::Events => {
                 let found = find(t, &model_f_n, self.hysteresis_n);
                 let model_events = refine_model(t, &|x| model.at(x), &self.found, &found);
