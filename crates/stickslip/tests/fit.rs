@@ -102,6 +102,13 @@ fn a_fit_writes_its_report_figure_and_fitted_scene_which_reproduces_it() {
     let profile = report.profile.as_ref().unwrap();
     assert_eq!(profile.values.len(), 9);
     assert!(profile.delta.iter().all(|d| *d >= 0.0), "{profile:?}");
+    // The profile's interval holds the truth too, and is about the covariance's.
+    let (plo, phi) = (profile.lo95.unwrap(), profile.hi95.unwrap());
+    assert!(plo <= TAU_MAX && TAU_MAX <= phi, "{profile:?}");
+    assert!(
+        (phi - plo) / (hi - lo) > 0.5 && (phi - plo) / (hi - lo) < 2.0,
+        "{profile:?}"
+    );
     let svg = std::fs::read_to_string(out.join("fit.svg")).unwrap();
     assert!(
         svg.starts_with("<svg") && svg.contains("residual"),
