@@ -18,6 +18,7 @@
 //! - [`cli`]: the command line itself (the `stickslip` crate's library), for the package's
 //!   `stickslip` command;
 //! - [`verify`]: the error of every summary number of a scene;
+//! - [`fit`]: scene parameters fitted to a measured trace (the run library's fit);
 //! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays, their inputs
 //!   checked (shape, type, finite values, sizes whose operators would not fit);
 //! - [`args`], [`convert`] and [`errors`]: arguments checked in the API's words, Python ⇄
@@ -35,6 +36,7 @@ pub mod boundary;
 pub mod cli;
 pub mod convert;
 pub mod errors;
+pub mod fit;
 pub mod json;
 pub mod keys;
 pub mod mdr;
@@ -57,6 +59,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(boundary::boundary, m)?)?;
     m.add_function(wrap_pyfunction!(keys::keys, m)?)?;
     m.add_function(wrap_pyfunction!(verify::verify, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::load_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::forward, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::back, m)?)?;

@@ -43,6 +43,19 @@ pub enum Report<'a> {
         /// Why the run stopped, once it has.
         stop: Option<&'a str>,
     },
+    /// A fit: its stage, forward runs so far, of which failed, the least misfit so far.
+    Fit {
+        /// `global`, `noise`, `local`, `uncertainty` or `profile`.
+        stage: &'a str,
+        /// Forward runs so far.
+        evaluations: usize,
+        /// Of which failed.
+        failed: usize,
+        /// The least χ² so far (infinite before the first run).
+        best_chi2: f64,
+        /// Why the fit stopped, once it has.
+        stop: Option<&'a str>,
+    },
     /// A sweep: points done of those to run, points found finished, points failed.
     Sweep {
         /// Points run so far by this call.
@@ -141,6 +154,20 @@ impl Bridge {
                     1.0
                 };
                 (f, stop)
+            }
+            Report::Fit {
+                stage,
+                evaluations,
+                failed,
+                best_chi2,
+                stop,
+            } => {
+                d.set_item("stage", stage)?;
+                d.set_item("evaluations", evaluations)?;
+                d.set_item("failed_runs", failed)?;
+                d.set_item("best_chi2", best_chi2)?;
+                // A fit's length is not known ahead: no fraction until it ends.
+                (if stop.is_some() { 1.0 } else { 0.0 }, stop)
             }
         };
         let (f0, e0) = *self.first.get_or_insert((fraction, elapsed_s));

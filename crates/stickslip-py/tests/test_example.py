@@ -1,4 +1,5 @@
-"""examples/fig2.py runs (quick sizes; plots only when matplotlib is installed)."""
+"""examples/fig2.py, experiment.py and fit.py run (quick sizes; plots only when matplotlib is
+installed)."""
 
 from __future__ import annotations
 
@@ -32,4 +33,15 @@ def test_the_experiment_walkthrough_runs(tmp_path: Path) -> None:
     out = done.stdout
     for needle in ("check: first melting expected at", "verify at N = 50: first onset",
                    "run (undamped): 4 meltings", "run (damping", "boundary: stick_slip -> "):
+        assert needle in out, out
+
+
+def test_the_fit_example_runs() -> None:
+    """examples/fit.py, synthetic traces fitted (docs/fit.md), at its quick size."""
+    args = [sys.executable, str(ROOT / "examples" / "fit.py"), "--quick"]
+    done = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    out = done.stdout
+    assert "fig2, N = 30, 1 ms" in out and "4 meltings" in out, out
+    for needle in ("seed 1: lubricant.tau_max = ", "seed 2: ", "coverage of lubricant.gamma: "):
         assert needle in out, out

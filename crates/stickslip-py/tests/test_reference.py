@@ -45,7 +45,7 @@ def markdown() -> str:
         f"```text\n{_doc(stickslip)}\n```\n",
         "## Functions\n",
     ]
-    for name in ("run", "resume", "load", "sweep", "load_sweep", "boundary", "verify", "keys"):
+    for name in ("run", "resume", "load", "sweep", "load_sweep", "boundary", "verify", "fit", "keys"):
         fn = getattr(stickslip, name)
         parts.append(_entry(_signature(fn, f"stickslip.{name}"), fn))
     parts.append("## Types\n")
@@ -85,6 +85,14 @@ def markdown() -> str:
         _entry(
             _signature(stickslip.MapTable.to_pandas, "MapTable.to_pandas"),
             stickslip.MapTable.to_pandas,
+        )
+    )
+    parts.append("## `stickslip.FitResult`\n")
+    parts.append(f"```text\n{_doc(stickslip.FitResult)}\n```\n")
+    parts.append(
+        _entry(
+            _signature(stickslip.FitResult.to_dict, "FitResult.to_dict"),
+            stickslip.FitResult.to_dict,
         )
     )
     parts.append("## Module `stickslip.mdr`\n")

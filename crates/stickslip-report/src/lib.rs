@@ -4,6 +4,7 @@
 //!   markers, slope guides, reference lines, cells for maps), with one [`palette`];
 //! - [`fmt`]: one number formatter for report prose and tables;
 //! - [`stats`]: one median, mean, coefficient of variation, differences and log–log slope;
+//! - [`fit`]: the figure of `stickslip fit` (data, model, events, residuals);
 //! - [`map`]: friction-map panels (regime colours, a continuous quantity) from a sweep;
 //! - [`binary`]: builds the `stickslip` binary and runs scenes through it as a user would,
 //!   reading what it wrote through the run library's schema;
@@ -16,6 +17,7 @@
 
 pub mod binary;
 pub mod build_timing;
+pub mod fit;
 pub mod fmt;
 pub mod map;
 pub mod palette;

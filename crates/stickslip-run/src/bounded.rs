@@ -48,14 +48,22 @@ pub const CHECK_RECORD: Cap = Cap {
     max_bytes: 1 << 20,
 };
 
+/// A measured friction trace for `stickslip fit` (a few columns of numbers per sample: 64 MB
+/// holds about a million samples).
+pub const TRACE: Cap = Cap {
+    what: "trace file",
+    max_bytes: 64 << 20,
+};
+
 /// Every cap, for the reference.
-pub const ALL: [Cap; 6] = [
+pub const ALL: [Cap; 7] = [
     SCENE,
     SWEEP,
     SWEEP_LOCK,
     POINT_RECORD,
     SHARD_TABLE,
     CHECK_RECORD,
+    TRACE,
 ];
 
 /// Why a file was not read (the size and the cap; callers name the path).

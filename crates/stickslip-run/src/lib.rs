@@ -15,7 +15,8 @@
 //! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file;
 //! - [`build_id`]: the build identity of the numerics, which sweep points and checkpoints
 //!   carry;
-//! - [`exit`]: the kinds of ending, as the command line's exit statuses.
+//! - [`exit`]: the kinds of ending, as the command line's exit statuses;
+//! - [`fit`]: the model fitted to a measured friction trace (`stickslip fit`).
 //!
 //! Invariant: no command-line or terminal code here (no clap, no progress bars); errors say
 //! which kind of ending they are as an [`exit::Exit`], the command line turns that into the
@@ -30,6 +31,7 @@ pub mod checkpoint;
 pub mod cycles;
 pub mod driver;
 pub mod exit;
+pub mod fit;
 pub mod keys;
 pub mod outcome;
 pub mod output_size;

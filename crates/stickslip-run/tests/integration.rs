@@ -9,6 +9,7 @@ mod dir_states;
 mod drive_damping;
 mod events;
 mod first_order;
+mod fit;
 mod keys;
 mod onset_estimate;
 mod refine;

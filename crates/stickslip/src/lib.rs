@@ -1,4 +1,5 @@
-//! The `stickslip` command line: `run`, `check`, `resume`, `sweep` and `keys` (see
+//! The `stickslip` command line: `run`, `check`, `resume`, `sweep`, `boundary`, `verify`, `fit`
+//! and `keys` (see
 //! `docs/reference.md`).
 //!
 //! This crate holds arguments, progress, signals, printing and exit codes only; scenes, the
@@ -33,6 +34,7 @@ macro_rules! say_raw {
 
 mod boundary;
 mod check;
+mod fit;
 mod progress;
 mod reference;
 mod spot;
@@ -169,6 +171,55 @@ enum Command {
         /// drive.stiffness` (repeatable): its default applies, or a --set value.
         #[arg(long = "unset", value_name = "SECTION.KEY")]
         unset: Vec<String>,
+    },
+    /// Fit scene parameters to a measured friction trace (docs/fit.md): a space-filling
+    /// sample of the bounds, then bounded Levenberg–Marquardt with finite-difference
+    /// Jacobians above the solver's noise (the fit's runs use time.tolerance/100); prints the
+    /// values with standard errors, 95 % intervals, correlations and the combinations the data
+    /// cannot determine; writes DIR/fit.json, DIR/fit.svg and DIR/fitted.toml (the scene with
+    /// the fitted values: `stickslip run` reproduces the fitted model). Exit 2 for bad input
+    /// (naming the field), 3 when no run of the optimiser succeeded, 130 when interrupted (the
+    /// best fit so far written, status "interrupted").
+    Fit {
+        /// Scene file (TOML): the known parameters (K, m, V0, a0, …) and starting values.
+        scene: PathBuf,
+        /// The measured trace: CSV with a header line, columns t (s) and F (N), optionally X
+        /// (m).
+        #[arg(long, value_name = "TRACE.csv")]
+        data: PathBuf,
+        /// A free parameter: a scene key taking a number, with bounds (default: the key's
+        /// usual range; searched in log space when both bounds are > 0). Repeatable.
+        #[arg(long = "param", value_name = "KEY[=LO:HI]", required = true)]
+        param: Vec<String>,
+        /// What is compared: `events` (onsets, intervals, peak forces and drops, matched
+        /// event by event) or `trace` (F at the data's times, with a fitted time shift).
+        #[arg(long, value_name = "MISFIT", default_value = "events", value_parser = ["events", "trace"])]
+        misfit: String,
+        /// Column names of the trace when not t, F and X, e.g. `t=time,F=force`.
+        #[arg(long, value_name = "t=NAME,F=NAME")]
+        columns: Option<String>,
+        /// Standard deviation of the noise of F, N [default: estimated from the data].
+        #[arg(long, value_name = "N", allow_hyphen_values = true)]
+        noise: Option<f64>,
+        /// Runs at a time.
+        #[arg(long, default_value_t = 2)]
+        jobs: usize,
+        /// Also compute the profile likelihood of this parameter (one of --param's keys).
+        #[arg(long, value_name = "KEY")]
+        profile: Option<String>,
+        /// Output directory [default: a fresh fit-NAME].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Override a scene value (repeatable).
+        #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
+        set: Vec<String>,
+        /// Remove a key the scene file sets before the --set values apply, e.g. `--unset
+        /// drive.stiffness` (repeatable): its default applies, or a --set value.
+        #[arg(long = "unset", value_name = "SECTION.KEY")]
+        unset: Vec<String>,
+        /// No progress lines on stderr.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Finish an interrupted run from its checkpoint; the output is bit-identical to that of
     /// an uninterrupted run (run.json's wall_seconds aside). The checkpoint must come from
@@ -504,6 +555,33 @@ fn dispatch(cli: Cli) -> ExitCode {
             rtol,
             out: out.as_deref(),
             jobs,
+        }),
+        Command::Fit {
+            scene,
+            data,
+            param,
+            misfit,
+            columns,
+            noise,
+            jobs,
+            profile,
+            out,
+            set,
+            unset,
+            quiet,
+        } => fit::main(&fit::Args {
+            scene: &scene,
+            set: &set,
+            unset: &unset,
+            data: &data,
+            params: &param,
+            misfit: &misfit,
+            columns: columns.as_deref(),
+            noise,
+            jobs,
+            profile: profile.as_deref(),
+            out: out.as_deref(),
+            quiet,
         }),
         Command::Resume {
             dir,

@@ -25,8 +25,9 @@ pub struct Args<'a> {
     pub jobs: usize,
 }
 
-/// A fresh directory `verify-NAME`, `verify-NAME-2`, … that does not exist yet.
-fn fresh_dir(name: &str) -> PathBuf {
+/// A fresh directory `PREFIX-NAME`, `PREFIX-NAME-2`, … that does not exist yet (`verify`'s
+/// and `fit`'s default output directory).
+pub fn fresh_dir(prefix: &str, name: &str) -> PathBuf {
     let safe: String = name
         .chars()
         .map(|c| {
@@ -40,13 +41,13 @@ fn fresh_dir(name: &str) -> PathBuf {
     (1..)
         .map(|k| {
             PathBuf::from(if k == 1 {
-                format!("verify-{safe}")
+                format!("{prefix}-{safe}")
             } else {
-                format!("verify-{safe}-{k}")
+                format!("{prefix}-{safe}-{k}")
             })
         })
         .find(|p| !p.exists())
-        .unwrap_or_else(|| PathBuf::from("verify"))
+        .unwrap_or_else(|| PathBuf::from(prefix))
 }
 
 fn verdict_word(v: Verdict) -> &'static str {
@@ -171,7 +172,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     say_raw!("{}", table(&report));
     let dir = a
         .out
-        .map_or_else(|| fresh_dir(&scene.name), Path::to_path_buf);
+        .map_or_else(|| fresh_dir("verify", &scene.name), Path::to_path_buf);
     let json = match serde_json::to_vec_pretty(&report) {
         Ok(j) => j,
         Err(e) => return crate::fail(format!("cannot encode verify.json: {e}"), Exit::Io),

@@ -7,6 +7,7 @@ mod common;
 mod bad_input;
 mod bad_scenes;
 mod boundary;
+mod fit;
 mod reference;
 mod resume;
 mod runs;

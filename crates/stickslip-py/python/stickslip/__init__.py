@@ -16,6 +16,7 @@ of dimensionality reduction), from Python. All quantities are SI.
     b = stickslip.boundary(scene, "drive.velocity", 0.01, 3.0, rtol=1e-3)   # b["value"]
     [k["path"] for k in stickslip.keys()]                    # every scene key, documented
     v = stickslip.verify(scene, rtol=1e-3)                    # every number with its error
+    f = stickslip.fit(scene, "trace.csv", ["lubricant.tau_max=5e5:2e6"])   # f.values, f.stderr
     q = stickslip.mdr.forward(tau, radius)                    # Eq. 13
 
 The numbers are those of the command line ``stickslip run``, bit for bit, for the same scene.
@@ -31,16 +32,17 @@ same program as the Rust binary, with its arguments, output, exit statuses and C
 """
 
 from . import _native, mdr
-from ._api import PathLike, SceneLike, boundary, load, load_sweep, resume, run, sweep, verify
+from ._api import PathLike, SceneLike, boundary, fit, load, load_sweep, resume, run, sweep, verify
 from ._errors import Interrupted, NumericalFailure, SceneError, SweepError
 from ._native import Scene, keys
 from ._progress import ProgressArg
-from ._result import MapTable, RunResult
+from ._result import FitResult, MapTable, RunResult
 
 __version__: str = _native.__version__
 
 # The package's public names; `dir(stickslip)` shows these (and the private modules).
 __all__ = [
+    "FitResult",
     "Interrupted",
     "MapTable",
     "NumericalFailure",
@@ -52,6 +54,7 @@ __all__ = [
     "SceneLike",
     "SweepError",
     "boundary",
+    "fit",
     "keys",
     "load",
     "load_sweep",
@@ -63,7 +66,7 @@ __all__ = [
 ]
 
 # The functions and classes say they belong to the package (help(), repr, pickling).
-for _obj in (boundary, keys, verify, load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure, SceneError,
-             SweepError, MapTable, RunResult):
+for _obj in (boundary, fit, keys, verify, load, load_sweep, resume, run, sweep, Interrupted, NumericalFailure,
+             SceneError, SweepError, FitResult, MapTable, RunResult):
     _obj.__module__ = __name__
 del _obj

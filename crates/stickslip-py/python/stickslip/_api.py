@@ -1,4 +1,4 @@
-"""The functions of ``stickslip``: run, resume, load, sweep, load_sweep, boundary (re-exported by the
+"""The functions of ``stickslip``: run, resume, load, sweep, load_sweep, boundary, fit (re-exported by the
 package; they wrap the native module, raise the package's exceptions and draw progress)."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from . import _native, _progress
 from ._errors import Interrupted, NumericalFailure
 from ._native import Scene
 from ._progress import ProgressArg
-from ._result import MapTable, RunResult
+from ._result import FitResult, MapTable, RunResult
 
 #: What a scene argument may be: a ``Scene``, a path to a scene file, or a scene dict.
 SceneLike = Union[Scene, str, "os.PathLike[str]", Mapping[str, Any]]
@@ -375,3 +375,96 @@ def boundary(
         if isinstance(e, Interrupted):
             raise
         raise Interrupted(f"stickslip.boundary interrupted ({e})") from None
+
+
+def _trace_arrays(data: Any, columns: Mapping[str, str]) -> Dict[str, Any]:
+    """t, F and (if present) X of a dict of arrays or a pandas DataFrame, as float lists."""
+    out: Dict[str, Any] = {}
+    for which, required in (("t", True), ("F", True), ("X", False)):
+        name = columns.get(which, which)
+        if name not in data:
+            if required:
+                raise ValueError(
+                    f"data: no column {name!r} for {which}; allowed: a dict or DataFrame with "
+                    f"columns {columns.get('t', 't')!r} and {columns.get('F', 'F')!r} (map other "
+                    "names with columns={'t': NAME, 'F': NAME})"
+                )
+            continue
+        values = data[name]
+        values = values.to_numpy() if hasattr(values, "to_numpy") else values
+        out[which] = [float(v) for v in values]
+    return out
+
+
+def fit(
+    scene: SceneLike,
+    data: Any,
+    params: Any,
+    misfit: str = "events",
+    *,
+    noise: Optional[float] = None,
+    columns: Optional[Mapping[str, str]] = None,
+    jobs: int = 2,
+    profile: Optional[str] = None,
+    progress: Optional[Any] = None,
+) -> FitResult:
+    """Fits scene parameters to a measured friction trace, as ``stickslip fit`` does
+    (docs/fit.md): a space-filling sample of the bounds, then bounded Levenberg–Marquardt
+    whose finite-difference Jacobians stay above the solver's noise; ``jobs`` runs at a time.
+
+    ``data``: a trace file's path (CSV with a header line, columns ``t`` in s and ``F`` in N,
+    optionally ``X`` in m), a dict of arrays or a pandas DataFrame with those columns;
+    ``columns`` maps other names, e.g. ``{"t": "time", "F": "force"}``. ``params``: the free
+    parameters, each ``"KEY"`` or ``"KEY=LO:HI"`` (a scene key taking a number; bounds default
+    to the key's usual range; searched in log space when both are > 0), a str or a list.
+    ``misfit``: ``"events"`` (onsets, intervals, peak forces and drops matched event by event)
+    or ``"trace"`` (F at the data's times, with a fitted time shift). ``noise``: the standard
+    deviation of F's noise, N (default: estimated from the data). ``profile``: a parameter whose
+    profile likelihood to compute. ``progress``: None, or a callable receiving a dict
+    (``stage``, ``evaluations``, ``failed_runs``, ``best_chi2``, ``elapsed_s``) a few times a
+    second.
+
+    Returns a ``FitResult`` (``.values``, ``.stderr``, ``.intervals``, ``.correlation``,
+    ``.unidentified``, ``.scene``, ``.to_dict()``: fit.json's content).
+
+    Raises ``ValueError`` for bad input (naming the field: an unknown key, a bound outside the
+    key's range, lo >= hi, a trace whose t is not increasing, a value that is not a finite
+    number, too few samples, a trace without events for the events misfit), ``SceneError``
+    for a value the scene refuses, ``OSError`` for a trace file that cannot be read,
+    ``RuntimeError`` when no run of the optimiser succeeded, ``Interrupted`` on Ctrl-C
+    (``.result``: the best fit so far, status ``"interrupted"``, or None before any run ended).
+    """
+    if isinstance(params, str):
+        params = [params]
+    if not isinstance(params, (list, tuple)) or not all(isinstance(p, str) for p in params):
+        raise TypeError("params: expected a str or a list of str (KEY or KEY=LO:HI)")
+    if misfit not in ("events", "trace"):
+        raise ValueError(f"misfit = {misfit!r} is invalid; allowed: \"events\" or \"trace\"")
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise ValueError(f"jobs = {jobs!r} is invalid; allowed: an int >= 1")
+    if progress is not None and not callable(progress):
+        raise TypeError("progress: expected None or a callable taking a dict")
+    cols = dict(columns or {})
+    s = _scene(scene)
+    kwargs: Dict[str, Any] = {
+        "noise": None if noise is None else float(noise),
+        "jobs": int(jobs),
+        "profile": profile,
+        "progress": progress,
+    }
+    if isinstance(data, (str, os.PathLike)):
+        spec = ",".join(f"{k}={v}" for k, v in cols.items()) or None
+        kwargs.update(path=os.fspath(data), columns=spec)
+    else:
+        arrays = _trace_arrays(data, cols)
+        kwargs.update(t=arrays["t"], f=arrays["F"], x=arrays.get("X"))
+    try:
+        parts = _native.fit(s, list(params), misfit, **kwargs)
+    except KeyboardInterrupt as e:
+        if isinstance(e, Interrupted):
+            raise
+        raise Interrupted(f"stickslip.fit interrupted ({e})") from None
+    result = FitResult(parts, Scene.from_toml(parts["fitted_toml"]))
+    if result.status == "interrupted":
+        raise Interrupted("stickslip.fit interrupted; .result holds the best fit so far", result=result)
+    return result

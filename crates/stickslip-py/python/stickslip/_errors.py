@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Optional, Union
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ._result import MapTable, RunResult
+    from ._result import FitResult, MapTable, RunResult
 
 
 class SceneError(ValueError):
@@ -99,13 +99,15 @@ class NumericalFailure(RuntimeError):
 
 class Interrupted(KeyboardInterrupt):
     """Ctrl-C (SIGINT), or a ``KeyboardInterrupt`` raised by a progress callback, stopped
-    ``stickslip.run``, ``stickslip.resume`` or ``stickslip.sweep``; the output up to that
-    moment is kept. A ``KeyboardInterrupt``: code that catches that one (or nothing) behaves
+    ``stickslip.run``, ``stickslip.resume``, ``stickslip.sweep`` or ``stickslip.fit``; the
+    output up to that moment is kept. A ``KeyboardInterrupt``: code that catches that one (or nothing) behaves
     as before.
 
     Attributes:
         result: the output so far: a ``RunResult`` (status ``"interrupted"``) for a run, a
-            ``MapTable`` of the points finished so far (``complete`` False) for a sweep.
+            ``MapTable`` of the points finished so far (``complete`` False) for a sweep, a
+            ``FitResult`` of the best model so far (status ``"interrupted"``; None when no run
+            had ended) for a fit.
         out: the output directory (``out=`` of ``run`` or ``sweep``, ``dir`` of ``resume``),
             or None for a run in memory. A run written there keeps a checkpoint:
             ``stickslip.resume(out)`` finishes it; a sweep run again with the same ``out``
@@ -115,7 +117,7 @@ class Interrupted(KeyboardInterrupt):
     def __init__(
         self,
         message: str,
-        result: Optional[Union["RunResult", "MapTable"]] = None,
+        result: Optional[Union["RunResult", "MapTable", "FitResult"]] = None,
         out: Optional[str] = None,
     ) -> None:
         super().__init__(message)

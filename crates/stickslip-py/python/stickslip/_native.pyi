@@ -86,6 +86,22 @@ def boundary(
 def verify(scene: Scene, rtol: float = ..., jobs: int = ...) -> Dict[str, Any]:
     """Internal: the refinements of ``stickslip.verify``."""
 
+def fit(
+    scene: Scene,
+    params: List[str],
+    misfit: str = ...,
+    path: Optional[str] = ...,
+    columns: Optional[str] = ...,
+    t: Optional[List[float]] = ...,
+    f: Optional[List[float]] = ...,
+    x: Optional[List[float]] = ...,
+    noise: Optional[float] = ...,
+    jobs: int = ...,
+    profile: Optional[str] = ...,
+    progress: Optional[Any] = ...,
+) -> Dict[str, Any]:
+    """Internal: the fit of ``stickslip.fit``."""
+
 def keys() -> List[Dict[str, Any]]:
     """Every scene key as a dict: ``path``, ``type`` (``"real"``, ``"integer"``, ``"text"``,
     ``"choice"`` or ``"real list"``), ``words`` (a choice key's words, else ``None``),

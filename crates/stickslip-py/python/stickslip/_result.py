@@ -1,6 +1,6 @@
 """``RunResult`` (what ``stickslip.run``, ``resume`` and ``load`` return: the five output files
-of a run, in memory) and ``MapTable`` (what ``stickslip.sweep`` and ``load_sweep`` return:
-map.csv's columns)."""
+of a run, in memory), ``MapTable`` (what ``stickslip.sweep`` and ``load_sweep`` return:
+map.csv's columns) and ``FitResult`` (what ``stickslip.fit`` returns: fit.json's content)."""
 
 from __future__ import annotations
 
@@ -180,3 +180,55 @@ class MapTable(Dict[str, np.ndarray]):
             f"<stickslip.MapTable: {self.rows} of {self.points} points ({state}), "
             f"columns {list(self)}>"
         )
+
+
+class FitResult:
+    """What ``stickslip.fit`` found (the content of ``stickslip fit``'s fit.json).
+
+    Attributes:
+        values: the fitted value of each parameter, ``{key: value}`` (in the key's unit;
+            ``time_shift`` in s for the trace misfit).
+        stderr: each parameter's standard error (None: not determined, or interrupted).
+        intervals: each parameter's 95 % interval ``(lo, hi)`` (None likewise).
+        correlation: the parameters' correlation matrix (``numpy.ndarray``, NaN where
+            undefined; the correlations of the logarithms for log-space parameters).
+        unidentified: the combinations the data cannot determine, in words.
+        misfit: χ², the sum of the squared residuals, each in units of its noise.
+        status: ``"ok"`` or ``"interrupted"``.
+        scene: the fitted scene (a ``stickslip.Scene``; ``stickslip.run`` reproduces the
+            fitted model with it).
+        fitted_toml: that scene as TOML text (the command line's fitted.toml).
+        t, f, model_f: the data's times (s) and force (N), and the fitted model's force at
+            those times (N), as ``numpy.ndarray``.
+    """
+
+    def __init__(self, parts: Dict[str, Any], scene: Any) -> None:
+        self._report: Dict[str, Any] = parts["report"]
+        params = self._report["parameters"]
+        self.values: Dict[str, float] = {p["key"]: p["value"] for p in params}
+        self.stderr: Dict[str, Optional[float]] = {p["key"]: p["stderr"] for p in params}
+        self.intervals: Dict[str, Optional[tuple]] = {
+            p["key"]: None if p["lo95"] is None else (p["lo95"], p["hi95"]) for p in params
+        }
+        self.correlation = np.array(
+            [[np.nan if c is None else c for c in row] for row in self._report["correlation"]],
+            dtype=float,
+        )
+        self.unidentified = list(self._report["unidentified"])
+        self.misfit: float = self._report["misfit"]
+        self.status: str = self._report["status"]
+        self.fitted_toml: str = parts["fitted_toml"]
+        self.scene = scene
+        self.t = np.asarray(parts["t"], dtype=float)
+        self.f = np.asarray(parts["f"], dtype=float)
+        self.model_f = np.asarray(parts["model_f"], dtype=float)
+
+    def to_dict(self) -> Dict[str, Any]:
+        """fit.json's content as a dict (a copy)."""
+        import copy
+
+        return copy.deepcopy(self._report)
+
+    def __repr__(self) -> str:
+        values = ", ".join(f"{k}={v:.6g}" for k, v in self.values.items())
+        return f"FitResult({self.status}: {values}; misfit {self.misfit:.4g})"

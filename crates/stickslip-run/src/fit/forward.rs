@@ -1,0 +1,149 @@
+//! The fit's forward runs: the scene with the parameters' values applied as `--set` overrides
+//! (exactly as the command line's `--set`, so the fitted scene is the scene a user would run),
+//! run by the driver with a null sink while an observer records the friction force at every
+//! step (the model's F at the data's times is interpolated from those).
+//!
+//! Every run of a fit also carries the fit's settings: `time.end` at the trace's end (plus the
+//! largest time shift), no profile times, and with adaptive steps a tolerance tightened by
+//! [`TOLERANCE_FACTOR`], so that the solver's noise — the run-to-run jitter of the adaptive
+//! step sequence, measured as `verify` measures an error, against a run at a tenth of the
+//! tolerance ([`Forward::noise_run`]) — stays far below the differences the Jacobian takes.
+
+use super::misfit::ModelCurve;
+use super::params::Param;
+use crate::driver::{Control, NullSink};
+use crate::keys::{output, time};
+use crate::outcome::StopReason;
+use crate::scene::{ResolvedScene, SceneError};
+use std::sync::atomic::AtomicBool;
+
+/// The fit's runs use the scene's `time.tolerance` divided by this.
+pub const TOLERANCE_FACTOR: f64 = 100.0;
+
+/// How one forward run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Run {
+    /// It ran to the trace's end: the force over time.
+    Done(ModelCurve),
+    /// It failed numerically, was refused, or the scene did not resolve (why, in words).
+    Failed(String),
+    /// Interrupted.
+    Interrupted,
+}
+
+/// The scene and settings every forward run of a fit starts from.
+#[derive(Debug, Clone)]
+pub struct Forward {
+    /// The scene as given (with the command line's --set).
+    pub base: ResolvedScene,
+    /// The fit's settings, as --set text, applied before the parameters' values.
+    pub settings: Vec<String>,
+    /// The tolerance of the fit's runs (none with fixed steps).
+    pub tolerance: Option<f64>,
+}
+
+impl Forward {
+    /// The forward runs of `base` up to `end_s`.
+    ///
+    /// # Errors
+    /// The scene with the fit's settings does not resolve.
+    pub fn new(base: &ResolvedScene, end_s: f64) -> Result<Self, Box<SceneError>> {
+        let tolerance = base
+            .config
+            .time
+            .adaptive
+            .map(|a| a.tolerance / TOLERANCE_FACTOR);
+        let mut settings = vec![
+            time::END.set(end_s).to_string(),
+            output::PROFILE_TIMES.set(Vec::new()).to_string(),
+        ];
+        if let Some(tol) = tolerance {
+            settings.push(time::TOLERANCE.set(tol).to_string());
+        }
+        let forward = Self {
+            base: base.clone(),
+            settings,
+            tolerance,
+        };
+        forward.scene(&[], &[])?;
+        Ok(forward)
+    }
+
+    /// The overrides of the model at `z`: the fit's settings, then each scene parameter's
+    /// `KEY=VALUE`.
+    #[must_use]
+    pub fn overrides(&self, params: &[Param], z: &[f64]) -> Vec<String> {
+        let mut out = self.settings.clone();
+        out.extend(
+            params
+                .iter()
+                .zip(z)
+                .filter(|(p, _)| p.scene_key)
+                .map(|(p, &z)| p.setting(z)),
+        );
+        out
+    }
+
+    /// The scene of the model at `z`.
+    ///
+    /// # Errors
+    /// A value the scene refuses.
+    pub fn scene(&self, params: &[Param], z: &[f64]) -> Result<ResolvedScene, Box<SceneError>> {
+        self.base
+            .with_overrides(&self.overrides(params, z))
+            .map_err(Box::new)
+    }
+
+    /// Runs the model at `z`.
+    #[must_use]
+    pub fn run(&self, params: &[Param], z: &[f64], interrupt: Option<&AtomicBool>) -> Run {
+        match self.scene(params, z) {
+            Ok(scene) => run_scene(&scene, interrupt),
+            Err(e) => Run::Failed(e.to_string()),
+        }
+    }
+
+    /// Runs the model at `z` at a tenth of the fit's tolerance (the solver's noise is the
+    /// difference to [`Forward::run`]'s; with fixed steps, at half the step).
+    #[must_use]
+    pub fn noise_run(&self, params: &[Param], z: &[f64], interrupt: Option<&AtomicBool>) -> Run {
+        let finer = match self.tolerance {
+            Some(tol) => time::TOLERANCE.set(tol / 10.0),
+            None => time::DT.set(self.base.config.time.dt_s / 2.0),
+        };
+        let mut overrides = self.overrides(params, z);
+        overrides.push(finer.to_string());
+        match self.base.with_overrides(&overrides) {
+            Ok(scene) => run_scene(&scene, interrupt),
+            Err(e) => Run::Failed(e.to_string()),
+        }
+    }
+}
+
+/// Runs `scene` with a null sink, recording F at every step.
+fn run_scene(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
+    let mut curve = ModelCurve::default();
+    let mut observe = |sim: &stickslip_core::sim::Simulation| {
+        let p = &sim.state().physical;
+        curve.t_s.push(p.drive.t_s);
+        curve.f_n.push(p.force_n);
+    };
+    let mut control = Control {
+        interrupt,
+        observer: Some(&mut observe),
+        ..Control::default()
+    };
+    let outcome = match crate::driver::run(scene, &mut NullSink, &mut control) {
+        Ok(o) => o,
+        Err(e) => return Run::Failed(e.to_string()),
+    };
+    match outcome.stop {
+        StopReason::Interrupted => Run::Interrupted,
+        StopReason::Failure | StopReason::Refused => Run::Failed(
+            outcome
+                .failure
+                .map_or_else(|| "the run failed".to_string(), |f| f.to_string()),
+        ),
+        _ => Run::Done(curve),
+    }
+}

@@ -1,0 +1,342 @@
+//! Fitting the model to a measured friction trace (`stickslip fit`, docs/fit.md): the film's
+//! and contact's parameters that reproduce a trace F(t), with their uncertainties and the
+//! combinations the data cannot determine.
+//!
+//! - [`data`]: the trace (CSV, columns renamed by `--columns`), its checks and noise level;
+//! - [`params`]: the free parameters `KEY[=LO:HI]`, bounds from the key registry, the box
+//!   coordinates (log space for positive bounds);
+//! - [`events`] and [`misfit`]: the events of a trace, and the two misfits (`events`,
+//!   `trace`) with their units and weights;
+//! - [`forward`]: the forward runs (the scene with `--set` overrides, the driver, a null sink
+//!   and an observer) at a tightened tolerance;
+//! - [`problem`]: evaluations in parallel, failures as penalties, progress and Ctrl-C;
+//! - [`optimise`]: the global sample and the bounded Levenberg–Marquardt stage with
+//!   finite-difference Jacobians above the solver's noise; [`linalg`]: the SVD (faer);
+//! - [`uncertainty`] and [`profile`]: covariance, intervals, correlations, singular values,
+//!   unidentified combinations in words, and the profile likelihood;
+//! - the result is [`crate::schema::fit::FitReport`] (fit.json) and the fitted scene.
+
+pub mod data;
+pub mod error;
+pub mod events;
+pub mod forward;
+pub mod linalg;
+pub mod misfit;
+pub mod optimise;
+pub mod params;
+pub mod problem;
+pub mod profile;
+pub mod uncertainty;
+
+use crate::scene::ResolvedScene;
+use crate::schema::fit::{FitEvent, FitParameter, FitReport, finite};
+pub use data::{Columns, Trace};
+pub use error::FitError;
+use events::Event;
+use forward::Forward;
+pub use misfit::MisfitKind;
+use misfit::Target;
+use params::Param;
+use problem::{Eval, Problem};
+pub use problem::{OnProgress, Progress};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// The trace misfit's time shift is searched within ± this fraction of the trace's span.
+pub const SHIFT_OF_SPAN: f64 = 0.05;
+
+/// How a fit is made.
+#[derive(Default)]
+pub struct FitOptions<'p> {
+    /// The misfit.
+    pub misfit: MisfitKind,
+    /// σF, N (none: estimated from the data).
+    pub noise_n: Option<f64>,
+    /// Runs at a time.
+    pub jobs: usize,
+    /// The parameter to profile.
+    pub profile: Option<String>,
+    /// Set by Ctrl-C: the fit stops with the best model so far.
+    pub interrupt: Option<&'p AtomicBool>,
+    /// Progress, on the calling thread; returning true stops the fit as Ctrl-C does.
+    pub progress: Option<&'p mut OnProgress<'p>>,
+}
+
+/// A fit's results: fit.json's report, the fitted scene, and the curves of the figure.
+#[derive(Debug, Clone)]
+pub struct FitOutcome {
+    /// fit.json.
+    pub report: FitReport,
+    /// fitted.toml: the scene with the fitted values and the fit's settings.
+    pub fitted_toml: String,
+    /// The data.
+    pub trace: Trace,
+    /// The fitted model's F at the data's times (shifted for the trace misfit), N.
+    pub model_f_n: Vec<f64>,
+}
+
+fn fit_event(e: &Event) -> FitEvent {
+    FitEvent {
+        t_onset_s: e.t_onset_s,
+        f_peak_n: e.f_peak_n,
+        drop_n: e.drop_n,
+    }
+}
+
+/// The free parameters of `specs` (`KEY[=LO:HI]`) in `scene`, and the trace misfit's shift.
+///
+/// # Errors
+/// [`FitError::Input`] for a bad parameter, a key given twice, or none.
+pub fn parameters(
+    scene: &ResolvedScene,
+    specs: &[String],
+    kind: MisfitKind,
+    trace: &Trace,
+) -> Result<Vec<Param>, FitError> {
+    if specs.is_empty() {
+        return Err(FitError::input(
+            "--param",
+            "(none)",
+            "at least one KEY[=LO:HI] to fit",
+        ));
+    }
+    let table = scene.to_table();
+    let mut out: Vec<Param> = Vec::new();
+    for spec in specs {
+        let key = spec
+            .split_once('=')
+            .map_or(spec.as_str(), |(k, _)| k)
+            .trim();
+        let current = crate::keys::lookup(&table, key).and_then(toml::Value::as_float);
+        let p = params::parse(spec, current)?;
+        if out.iter().any(|q| q.key == p.key) {
+            return Err(FitError::input("--param", spec, "each key once"));
+        }
+        out.push(p);
+    }
+    if kind == MisfitKind::Trace {
+        let span = trace.t_s[trace.t_s.len() - 1] - trace.t_s[0];
+        out.push(params::time_shift(SHIFT_OF_SPAN * span));
+    }
+    Ok(out)
+}
+
+/// Fits `params` (`KEY[=LO:HI]`) of `scene` to `trace`.
+///
+/// # Errors
+/// [`FitError`]: bad input (exit 2), or no run that succeeded (exit 3).
+pub fn fit(
+    scene: &ResolvedScene,
+    trace: Trace,
+    params: &[String],
+    options: FitOptions<'_>,
+) -> Result<FitOutcome, FitError> {
+    let started = Instant::now();
+    let target = Target::new(trace, options.misfit, options.noise_n)?;
+    let params = parameters(scene, params, options.misfit, &target.trace)?;
+    let profiled = match &options.profile {
+        Some(key) => Some(
+            params
+                .iter()
+                .position(|p| &p.key == key)
+                .ok_or_else(|| FitError::input("--profile", key, "one of the --param keys"))?,
+        ),
+        None => None,
+    };
+    let shift_max = params.iter().find(|p| !p.scene_key).map_or(0.0, |p| p.hi);
+    let t_end = target.trace.t_s[target.trace.t_s.len() - 1];
+    let forward = Forward::new(scene, t_end + shift_max)?;
+    let table = scene.to_table();
+    let initial: Vec<Option<f64>> = params
+        .iter()
+        .map(|p| {
+            if p.scene_key {
+                crate::keys::lookup(&table, &p.key).and_then(toml::Value::as_float)
+            } else {
+                Some(0.0)
+            }
+        })
+        .collect();
+    // The scene's own values start the search too, when inside the box.
+    let start: Option<Vec<f64>> = params
+        .iter()
+        .zip(&initial)
+        .map(|(p, v)| v.map(|v| p.z(v)).filter(|z| (0.0..=1.0).contains(z)))
+        .collect();
+    let mut problem = Problem::new(&forward, &params, &target, options.jobs);
+    problem.interrupt = options.interrupt;
+    problem.progress = options.progress;
+
+    let global = optimise::global(&mut problem, start).unwrap_or_default();
+    let Some(first) = global
+        .iter()
+        .find(|e| e.failed.is_none())
+        .cloned()
+        .or_else(|| problem.best.clone())
+    else {
+        return Err(if problem.interrupted() {
+            FitError::Interrupted {
+                evaluations: problem.evaluations,
+            }
+        } else {
+            FitError::NoRun {
+                evaluations: problem.evaluations,
+                first: problem.first_failure.clone().unwrap_or_default(),
+            }
+        });
+    };
+    let mut steps = vec![optimise::FD_STEP_START; params.len()];
+    let free: Vec<usize> = (0..params.len()).collect();
+    let mut noise = None;
+    let mut local = optimise::Local {
+        best: first.clone(),
+        iterations: 0,
+        converged: false,
+    };
+    if let Some(nu) = optimise::noise(&mut problem, &first) {
+        noise = Some(nu);
+        problem.stage = "local";
+        // A few iterations from each start, then the best one on to convergence.
+        let mut screened: Vec<(optimise::Local, Vec<f64>)> = Vec::new();
+        for s in optimise::starts(&global) {
+            let mut h = steps.clone();
+            let l = optimise::levenberg_marquardt(
+                &mut problem,
+                s,
+                &free,
+                &mut h,
+                nu,
+                optimise::SCREEN_ITERATIONS,
+            );
+            screened.push((l, h));
+            if problem.interrupted() {
+                break;
+            }
+        }
+        if let Some((l, h)) = screened
+            .into_iter()
+            .min_by(|a, b| a.0.best.chi2.total_cmp(&b.0.best.chi2))
+        {
+            steps = h;
+            let spent = l.iterations;
+            local = if l.converged || problem.interrupted() {
+                l
+            } else {
+                let mut more = optimise::levenberg_marquardt(
+                    &mut problem,
+                    l.best,
+                    &free,
+                    &mut steps,
+                    nu,
+                    optimise::MAX_ITERATIONS,
+                );
+                more.iterations += spent;
+                more
+            };
+        }
+    }
+    let best: Eval = match &problem.best {
+        Some(b) if b.chi2 < local.best.chi2 => b.clone(),
+        _ => local.best.clone(),
+    };
+    let m = target.len();
+    // The uncertainty from the Jacobian at the optimum.
+    let mut unc = None;
+    if !problem.interrupted() {
+        problem.stage = "uncertainty";
+        let nu = noise.unwrap_or(0.0);
+        if let Some(j) = optimise::jacobian(&mut problem, &best, &free, &mut steps, nu)
+            && let Some(d) = linalg::svd(&j)
+        {
+            unc = Some(uncertainty::uncertainty(&params, &best.z, &d, best.chi2, m));
+        }
+    }
+    let mut profile_out = None;
+    if let (Some(k), Some(u)) = (profiled, &unc)
+        && !problem.interrupted()
+    {
+        let sz = u.intervals[k].stderr / params[k].slope(best.z[k]);
+        let s2 = u.residual_sigma.powi(2);
+        profile_out = profile::profile(
+            &mut problem,
+            &best,
+            k,
+            sz,
+            s2,
+            &mut steps,
+            noise.unwrap_or(0.0),
+        );
+    }
+    let interrupted = problem.interrupted();
+    // The fitted model's curves (the interrupt no longer applies: one more run).
+    problem.interrupt = None;
+    let compared = problem.compare(&best.z).unwrap_or_default();
+    let overrides = forward.overrides(&params, &best.z);
+    let mut source = forward.base.source.clone();
+    for o in &overrides {
+        crate::scene::overrides::apply_override(&mut source, o).map_err(Box::new)?;
+    }
+    let fitted_toml = crate::scene::toml_text::to_toml_string(&source);
+    let parameters = params
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let iv = unc.as_ref().map(|u| &u.intervals[k]);
+            FitParameter {
+                key: p.key.clone(),
+                unit: p.unit.to_string(),
+                value: p.value(best.z[k]),
+                stderr: iv.and_then(|i| finite(i.stderr)),
+                lo95: iv.and_then(|i| finite(i.lo95)),
+                hi95: iv.and_then(|i| finite(i.hi95)),
+                lo: p.lo,
+                hi: p.hi,
+                log: p.log,
+                initial: if p.scene_key { initial[k] } else { None },
+            }
+        })
+        .collect();
+    let report = FitReport {
+        scene: scene.name.clone(),
+        status: if interrupted { "interrupted" } else { "ok" }.into(),
+        misfit_kind: options.misfit.name().into(),
+        parameters,
+        correlation: unc.as_ref().map_or_else(Vec::new, |u| {
+            u.correlation
+                .iter()
+                .map(|row| row.iter().map(|&c| finite(c)).collect())
+                .collect()
+        }),
+        singular_values: unc
+            .as_ref()
+            .map_or_else(Vec::new, |u| u.singular_values.clone()),
+        unidentified: unc
+            .as_ref()
+            .map_or_else(Vec::new, |u| u.unidentified.clone()),
+        misfit: best.chi2,
+        residuals: m,
+        residual_sigma: unc.as_ref().map(|u| u.residual_sigma),
+        noise_n: target.sigma_f_n,
+        noise_estimated: target.sigma_estimated,
+        hysteresis_n: target.hysteresis_n,
+        solver_noise: noise,
+        fd_steps: steps,
+        time_tolerance: forward.tolerance,
+        settings: overrides,
+        data_events: target.events.iter().map(fit_event).collect(),
+        model_events: compared.model_events.iter().map(fit_event).collect(),
+        iterations: local.iterations,
+        converged: local.converged,
+        evaluations: problem.evaluations,
+        failed_runs: problem.failed_runs,
+        first_failure: problem.first_failure.clone(),
+        profile: profile_out,
+        wall_s: started.elapsed().as_secs_f64(),
+    };
+    Ok(FitOutcome {
+        report,
+        fitted_toml,
+        trace: target.trace,
+        model_f_n: compared.model_f_n,
+    })
+}

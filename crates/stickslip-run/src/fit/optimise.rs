@@ -1,0 +1,336 @@
+//! The optimiser (docs/fit.md#optimiser), in the unit box of the parameters' coordinates:
+//!
+//! 1. **Global stage**: a scrambled Latin hypercube sample of the box (each parameter's range
+//!    cut into n strata, one point in each, strata paired at random; a fixed seed, so a fit is
+//!    reproducible) plus the scene's own values, run `jobs` at a time. The misfit is
+//!    multimodal — an event more or less is a cliff, and a sharply determined parameter
+//!    makes a narrow valley the sample rarely falls into — so the local stage starts from the
+//!    best [`STARTS`] distinct points of the sample, each for [`SCREEN_ITERATIONS`]
+//!    iterations, and goes on to convergence from the best of those.
+//! 2. **Local stage**: Levenberg–Marquardt bounded by projection onto the box, its step from
+//!    the Jacobian's SVD, δ = −Σ σᵢ/(σᵢ² + λ)·(uᵢ·r)·vᵢ; each iteration tries `jobs` damping
+//!    values at once (λ, 16λ, …) and keeps the best that lowers χ². Jacobians are central
+//!    differences (one-sided at a bound) whose step per parameter grows from 1e-3 of the box
+//!    until the residuals move by at least [`NOISE_RATIO`] times the solver's noise, so the
+//!    derivative's error from that noise is below 1/[`NOISE_RATIO`] of it.
+
+use super::linalg::{dot, svd};
+use super::problem::{Eval, Problem};
+
+/// Points of the global sample per free parameter.
+pub const GLOBAL_PER_PARAM: usize = 8;
+/// Fewest points of the global sample.
+pub const GLOBAL_MIN: usize = 16;
+/// The seed of the global sample.
+pub const SEED: u64 = 0x5ee5_f17e_d00d_1e55;
+/// First finite-difference step, in box units.
+pub const FD_STEP_START: f64 = 1e-3;
+/// Largest finite-difference step, in box units.
+pub const FD_STEP_MAX: f64 = 0.05;
+/// A difference must exceed the solver's noise this many times.
+pub const NOISE_RATIO: f64 = 100.0;
+/// Most Levenberg–Marquardt iterations.
+pub const MAX_ITERATIONS: usize = 40;
+/// Starts of the local stage (the best distinct points of the global sample).
+pub const STARTS: usize = 3;
+/// Iterations from each start before the best goes on.
+pub const SCREEN_ITERATIONS: usize = 4;
+/// Two starts are distinct when they differ by more than this in some box coordinate.
+pub const DISTINCT: f64 = 0.1;
+
+/// The best `STARTS` successful evaluations of `sorted` (by χ²) that are [`DISTINCT`].
+#[must_use]
+pub fn starts(sorted: &[Eval]) -> Vec<Eval> {
+    let mut out: Vec<Eval> = Vec::new();
+    for e in sorted.iter().filter(|e| e.failed.is_none()) {
+        let far = out
+            .iter()
+            .all(|o| o.z.iter().zip(&e.z).any(|(a, b)| (a - b).abs() > DISTINCT));
+        if far {
+            out.push(e.clone());
+        }
+        if out.len() == STARTS {
+            break;
+        }
+    }
+    out
+}
+/// Stop when an accepted step lowers χ² by less than this fraction.
+pub const RTOL_CHI2: f64 = 1e-6;
+
+/// A small deterministic generator (SplitMix64) for the sample: the fit must not depend on
+/// the host.
+struct Mix(u64);
+
+impl Mix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn uniform(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A scrambled Latin hypercube of `n` points in the unit box of `p` dimensions.
+#[must_use]
+pub fn latin_hypercube(n: usize, p: usize, seed: u64) -> Vec<Vec<f64>> {
+    let mut rng = Mix(seed);
+    let mut out = vec![vec![0.0; p]; n];
+    for j in 0..p {
+        let mut strata: Vec<usize> = (0..n).collect();
+        // Fisher–Yates.
+        for i in (1..n).rev() {
+            let k = (rng.next() % (i as u64 + 1)) as usize;
+            strata.swap(i, k);
+        }
+        for (i, point) in out.iter_mut().enumerate() {
+            point[j] = (strata[i] as f64 + rng.uniform()) / n as f64;
+        }
+    }
+    out
+}
+
+/// The global stage: the sample and `start` (the scene's own values, when inside the box),
+/// evaluated; sorted by χ², failed runs last. `None` when interrupted.
+pub fn global(problem: &mut Problem<'_, '_>, start: Option<Vec<f64>>) -> Option<Vec<Eval>> {
+    problem.stage = "global";
+    let p = problem.params.len();
+    let n = (GLOBAL_PER_PARAM * p).max(GLOBAL_MIN);
+    let mut zs = latin_hypercube(n, p, SEED);
+    zs.extend(start);
+    let mut evals = problem.evaluate_all(&zs, false)?;
+    evals.sort_by(|a, b| {
+        (a.failed.is_some(), a.chi2)
+            .partial_cmp(&(b.failed.is_some(), b.chi2))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    Some(evals)
+}
+
+/// The solver's noise at `z`: ‖r(tolerance) − r(tolerance/10)‖, in residual units (as
+/// `verify` bounds a run's error by its distance to a refined run). `None` when interrupted.
+pub fn noise(problem: &mut Problem<'_, '_>, at: &Eval) -> Option<f64> {
+    problem.stage = "noise";
+    let fine = problem.evaluate_all(std::slice::from_ref(&at.z), true)?;
+    let d: f64 = fine[0]
+        .residuals
+        .iter()
+        .zip(&at.residuals)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum();
+    Some(if fine[0].failed.is_some() {
+        0.0
+    } else {
+        d.sqrt()
+    })
+}
+
+/// The Jacobian at `at` in the columns `free` (box units), by central differences (one-sided
+/// at a bound) with per-parameter `steps` grown until each column's difference exceeds
+/// [`NOISE_RATIO`]·`noise`. `None` when interrupted.
+pub fn jacobian(
+    problem: &mut Problem<'_, '_>,
+    at: &Eval,
+    free: &[usize],
+    steps: &mut [f64],
+    noise: f64,
+) -> Option<Vec<Vec<f64>>> {
+    let m = at.residuals.len();
+    let mut columns = vec![vec![0.0; m]; free.len()];
+    let mut todo: Vec<usize> = (0..free.len()).collect();
+    while !todo.is_empty() {
+        // Per column: its two points (a, b), each the point at `at` itself when at a bound.
+        let ends: Vec<(f64, f64)> = todo
+            .iter()
+            .map(|&c| {
+                let (z, h) = (at.z[free[c]], steps[free[c]]);
+                ((z - h).max(0.0), (z + h).min(1.0))
+            })
+            .collect();
+        let mut zs = Vec::new();
+        for (&c, &(a, b)) in todo.iter().zip(&ends) {
+            for v in [a, b] {
+                if v != at.z[free[c]] {
+                    let mut z = at.z.clone();
+                    z[free[c]] = v;
+                    zs.push(z);
+                }
+            }
+        }
+        let evals = problem.evaluate_all(&zs, false)?;
+        let mut next = 0;
+        let mut again = Vec::new();
+        for (&c, &(a, b)) in todo.iter().zip(&ends) {
+            let j = free[c];
+            let mut take = |v: f64| -> Option<&Eval> {
+                if v == at.z[j] {
+                    Some(at)
+                } else {
+                    next += 1;
+                    let e = &evals[next - 1];
+                    e.failed.is_none().then_some(e)
+                }
+            };
+            let (ra, rb) = (take(a), take(b));
+            let (ra, rb, width) = match (ra, rb) {
+                (Some(x), Some(y)) => (x, y, b - a),
+                // A failed side: the other one against the point itself.
+                (Some(x), None) => (x, at, at.z[j] - a),
+                (None, Some(y)) => (at, y, b - at.z[j]),
+                (None, None) => (at, at, 1.0),
+            };
+            let diff: Vec<f64> = rb
+                .residuals
+                .iter()
+                .zip(&ra.residuals)
+                .map(|(y, x)| y - x)
+                .collect();
+            let size = dot(&diff, &diff).sqrt();
+            if size < NOISE_RATIO * noise && steps[j] < FD_STEP_MAX {
+                steps[j] = (steps[j] * 4.0).min(FD_STEP_MAX);
+                again.push(c);
+            }
+            columns[c] = if width > 0.0 {
+                diff.iter().map(|d| d / width).collect()
+            } else {
+                vec![0.0; m]
+            };
+        }
+        todo = again;
+    }
+    Some(columns)
+}
+
+/// The local stage's answer.
+#[derive(Debug, Clone)]
+pub struct Local {
+    /// The best model.
+    pub best: Eval,
+    /// Iterations taken.
+    pub iterations: usize,
+    /// Whether it stopped because χ² no longer fell (not because of the iteration limit or an
+    /// interrupt).
+    pub converged: bool,
+}
+
+/// Levenberg–Marquardt from `start` over the parameters `free` (the others held), bounded to
+/// the unit box, for at most `max_iterations`; stops early (unconverged) when interrupted.
+pub fn levenberg_marquardt(
+    problem: &mut Problem<'_, '_>,
+    start: Eval,
+    free: &[usize],
+    steps: &mut [f64],
+    noise: f64,
+    max_iterations: usize,
+) -> Local {
+    let mut cur = start;
+    let mut lambda: Option<f64> = None;
+    let tries = problem.jobs.clamp(2, 4);
+    for iteration in 0..max_iterations {
+        let Some(j) = jacobian(problem, &cur, free, steps, noise) else {
+            return Local {
+                best: cur,
+                iterations: iteration,
+                converged: false,
+            };
+        };
+        let Some(d) = svd(&j) else {
+            return Local {
+                best: cur,
+                iterations: iteration,
+                converged: true,
+            };
+        };
+        let g: Vec<f64> = d.u.iter().map(|u| dot(u, &cur.residuals)).collect();
+        let mut lam = lambda
+            .unwrap_or(1e-2 * d.s[0] * d.s[0])
+            .max(1e-12 * d.s[0] * d.s[0]);
+        let mut accepted = None;
+        for _ in 0..6 {
+            let lambdas: Vec<f64> = (0..tries).map(|k| lam * 16f64.powi(k as i32)).collect();
+            let zs: Vec<Vec<f64>> = lambdas
+                .iter()
+                .map(|&l| {
+                    let mut z = cur.z.clone();
+                    for (i, s) in d.s.iter().enumerate() {
+                        let c = -s / (s * s + l) * g[i];
+                        for (k, &j) in free.iter().enumerate() {
+                            z[j] += c * d.v[i][k];
+                        }
+                    }
+                    z.iter_mut().for_each(|x| *x = x.clamp(0.0, 1.0));
+                    z
+                })
+                .collect();
+            let Some(evals) = problem.evaluate_all(&zs, false) else {
+                return Local {
+                    best: cur,
+                    iterations: iteration,
+                    converged: false,
+                };
+            };
+            let best = evals
+                .into_iter()
+                .zip(&lambdas)
+                .filter(|(e, _)| e.failed.is_none() && e.chi2 < cur.chi2)
+                .min_by(|a, b| a.0.chi2.total_cmp(&b.0.chi2));
+            if let Some((e, &l)) = best {
+                accepted = Some(e);
+                lam = l / 8.0;
+                break;
+            }
+            lam *= 16f64.powi(tries as i32);
+        }
+        lambda = Some(lam);
+        let Some(next) = accepted else {
+            return Local {
+                best: cur,
+                iterations: iteration + 1,
+                converged: true,
+            };
+        };
+        let gain = cur.chi2 - next.chi2;
+        let moved = next
+            .z
+            .iter()
+            .zip(&cur.z)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let small = gain <= RTOL_CHI2 * cur.chi2 || moved < 1e-7;
+        cur = next;
+        if small {
+            return Local {
+                best: cur,
+                iterations: iteration + 1,
+                converged: true,
+            };
+        }
+    }
+    Local {
+        best: cur,
+        iterations: max_iterations,
+        converged: false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sample_has_one_point_in_each_stratum_of_each_parameter() {
+        let s = latin_hypercube(10, 3, SEED);
+        for j in 0..3 {
+            let mut strata: Vec<usize> = s.iter().map(|p| (p[j] * 10.0).floor() as usize).collect();
+            strata.sort_unstable();
+            assert_eq!(strata, (0..10).collect::<Vec<_>>());
+        }
+        assert_eq!(s, latin_hypercube(10, 3, SEED));
+    }
+}

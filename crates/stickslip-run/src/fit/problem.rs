@@ -1,0 +1,217 @@
+//! One fit's evaluations: the model at box coordinates z run and compared with the data,
+//! `jobs` runs at a time on the run library's pool, with the counts fit.json reports
+//! (evaluations, failed runs — a failed run is a penalty, the misfit of a model without any
+//! of the data, not an error), the best model so far, progress, and Ctrl-C: an interrupted
+//! batch returns nothing and every later one is skipped, so the optimiser stops with the best
+//! model it has.
+
+use super::forward::{Forward, Run};
+use super::misfit::{Compared, Target};
+use super::params::{Param, TIME_SHIFT};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// One evaluated model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Eval {
+    /// Box coordinates of the parameters.
+    pub z: Vec<f64>,
+    /// Its residuals.
+    pub residuals: Vec<f64>,
+    /// The misfit χ² = Σ r².
+    pub chi2: f64,
+    /// Why its run failed, if it did (the residuals are then the penalty).
+    pub failed: Option<String>,
+}
+
+/// Where a fit is, for a progress display.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    /// The stage: `global`, `local`, `noise`, `uncertainty` or `profile`.
+    pub stage: &'static str,
+    /// Forward runs so far.
+    pub evaluations: usize,
+    /// Of which failed.
+    pub failed_runs: usize,
+    /// The least misfit χ² so far (infinite before the first run).
+    pub best_chi2: f64,
+}
+
+/// A progress callback; returning true stops the fit as Ctrl-C does.
+pub type OnProgress<'a> = dyn FnMut(&Progress) -> bool + 'a;
+
+/// The fit's evaluations (see the module's docs); `'a` the data's lifetime, `'p` the
+/// caller's interrupt flag and progress callback's.
+pub struct Problem<'a, 'p> {
+    /// The forward runs.
+    pub forward: &'a Forward,
+    /// The free parameters.
+    pub params: &'a [Param],
+    /// The data.
+    pub target: &'a Target,
+    /// Runs at a time.
+    pub jobs: usize,
+    /// Set by Ctrl-C.
+    pub interrupt: Option<&'p AtomicBool>,
+    /// Progress, called on the calling thread a few times a second.
+    pub progress: Option<&'p mut OnProgress<'p>>,
+    /// The stage, for progress.
+    pub stage: &'static str,
+    /// Forward runs so far (noise runs included).
+    pub evaluations: usize,
+    /// Of which failed.
+    pub failed_runs: usize,
+    /// The first failure, in words.
+    pub first_failure: Option<String>,
+    /// The best model so far.
+    pub best: Option<Eval>,
+    stopped: bool,
+}
+
+impl<'a, 'p> Problem<'a, 'p> {
+    /// A fit's evaluations, none made yet.
+    pub fn new(forward: &'a Forward, params: &'a [Param], target: &'a Target, jobs: usize) -> Self {
+        Self {
+            forward,
+            params,
+            target,
+            jobs: jobs.max(1),
+            interrupt: None,
+            progress: None,
+            stage: "global",
+            evaluations: 0,
+            failed_runs: 0,
+            first_failure: None,
+            best: None,
+            stopped: false,
+        }
+    }
+
+    /// Whether the fit was interrupted (Ctrl-C, or the progress callback asked to stop).
+    #[must_use]
+    pub fn interrupted(&self) -> bool {
+        self.stopped || self.interrupt.is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
+    /// The time shift at `z` (0 without one), s.
+    #[must_use]
+    pub fn shift_s(&self, z: &[f64]) -> f64 {
+        shift_s(self.params, z)
+    }
+
+    /// One run's comparison with the data (`finer`: at a tenth of the tolerance).
+    fn run(&self, z: &[f64], finer: bool) -> Option<Result<Compared, String>> {
+        run_one(
+            (self.forward, self.params, self.target),
+            self.interrupt,
+            z,
+            finer,
+        )
+    }
+
+    /// The comparison of the model at `z` with the data, for the outputs (counted as a run).
+    pub fn compare(&mut self, z: &[f64]) -> Option<Compared> {
+        self.evaluations += 1;
+        match self.run(z, false)? {
+            Ok(c) => Some(c),
+            Err(_) => Some(Compared {
+                residuals: self.target.failed(),
+                ..Compared::default()
+            }),
+        }
+    }
+
+    /// Evaluates every `zs` (`finer`: at a tenth of the tolerance, not counted as the best);
+    /// `None` when interrupted.
+    pub fn evaluate_all(&mut self, zs: &[Vec<f64>], finer: bool) -> Option<Vec<Eval>> {
+        if self.interrupted() {
+            self.stopped = true;
+            return None;
+        }
+        let model = (self.forward, self.params, self.target);
+        let interrupt = self.interrupt;
+        let work = |i: usize| run_one(model, interrupt, &zs[i], finer);
+        let (stage, evaluations, failed, best) = (
+            self.stage,
+            self.evaluations,
+            self.failed_runs,
+            self.best.as_ref().map_or(f64::INFINITY, |b| b.chi2),
+        );
+        let mut stop = false;
+        let progress = &mut self.progress;
+        let mut tick = || {
+            if let Some(p) = progress.as_mut() {
+                stop |= p(&Progress {
+                    stage,
+                    evaluations,
+                    failed_runs: failed,
+                    best_chi2: best,
+                });
+            }
+        };
+        let results = crate::pool::map(zs.len(), self.jobs, &work, &mut tick);
+        self.evaluations += zs.len();
+        let mut out = Vec::with_capacity(zs.len());
+        for (z, r) in zs.iter().zip(results) {
+            let Some(r) = r else {
+                self.stopped = true;
+                continue;
+            };
+            let (residuals, failed) = match r {
+                Ok(c) => (c.residuals, None),
+                Err(why) => {
+                    self.failed_runs += 1;
+                    self.first_failure.get_or_insert_with(|| why.clone());
+                    (self.target.failed(), Some(why))
+                }
+            };
+            let chi2 = residuals.iter().map(|r| r * r).sum();
+            out.push(Eval {
+                z: z.clone(),
+                residuals,
+                chi2,
+                failed,
+            });
+        }
+        // The runs that ended count for the best model even when the batch was interrupted.
+        if !finer {
+            for e in &out {
+                if e.failed.is_none() && self.best.as_ref().is_none_or(|b| e.chi2 < b.chi2) {
+                    self.best = Some(e.clone());
+                }
+            }
+        }
+        if stop {
+            self.stopped = true;
+        }
+        (!self.stopped).then_some(out)
+    }
+}
+
+/// The time shift of `params` at `z` (0 without one), s.
+fn shift_s(params: &[Param], z: &[f64]) -> f64 {
+    params
+        .iter()
+        .zip(z)
+        .find(|(p, _)| p.key == TIME_SHIFT)
+        .map_or(0.0, |(p, &z)| p.value(z))
+}
+
+/// One run of the model at `z` compared with the data (`finer`: at a tenth of the tolerance);
+/// `None` when interrupted.
+fn run_one(
+    (forward, params, target): (&Forward, &[Param], &Target),
+    interrupt: Option<&AtomicBool>,
+    z: &[f64],
+    finer: bool,
+) -> Option<Result<Compared, String>> {
+    let run = if finer {
+        forward.noise_run(params, z, interrupt)
+    } else {
+        forward.run(params, z, interrupt)
+    };
+    match run {
+        Run::Done(curve) => Some(Ok(target.compare(&curve, shift_s(params, z)))),
+        Run::Failed(why) => Some(Err(why)),
+        Run::Interrupted => None,
+    }
+}

@@ -1,0 +1,163 @@
+//! Fits of synthetic traces: fig2's scene at N = 30 over 1 ms (four meltings), the trace made
+//! by the forward model itself from known parameters plus a known noise; the fit must find
+//! them within its 95 % intervals, its Jacobian must agree with central differences at two
+//! step sizes, and fitted.toml must be the fitted model.
+
+use stickslip_run::Scene;
+use stickslip_run::fit::forward::{Forward, Run};
+use stickslip_run::fit::misfit::Target;
+use stickslip_run::fit::problem::Problem;
+use stickslip_run::fit::{FitOptions, MisfitKind, Trace, optimise, parameters};
+use stickslip_run::scene::ResolvedScene;
+
+const TAU_MAX: f64 = 1.15e6;
+const GAMMA: f64 = 8.0;
+/// σF of the added noise, N (about 1 % of the peak force).
+const NOISE: f64 = 1e-5;
+
+fn scene() -> ResolvedScene {
+    Scene::from_path(
+        &super::common::scene("fig2"),
+        &[
+            "contact.nodes=30",
+            "time.end=1e-3",
+            "output.profile_times=[]",
+        ],
+    )
+    .unwrap()
+}
+
+fn params() -> Vec<String> {
+    vec![
+        "lubricant.tau_max=5e5:2e6".to_string(),
+        "lubricant.gamma=3:30".to_string(),
+    ]
+}
+
+/// The model's trace at the true values, sampled every µs, with deterministic noise of
+/// standard deviation NOISE (uniform, from a fixed linear congruential sequence).
+fn synthetic(scene: &ResolvedScene) -> Trace {
+    let forward = Forward::new(scene, 1e-3).unwrap();
+    let truth = scene
+        .with_overrides(&[
+            format!("lubricant.tau_max={TAU_MAX:e}"),
+            format!("lubricant.gamma={GAMMA:e}"),
+        ])
+        .unwrap();
+    let forward = Forward {
+        base: truth,
+        ..forward
+    };
+    let Run::Done(curve) = forward.run(&[], &[], None) else {
+        panic!("the true model failed")
+    };
+    let mut state = 12345u64;
+    let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-6).collect();
+    let f = t
+        .iter()
+        .map(|&t| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            let u = (state >> 11) as f64 / (1u64 << 53) as f64;
+            curve.at(t) + (2.0 * u - 1.0) * 3f64.sqrt() * NOISE
+        })
+        .collect();
+    Trace::new(t, f, None).unwrap()
+}
+
+#[test]
+fn an_event_fit_recovers_known_parameters_within_its_intervals() {
+    let scene = scene();
+    let trace = synthetic(&scene);
+    let out = stickslip_run::fit::fit(
+        &scene,
+        trace,
+        &params(),
+        FitOptions {
+            jobs: 2,
+            ..FitOptions::default()
+        },
+    )
+    .unwrap();
+    let r = &out.report;
+    assert_eq!(r.status, "ok");
+    assert!(r.data_events.len() >= 3, "{:?}", r.data_events);
+    assert_eq!(r.model_events.len(), r.data_events.len());
+    for (key, truth) in [("lubricant.tau_max", TAU_MAX), ("lubricant.gamma", GAMMA)] {
+        let p = r.parameter(key).unwrap();
+        let (lo, hi) = (p.lo95.unwrap(), p.hi95.unwrap());
+        assert!(
+            lo <= truth && truth <= hi,
+            "{key}: {truth} not in [{lo}, {hi}] ({p:?})"
+        );
+        // An interval that says something: narrower than a factor 1.5 either way.
+        assert!(hi / lo < 2.25, "{key}: [{lo}, {hi}]");
+    }
+    assert!(r.misfit.is_finite() && r.evaluations > 16 && r.failed_runs == 0);
+    assert_eq!(r.correlation.len(), 2);
+    assert_eq!(r.singular_values.len(), 2);
+    // The noise estimated from the data is the noise added.
+    assert!((r.noise_n / NOISE - 1.0).abs() < 0.2, "{}", r.noise_n);
+    // fit.json reads back through its type, every number with its bits.
+    let back = stickslip_run::schema::fit::FitReport::parse(&r.to_json()).unwrap();
+    assert_eq!(&back, r);
+    // fitted.toml is the scene with the fitted values and the fit's settings.
+    let fitted = Scene::from_toml_str(&out.fitted_toml, &[] as &[&str]).unwrap();
+    let expected = scene.with_overrides(&r.settings).unwrap();
+    assert_eq!(fitted.config, expected.config);
+    let tau = r.parameter("lubricant.tau_max").unwrap().value;
+    assert_eq!(fitted.config.lubricant.tau_max_pa.to_bits(), tau.to_bits());
+    // …and running it gives the fitted model's events.
+    let (_, output) =
+        stickslip_run::run_in_memory(&fitted, &mut stickslip_run::Control::default()).unwrap();
+    assert_eq!(output.events.onsets_s().len(), r.model_events.len());
+}
+
+#[test]
+fn the_jacobian_agrees_with_central_differences_at_two_step_sizes() {
+    let scene = scene();
+    let trace = synthetic(&scene);
+    let target = Target::new(trace, MisfitKind::Events, None).unwrap();
+    let params = parameters(&scene, &params(), MisfitKind::Events, &target.trace).unwrap();
+    let forward = Forward::new(&scene, 1e-3).unwrap();
+    let mut problem = Problem::new(&forward, &params, &target, 2);
+    let z: Vec<f64> = params
+        .iter()
+        .zip([TAU_MAX, GAMMA])
+        .map(|(p, v)| p.z(v))
+        .collect();
+    let at = problem
+        .evaluate_all(std::slice::from_ref(&z), false)
+        .unwrap()
+        .remove(0);
+    let noise = optimise::noise(&mut problem, &at).unwrap();
+    let mut steps = vec![optimise::FD_STEP_START; 2];
+    let j = optimise::jacobian(&mut problem, &at, &[0, 1], &mut steps, noise).unwrap();
+    for (k, column) in j.iter().enumerate() {
+        let norm = column.iter().map(|x| x * x).sum::<f64>().sqrt();
+        assert!(norm > 0.0, "column {k}");
+        for h in [3e-3, 1e-3] {
+            let mut pts = vec![z.clone(), z.clone()];
+            pts[0][k] -= h;
+            pts[1][k] += h;
+            let e = problem.evaluate_all(&pts, false).unwrap();
+            let central: Vec<f64> = e[1]
+                .residuals
+                .iter()
+                .zip(&e[0].residuals)
+                .map(|(b, a)| (b - a) / (2.0 * h))
+                .collect();
+            let diff = column
+                .iter()
+                .zip(&central)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!(
+                diff < 0.05 * norm,
+                "column {k}, h = {h}: {diff} against {norm}"
+            );
+        }
+    }
+}

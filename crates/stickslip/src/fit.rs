@@ -1,0 +1,212 @@
+//! `stickslip fit`: the run library's fit (`stickslip_run::fit`) of a scene's parameters to a
+//! measured trace; a line on stderr per stage (and every few seconds), the table of fitted
+//! values at the end, and `DIR/fit.json`, `DIR/fit.svg` (the reporting kit's `fit`) and
+//! `DIR/fitted.toml`, each through the atomic writer. Exit 0, 2 for bad input, 3 when no run
+//! of the optimiser succeeded, 130 when interrupted (the best fit so far written, status
+//! `interrupted`).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+use stickslip_run::exit::Exit;
+use stickslip_run::fit::{Columns, FitOptions, MisfitKind, Progress, Trace};
+use stickslip_run::scene::Scene;
+use stickslip_run::schema::fit::FitReport;
+
+/// Seconds between progress lines within a stage.
+const PROGRESS_EVERY: Duration = Duration::from_secs(5);
+
+/// The command's arguments.
+pub struct Args<'a> {
+    /// Scene file.
+    pub scene: &'a Path,
+    /// `--set` overrides.
+    pub set: &'a [String],
+    /// `--unset` keys.
+    pub unset: &'a [String],
+    /// The trace file.
+    pub data: &'a Path,
+    /// `KEY[=LO:HI]` per free parameter.
+    pub params: &'a [String],
+    /// `events` or `trace`.
+    pub misfit: &'a str,
+    /// `t=NAME,F=NAME,X=NAME`.
+    pub columns: Option<&'a str>,
+    /// σF, N.
+    pub noise: Option<f64>,
+    /// Runs at a time.
+    pub jobs: usize,
+    /// The parameter to profile.
+    pub profile: Option<&'a str>,
+    /// Output directory (default: a fresh `fit-NAME[-k]`).
+    pub out: Option<&'a Path>,
+    /// No progress lines.
+    pub quiet: bool,
+}
+
+/// A number with its interval, or a dash.
+fn num(x: Option<f64>) -> String {
+    x.map_or_else(|| "–".to_string(), |v| format!("{v:.4e}"))
+}
+
+/// The table of fitted values, the misfit and what the data cannot determine.
+fn table(r: &FitReport) -> String {
+    let mut out = format!(
+        "{:<28} {:>12} {:>11} {:>25} {:<9}\n",
+        "parameter", "value", "± (1σ)", "95 % interval", "unit"
+    );
+    for p in &r.parameters {
+        out.push_str(&format!(
+            "{:<28} {:>12.5e} {:>11} {:>25} {:<9}\n",
+            p.key,
+            p.value,
+            num(p.stderr),
+            format!("[{}, {}]", num(p.lo95), num(p.hi95)),
+            p.unit
+        ));
+    }
+    if r.parameters.len() > 1 && !r.correlation.is_empty() {
+        out.push_str("correlations:");
+        for (a, row) in r.correlation.iter().enumerate() {
+            for (b, c) in row.iter().enumerate().skip(a + 1) {
+                out.push_str(&format!(
+                    " {}~{} {}",
+                    short(&r.parameters[a].key),
+                    short(&r.parameters[b].key),
+                    c.map_or_else(|| "–".to_string(), |c| format!("{c:+.3}"))
+                ));
+            }
+        }
+        out.push('\n');
+    }
+    out.push_str(&format!(
+        "misfit χ² = {:.4} over {} residuals (s = {}), {} events in the data, {} in the model; \
+         {} runs ({} failed), {} local iterations{}, {:.1} s\n",
+        r.misfit,
+        r.residuals,
+        r.residual_sigma
+            .map_or_else(|| "–".to_string(), |s| format!("{s:.3}")),
+        r.data_events.len(),
+        r.model_events.len(),
+        r.evaluations,
+        r.failed_runs,
+        r.iterations,
+        if r.converged { "" } else { " (not converged)" },
+        r.wall_s
+    ));
+    for u in &r.unidentified {
+        out.push_str(&format!("not determined: {u}\n"));
+    }
+    if let Some(p) = &r.profile {
+        out.push_str(&format!(
+            "profile of {}: 95 % interval [{}, {}] from Δχ²/s² ≤ 3.84 over {} values\n",
+            p.key,
+            num(p.lo95),
+            num(p.hi95),
+            p.values.len()
+        ));
+    }
+    out
+}
+
+/// The last part of a key, for the correlation line.
+fn short(key: &str) -> &str {
+    key.rsplit('.').next().unwrap_or(key)
+}
+
+/// Runs `stickslip fit`.
+pub fn main(a: &Args<'_>) -> ExitCode {
+    let scene = match Scene::from_path_unsetting(a.scene, a.unset, a.set) {
+        Ok(s) => s,
+        Err(e) => return crate::fail(e, Exit::BadInput),
+    };
+    if a.jobs == 0 {
+        return crate::fail(
+            "--jobs = 0 is invalid; allowed: an integer >= 1",
+            Exit::BadInput,
+        );
+    }
+    let prepared = MisfitKind::from_name(a.misfit).and_then(|kind| {
+        let columns = a
+            .columns
+            .map_or_else(|| Ok(Columns::default()), Columns::parse)?;
+        Ok((kind, Trace::read(a.data, &columns)?))
+    });
+    let (kind, trace) = match prepared {
+        Ok(x) => x,
+        Err(e) => return crate::fail(&e, e.exit()),
+    };
+    let flag = match crate::interrupt_flag() {
+        Ok(f) => f,
+        Err(e) => return crate::fail(format!("cannot install signal handlers: {e}"), Exit::Io),
+    };
+    let quiet = a.quiet;
+    let (mut stage, mut last) = ("", Instant::now());
+    let mut progress = |p: &Progress| {
+        if !quiet && (p.stage != stage || last.elapsed() >= PROGRESS_EVERY) {
+            eprintln!(
+                "fit: {} stage, {} runs so far ({} failed), best χ² {}",
+                p.stage,
+                p.evaluations,
+                p.failed_runs,
+                if p.best_chi2.is_finite() {
+                    format!("{:.4}", p.best_chi2)
+                } else {
+                    "–".to_string()
+                }
+            );
+            stage = p.stage;
+            last = Instant::now();
+        }
+        false
+    };
+    let options = FitOptions {
+        misfit: kind,
+        noise_n: a.noise,
+        jobs: a.jobs,
+        profile: a.profile.map(str::to_string),
+        interrupt: Some(&flag),
+        progress: Some(&mut progress),
+    };
+    let outcome = match stickslip_run::fit::fit(&scene, trace, a.params, options) {
+        Ok(o) => o,
+        Err(e) => return crate::fail(&e, e.exit()),
+    };
+    let r = &outcome.report;
+    say_raw!("{}", table(r));
+    let dir: PathBuf = a.out.map_or_else(
+        || crate::verify::fresh_dir("fit", &scene.name),
+        Path::to_path_buf,
+    );
+    let svg = match stickslip_report::fit::svg(
+        r,
+        &outcome.trace.t_s,
+        &outcome.trace.f_n,
+        &outcome.model_f_n,
+    ) {
+        Ok(s) => s,
+        Err(e) => return crate::fail(format!("cannot draw fit.svg: {e}"), Exit::Io),
+    };
+    let written = std::fs::create_dir_all(&dir)
+        .and_then(|()| r.write(&dir))
+        .and_then(|()| stickslip_run::atomic::write_atomic(&dir, "fit.svg", svg.as_bytes()))
+        .and_then(|()| {
+            stickslip_run::atomic::write_atomic(&dir, "fitted.toml", outcome.fitted_toml.as_bytes())
+        });
+    if let Err(e) = written {
+        return crate::fail(format!("cannot write {}: {e}", dir.display()), Exit::Io);
+    }
+    say!(
+        "wrote {}, fit.svg and fitted.toml (stickslip run {} reproduces the fitted model)",
+        dir.join("fit.json").display(),
+        dir.join("fitted.toml").display()
+    );
+    if r.status == "interrupted" {
+        eprintln!(
+            "interrupted: the best fit so far is in {} (status \"interrupted\", no uncertainty)",
+            dir.display()
+        );
+        return crate::code(Exit::Interrupted);
+    }
+    ExitCode::SUCCESS
+}
