@@ -38,6 +38,7 @@
 
 pub mod effects;
 pub mod experiment;
+pub mod film_steps;
 pub mod refine;
 pub mod report;
 pub mod sweep;
@@ -503,6 +504,8 @@ pub struct Performance {
     pub p3_reference: SameNReference,
     /// T4's same-N reference (N = [`T4_NODES`]).
     pub t4_reference: SameNReference,
+    /// The second-order film's two steps over tolerances, fig2 and the SFA contact.
+    pub film_steps: Vec<film_steps::FilmStepPoint>,
     /// P6: fig2 at N = [`T1_NODES`] with the first-order film of [`P6_SCENE`], 2 threads (the
     /// b3 = 0 run is `fig2_accurate_runs[0]`).
     pub first_order: Timed,
@@ -825,6 +828,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let verify_cost = verify_cost::measure(s)?;
     let sfa = experiment::measure(s, &progress)?;
     let effects = effects::measure(s, &progress)?;
+    let film_steps = film_steps::measure(s, r4, &sfa, &progress)?;
     let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
     let shipped_speedup = fig2_literal_extrapolated_s / shipped.wall_s;
@@ -846,6 +850,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         verify_cost,
         sfa,
         effects,
+        film_steps,
         paper_nodes,
         paper_dt_s,
         scene_end_s,

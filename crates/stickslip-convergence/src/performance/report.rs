@@ -35,6 +35,10 @@ pub fn write_report(p: &Performance, dir: &Path) -> Result<Vec<PathBuf>, String>
     put("performance_cost.svg", cost_figure(p)?)?;
     put("performance_work_precision.svg", wp_figure(p)?)?;
     put(
+        "performance_film_steps.svg",
+        super::film_steps::figure(&p.film_steps)?,
+    )?;
+    put(
         "performance_steptrace.svg",
         super::experiment::trace_figure(&p.sfa.step_trace)?,
     )?;
@@ -174,6 +178,7 @@ fn markdown(p: &Performance) -> String {
     super::targets::p5_section(&mut m, p);
     super::targets::v_section(&mut m, p);
     super::experiment::section(&mut m, &p.sfa);
+    m.push_str(&super::film_steps::section(&p.film_steps));
     let _ = writeln!(
         m,
         "## T3 — cost per step against N\n\n![cost](performance_cost.svg)\n\n\

@@ -1,0 +1,225 @@
+//! Work–precision of the second-order film's two steps (`numerics.film_step`): the ramp
+//! correction (the default) and the frozen-strain step before it, side by side, over
+//! tolerances, on fig2 (N = [`super::T4_NODES`], against T4's same-N reference) and on the SFA
+//! contact of P7 (against P7's reference): step evaluations and wall seconds against the
+//! largest onset error.
+//!
+//! This module writes the section "Film steps: work–precision" and its figure;
+//! [`super::report`] places them. Every number comes from the runs here.
+
+use super::experiment::{SfaBench, onset_deviations};
+use super::{BenchSettings, T4_NODES, Timed, timed, timed_scene};
+use serde::Serialize;
+use std::fmt::Write as _;
+use stickslip_report::fmt::{sig, tick};
+use stickslip_report::palette::PALETTE;
+use stickslip_report::plot::{Marker, Panel, Series, render_svg};
+use stickslip_run::keys::words::FilmStep;
+use stickslip_run::keys::{contact, numerics, time};
+
+/// fig2's tolerances.
+const FIG2_TOLERANCES: [f64; 5] = [1e-3, 3e-4, 1e-4, 5e-5, 1e-5];
+/// The SFA contact's tolerances (its runs take seconds each).
+const SFA_TOLERANCES: [f64; 3] = [5e-4, 1.5e-4, 5e-5];
+/// The quick bench's tolerances, both scenes.
+const QUICK_TOLERANCES: [f64; 2] = [1e-3, 1e-4];
+
+/// One run: a scene at a tolerance with one film step.
+#[derive(Debug, Clone, Serialize)]
+pub struct FilmStepPoint {
+    /// `fig2` or `sfa`.
+    pub scene: String,
+    /// `ramp` or `frozen`.
+    pub film_step: String,
+    /// `time.tolerance`.
+    pub tolerance: f64,
+    /// Step evaluations (accepted, rejected, onset retakes).
+    pub evaluations: u64,
+    /// Process wall time, s (median of the repeats for fig2, one run for SFA).
+    pub wall_s: f64,
+    /// Meltings of the run.
+    pub meltings: usize,
+    /// Meltings of the reference.
+    pub reference_meltings: usize,
+    /// Largest |onset − the reference's|, s (none when the counts differ).
+    pub max_onset_error_s: Option<f64>,
+}
+
+impl FilmStepPoint {
+    fn new(scene: &str, step: FilmStep, tolerance: f64, t: &Timed, reference_s: &[f64]) -> Self {
+        let deviations = onset_deviations(&t.event_values.onsets_s, reference_s);
+        Self {
+            scene: scene.into(),
+            film_step: step_name(step).into(),
+            tolerance,
+            evaluations: t.evaluations(),
+            wall_s: t.wall_s,
+            meltings: t.events,
+            reference_meltings: reference_s.len(),
+            max_onset_error_s: deviations.into_iter().reduce(f64::max),
+        }
+    }
+}
+
+fn step_name(step: FilmStep) -> &'static str {
+    match step {
+        FilmStep::Ramp => "ramp",
+        FilmStep::Frozen => "frozen",
+    }
+}
+
+/// The runs: fig2 against `fig2_reference_s` (T4's same-N reference onsets), the SFA contact
+/// with P7's settings against P7's reference.
+///
+/// # Errors
+/// A run that does not start or fails.
+pub fn measure(
+    s: &BenchSettings,
+    fig2_reference_s: &[f64],
+    sfa: &SfaBench,
+    progress: &dyn Fn(&str),
+) -> Result<Vec<FilmStepPoint>, String> {
+    let mut points = Vec::new();
+    let (fig2_tols, sfa_tols): (&[f64], &[f64]) = if s.quick {
+        (&QUICK_TOLERANCES, &QUICK_TOLERANCES)
+    } else {
+        (&FIG2_TOLERANCES, &SFA_TOLERANCES)
+    };
+    for step in [FilmStep::Ramp, FilmStep::Frozen] {
+        for &tol in fig2_tols {
+            progress(&format!(
+                "film steps: fig2, {}, tolerance {tol:e}",
+                step_name(step)
+            ));
+            let sets = vec![
+                contact::NODES.set(T4_NODES as i64).to_string(),
+                time::TOLERANCE.set(tol).to_string(),
+                numerics::FILM_STEP.set(step).to_string(),
+            ];
+            let t = timed(s, "film_steps", &sets, 2, s.repeats, fig2_reference_s)?;
+            points.push(FilmStepPoint::new("fig2", step, tol, &t, fig2_reference_s));
+        }
+    }
+    let sfa_scene = s.scene.with_file_name(super::experiment::SFA_SCENE);
+    let sfa_reference_s = &sfa.p7.reference.event_values.onsets_s;
+    for step in [FilmStep::Ramp, FilmStep::Frozen] {
+        for &tol in sfa_tols {
+            progress(&format!(
+                "film steps: SFA, {}, tolerance {tol:e}",
+                step_name(step)
+            ));
+            let mut sets = sfa.p7.settings.clone();
+            sets.push(time::TOLERANCE.set(tol).to_string());
+            sets.push(numerics::FILM_STEP.set(step).to_string());
+            let t = timed_scene(
+                s,
+                &sfa_scene,
+                "film_steps_sfa",
+                &sets,
+                2,
+                1,
+                sfa_reference_s,
+            )?;
+            points.push(FilmStepPoint::new("sfa", step, tol, &t, sfa_reference_s));
+        }
+    }
+    Ok(points)
+}
+
+/// The section: per scene a table of both steps over the tolerances, and what the ramp step
+/// saves at the default tolerance.
+#[must_use]
+pub fn section(points: &[FilmStepPoint]) -> String {
+    let mut out = String::from(
+        "## Film steps: work–precision\n\n\
+         The second-order film's two steps (`numerics.film_step`): `ramp`, the frozen-strain \
+         step corrected to first order in the film coefficient's change along the step's \
+         strain ramp (the default), and `frozen`, the step before it. fig2 at N = ",
+    );
+    let _ = write!(
+        out,
+        "{T4_NODES} against T4's same-N reference; the SFA contact of P7 (K = {} N/m, to \
+         1 s) against P7's reference. Largest onset error over all meltings; evaluations are \
+         accepted steps, rejected attempts and onset retakes.\n\n\
+         ![film steps](performance_film_steps.svg)\n\n\
+         | scene | tolerance | ramp: evaluations | ramp: s | ramp: onset error | frozen: \
+         evaluations | frozen: s | frozen: onset error | evaluations frozen/ramp |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+        super::experiment::SFA_STIFFNESS
+    );
+    let err = |p: &FilmStepPoint| match p.max_onset_error_s {
+        Some(e) => format!("{} µs", sig(e * 1e6, 2)),
+        None => format!("{} of {} meltings", p.meltings, p.reference_meltings),
+    };
+    for scene in ["fig2", "sfa"] {
+        let of = |step: &str| -> Vec<&FilmStepPoint> {
+            points
+                .iter()
+                .filter(|p| p.scene == scene && p.film_step == step)
+                .collect()
+        };
+        for (r, f) in of("ramp").into_iter().zip(of("frozen")) {
+            let _ = writeln!(
+                out,
+                "| {scene} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                tick(r.tolerance),
+                r.evaluations,
+                sig(r.wall_s, 3),
+                err(r),
+                f.evaluations,
+                sig(f.wall_s, 3),
+                err(f),
+                sig(f.evaluations as f64 / r.evaluations.max(1) as f64, 3),
+            );
+        }
+    }
+    out.push('\n');
+    out
+}
+
+/// The figure: per scene, the largest onset error against step evaluations, both steps
+/// (labels: the tolerance).
+///
+/// # Errors
+/// The plotting layer's.
+pub fn figure(points: &[FilmStepPoint]) -> Result<String, String> {
+    let mut panels = Vec::new();
+    for (scene, title) in [
+        ("fig2", format!("fig2, N = {T4_NODES}")),
+        ("sfa", "the SFA contact, K = 500 N/m, to 1 s".to_string()),
+    ] {
+        let mut panel = Panel::new(
+            &format!("{title}: largest onset error against step evaluations"),
+            "step evaluations",
+            "largest onset error (µs)",
+        )
+        .log_log();
+        for (k, (step, marker)) in [("ramp", Marker::Circle), ("frozen", Marker::Square)]
+            .into_iter()
+            .enumerate()
+        {
+            let shown: Vec<&FilmStepPoint> = points
+                .iter()
+                .filter(|p| p.scene == scene && p.film_step == step)
+                .filter(|p| p.max_onset_error_s.is_some_and(|e| e > 0.0))
+                .collect();
+            let pts = shown
+                .iter()
+                .map(|p| {
+                    (
+                        p.evaluations as f64,
+                        p.max_onset_error_s.unwrap_or(0.0) * 1e6,
+                    )
+                })
+                .collect();
+            let labels = shown.iter().map(|p| format!("{:e}", p.tolerance)).collect();
+            panel.series.push(
+                Series::new(step, pts, PALETTE[k])
+                    .marker(marker)
+                    .labels(labels),
+            );
+        }
+        panels.push(panel);
+    }
+    render_svg(&panels, 2, 1100, 480)
+}
