@@ -480,6 +480,22 @@ mod tests {
             }],
             p3_reference: reference(200),
             t4_reference: reference(125),
+            film_steps: ["ramp", "frozen"]
+                .iter()
+                .zip([(100, 2e-9), (150, 4e-9)])
+                .map(
+                    |(step, (evaluations, err))| super::super::film_steps::FilmStepPoint {
+                        scene: "fig2".into(),
+                        film_step: (*step).into(),
+                        tolerance: 1e-4,
+                        evaluations,
+                        wall_s: 0.01,
+                        meltings: 10,
+                        reference_meltings: 10,
+                        max_onset_error_s: Some(err),
+                    },
+                )
+                .collect(),
             shipped: timed(1.9, 3392),
             shipped_reference_settings: vec!["time.tolerance=1e-6".into()],
             shipped_speedup: 97.0 / 1.9,
@@ -558,6 +574,12 @@ mod tests {
         // 10 s over 130 000 steps: 77 µs per step.
         assert!(md.contains("against the 77 µs the target needs"), "{md}");
         assert!(md.contains("tolerance 5e-5 (the default)"), "{md}");
+        assert!(
+            md.contains(
+                "| fig2 | 1e-4 | 100 | 0.0100 | 0.0020 µs | 150 | 0.0100 | 0.0040 µs | 1.50 |"
+            ),
+            "{md}"
+        );
         assert!(md.contains("a series row every 10 steps"), "{md}");
         assert!(md.contains("| adaptive | 5e-5 (default) |"), "{md}");
         assert!(md.contains("gives 314 µs at N = 2000"), "{md}");
