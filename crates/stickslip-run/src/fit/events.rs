@@ -94,18 +94,22 @@ pub fn find(t_s: &[f64], f_n: &[f64], h_n: f64) -> Vec<(Event, Windows)> {
 pub fn refine(t_s: &[f64], f_n: &[f64], found: &[(Event, Windows)]) -> Vec<Event> {
     found
         .iter()
-        .map(|(e, w)| {
-            let (top, peak_variance) = extremum(&window(t_s, f_n, w.peak), true);
-            let (bottom, least_variance) = extremum(&window(t_s, f_n, w.least), false);
-            Event {
-                f_peak_n: top,
-                drop_n: top - bottom,
-                peak_variance,
-                least_variance,
-                ..*e
-            }
-        })
+        .map(|(e, w)| with_extrema(e, &window(t_s, f_n, w.peak), &window(t_s, f_n, w.least)))
         .collect()
+}
+
+/// `e` with its peak force and drop from the parabolas through the samples `peak` and
+/// `least` (and their variances).
+fn with_extrema(e: &Event, peak: &[(f64, f64)], least: &[(f64, f64)]) -> Event {
+    let (top, peak_variance) = extremum(peak, true);
+    let (bottom, least_variance) = extremum(least, false);
+    Event {
+        f_peak_n: top,
+        drop_n: top - bottom,
+        peak_variance,
+        least_variance,
+        ..*e
+    }
 }
 
 /// The model's events ([`find`]'s on its F at the data's times): each matched to a data event
@@ -130,15 +134,7 @@ pub fn refine_model(
                     .map(|i| (t_s[i] + shift, model(t_s[i] + shift)))
                     .collect()
             };
-            let (top, peak_variance) = extremum(&points(w.peak), true);
-            let (bottom, least_variance) = extremum(&points(w.least), false);
-            Event {
-                f_peak_n: top,
-                drop_n: top - bottom,
-                peak_variance,
-                least_variance,
-                ..*e
-            }
+            with_extrema(e, &points(w.peak), &points(w.least))
         })
         .collect()
 }
