@@ -22,6 +22,9 @@
 //!   film coefficient's change over a step, so its error falls faster than the frozen step's
 //!   (measured 1.4 against 0.7) — and never above 1.25× the frozen step's, for no more
 //!   evaluations;
+//! - the first event's end at N = 200 (its last node melts and regrows past φ_rec inside one
+//!   step): the default tolerance's t_end within 10 ns of a tolerance-1e-6 run (it was 40 ns
+//!   late when such a node held the event open to the next step's end; 0.6 ns now);
 //! - the old controller's data file parses (N = 200, three evaluations per attempt);
 //! - noise: gaussian seeds give different first onsets, every seed melts.
 //!
@@ -270,6 +273,23 @@ fn tolerance_study_against_a_same_n_reference() {
             "ramp {r:?} against frozen {f:?}"
         );
     }
+}
+
+#[test]
+fn an_event_ends_at_its_located_recovery() {
+    let ends: Vec<f64> = [stickslip_run::scene::DEFAULT_TOLERANCE, 1e-6]
+        .into_iter()
+        .map(|tol| {
+            let r = first_event_run(&mut RunSpec::adaptive(200, tol));
+            r.events[0].t_end_s.expect("the event ended")
+        })
+        .collect();
+    assert!(
+        (ends[0] - ends[1]).abs() < 1e-8,
+        "t_end {:e} s at the default tolerance against {:e} s at 1e-6",
+        ends[0],
+        ends[1]
+    );
 }
 
 #[test]

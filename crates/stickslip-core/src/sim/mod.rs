@@ -752,7 +752,12 @@ impl Simulation {
             }
             if self.is_melted(i) {
                 melted_nodes += 1;
-                unrecovered_nodes += 1;
+                // A node that melted inside the step and regrew past φ_rec before its end has
+                // recovered by the rule (its crossing is located in `recovered_at_s`); counting
+                // it unrecovered would hold the event open to the next step's end.
+                if phi < recovery_phi {
+                    unrecovered_nodes += 1;
+                }
                 outer = outer.max(self.radii_m[i]);
                 inner = inner.min(self.radii_m[i]);
                 self.state.events.swept[i] = true;
