@@ -7,7 +7,7 @@
 //! This module writes the section "Film steps: work–precision" and its figure;
 //! [`super::report`] places them. Every number comes from the runs here.
 
-use super::experiment::{SfaBench, onset_deviations};
+use super::experiment::{P7_EVALUATIONS_GOAL, P7_ONSET_GOAL_S, SfaBench, onset_deviations};
 use super::{BenchSettings, T4_NODES, Timed, timed, timed_scene};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -19,8 +19,9 @@ use stickslip_run::keys::{contact, numerics, time};
 
 /// fig2's tolerances.
 const FIG2_TOLERANCES: [f64; 5] = [1e-3, 3e-4, 1e-4, 5e-5, 1e-5];
-/// The SFA contact's tolerances (its runs take seconds each).
-const SFA_TOLERANCES: [f64; 3] = [5e-4, 1.5e-4, 5e-5];
+/// The SFA contact's tolerances (its runs take seconds each); 5e-3, 100× the default, shows
+/// the evaluations' floor: how few a far looser tolerance still takes.
+const SFA_TOLERANCES: [f64; 4] = [5e-3, 5e-4, 1.5e-4, 5e-5];
 /// The quick bench's tolerances, both scenes.
 const QUICK_TOLERANCES: [f64; 2] = [1e-3, 1e-4];
 
@@ -174,7 +175,85 @@ pub fn section(points: &[FilmStepPoint]) -> String {
         }
     }
     out.push('\n');
+    floor_words(&mut out, points);
     out
+}
+
+/// How the ramp step's evaluations fall with the tolerance on each scene (the log–log slope
+/// between its loosest and tightest runs), and for the SFA contact the fewest evaluations that
+/// keep every onset within P7's accuracy goal, against P7's goal of evaluations.
+fn floor_words(out: &mut String, points: &[FilmStepPoint]) {
+    for scene in ["fig2", "sfa"] {
+        let ramp: Vec<&FilmStepPoint> = points
+            .iter()
+            .filter(|p| p.scene == scene && p.film_step == "ramp")
+            .collect();
+        let loose = ramp
+            .iter()
+            .max_by(|a, b| a.tolerance.total_cmp(&b.tolerance));
+        let tight = ramp
+            .iter()
+            .min_by(|a, b| a.tolerance.total_cmp(&b.tolerance));
+        if let (Some(l), Some(t)) = (loose, tight)
+            && l.tolerance > t.tolerance
+            && l.evaluations > 0
+        {
+            let slope = (t.evaluations as f64 / l.evaluations as f64).ln()
+                / (l.tolerance / t.tolerance).ln();
+            let _ = write!(
+                out,
+                "{scene}, ramp step: from tolerance {} to {} ({}× tighter) the evaluations grow \
+                 from {} to {}, like tolerance^−{}. ",
+                tick(l.tolerance),
+                tick(t.tolerance),
+                sig(l.tolerance / t.tolerance, 3),
+                l.evaluations,
+                t.evaluations,
+                sig(slope, 2)
+            );
+        }
+        if scene == "sfa"
+            && let Some(l) = loose
+        {
+            let within = ramp
+                .iter()
+                .filter(|p| p.max_onset_error_s.is_some_and(|e| e <= P7_ONSET_GOAL_S))
+                .min_by_key(|p| p.evaluations);
+            let err = match l.max_onset_error_s {
+                Some(e) => format!("onsets up to {} µs off", sig(e * 1e6, 3)),
+                None => format!("{} meltings against {}", l.meltings, l.reference_meltings),
+            };
+            let _ = write!(
+                out,
+                "The floor of P7 with this scheme: even at tolerance {} the run takes {} \
+                 evaluations ({}× P7's goal of {P7_EVALUATIONS_GOAL}) with {err}",
+                tick(l.tolerance),
+                l.evaluations,
+                sig(l.evaluations as f64 / P7_EVALUATIONS_GOAL as f64, 3),
+            );
+            match within {
+                Some(w) => {
+                    let _ = write!(
+                        out,
+                        "; the fewest evaluations that keep every onset within {} µs are {} \
+                         (tolerance {}, {}× the goal).",
+                        tick(P7_ONSET_GOAL_S * 1e6),
+                        w.evaluations,
+                        tick(w.tolerance),
+                        sig(w.evaluations as f64 / P7_EVALUATIONS_GOAL as f64, 3)
+                    );
+                }
+                None => {
+                    let _ = write!(
+                        out,
+                        "; no run here keeps every onset within {} µs.",
+                        tick(P7_ONSET_GOAL_S * 1e6)
+                    );
+                }
+            }
+        }
+    }
+    out.push_str("\n\n");
 }
 
 /// The figure: per scene, the largest onset error against step evaluations, both steps
@@ -222,4 +301,46 @@ pub fn figure(points: &[FilmStepPoint]) -> Result<String, String> {
         panels.push(panel);
     }
     render_svg(&panels, 2, 1100, 480)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(scene: &str, tolerance: f64, evaluations: u64, error_s: Option<f64>) -> FilmStepPoint {
+        FilmStepPoint {
+            scene: scene.into(),
+            film_step: "ramp".into(),
+            tolerance,
+            evaluations,
+            wall_s: 1.0,
+            meltings: 78,
+            reference_meltings: 78,
+            max_onset_error_s: error_s,
+        }
+    }
+
+    #[test]
+    fn the_floor_is_read_from_the_runs() {
+        let points = [
+            point("fig2", 1e-3, 1000, Some(1e-8)),
+            point("fig2", 1e-5, 2000, Some(1e-9)),
+            point("sfa", 5e-3, 60_000, Some(4e-3)),
+            point("sfa", 5e-4, 120_000, Some(1.1e-4)),
+            point("sfa", 1.5e-4, 170_000, Some(1.3e-5)),
+        ];
+        let mut out = String::new();
+        floor_words(&mut out, &points);
+        // 2× the evaluations over 100× the tolerance: slope ln 2 / ln 100 = 0.15.
+        assert!(out.contains("like tolerance^−0.15"), "{out}");
+        assert!(
+            out.contains("takes 60000 evaluations (2.00× P7's goal"),
+            "{out}"
+        );
+        assert!(out.contains("onsets up to 4000 µs off"), "{out}");
+        assert!(
+            out.contains("are 170000 (tolerance 1.5e-4, 5.67× the goal)"),
+            "{out}"
+        );
+    }
 }
