@@ -88,40 +88,21 @@ impl Simulation {
         // corrected to first order in the coefficient's change along the strain ramp; the
         // scratch θ then holds the correction's relative second-order remainder (v/u)²/2.
         if F::RAMP {
-            for i in 0..n {
-                let phi0 = self.state.physical.phi[i];
-                let phi1 = self.node_phi1[i];
-                if phi0 <= 0.0 || phi1 <= 0.0 {
-                    self.node_theta[i] = 0.0;
-                    continue;
-                }
-                let solid0 = phi0 >= thr;
-                let du0 = if solid0 { dx } else { 0.0 };
-                let delta = (du0 - self.node_du3d[i]) / h0;
-                let eps_eff = self.est_eps_eff[i];
-                let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
-                let uf = 1.0 / (phi1 * phi1);
-                let v = film.ramp_correction(
-                    (1.0 / (phi0 * phi0), uf),
-                    (self.node_theta[i], eps_eff, delta),
-                    c_eff,
-                    self.node_exp[i],
-                    dt_s,
-                );
-                let u1 = uf + v;
-                // The expansion holds while the correction is small against u; a larger one
-                // means a step far too long for it (fixed steps of 100× the paper's Δt ran
-                // away with it), and the frozen step is kept.
-                if v.abs() <= RAMP_CORRECTION_MAX * uf && u1.is_finite() {
-                    self.node_phi1[i] = (1.0 / u1).sqrt();
-                    // The second-order remainder, relative: (v/u)²/2.
-                    self.node_theta[i] = 0.5 * (v / u1) * (v / u1);
-                } else {
-                    // The frozen φ1 stays, and the remainder, 1 (φ's whole size), rejects an
-                    // adaptive step.
-                    self.node_theta[i] = 1.0;
-                }
-            }
+            let coefficients = film.ramp_coefficients();
+            super::ramp::correct_all(super::ramp::RampPass {
+                phi0: &self.state.physical.phi,
+                du3d_m: &self.node_du3d,
+                eps_eff: &self.est_eps_eff,
+                e_w: &self.node_exp,
+                phi1: &mut self.node_phi1,
+                theta: &mut self.node_theta,
+                threshold: thr,
+                dx_m: dx,
+                h0_m: h0,
+                c_shift_pa: a_mid * coefficients.1 / coefficients.0,
+                coefficients,
+                h_s: dt_s,
+            });
         }
         // (c) The error estimate's propagator exponent z (see `error_estimate`), clamped as
         // `defect_weights` clamps it, and e^(−z).
@@ -369,11 +350,6 @@ impl Simulation {
         };
     }
 }
-
-/// Largest correction of the ramp step relative to the frozen step's u = 1/φ² that is
-/// applied (an accepted step at the default tolerance corrects by far less: its remainder
-/// (v/u)²/2 is within the tolerance).
-const RAMP_CORRECTION_MAX: f64 = 0.5;
 
 /// The quadratic prediction of u3D is used only where its bend is at least this many times
 /// the coupling solve's absolute residual floor (`Simulation::coupling_abs_rms_m`): u3D is

@@ -14,22 +14,14 @@ use crate::landau::{
 
 /// What the accurate step needs from the film's kinetics (y = φ²; c = a·ε² − A·b/a, Pa).
 pub(super) trait Film {
-    /// Whether the step is corrected along the strain ramp ([`Film::ramp_correction`]): the
+    /// Whether the step is corrected along the strain ramp ([`Film::ramp_coefficients`]): the
     /// error estimate then takes the end strain's prediction error and the correction's
     /// second-order remainder instead of the frozen step's defect.
     const RAMP: bool = false;
-    /// The first-order correction v of u = 1/φ² along the strain ramp (see
-    /// [`super::ramp::correction`]); 0 for a film without it.
-    fn ramp_correction(
-        &self,
-        u: (f64, f64),
-        ramp: (f64, f64, f64),
-        c_eff: f64,
-        e_w: f64,
-        h_s: f64,
-    ) -> f64 {
-        let _ = (u, ramp, c_eff, e_w, h_s);
-        0.0
+    /// (a, b, 2γ) for the correction along the strain ramp ([`super::ramp::correct_all`]);
+    /// only called when [`Film::RAMP`] is true.
+    fn ramp_coefficients(&self) -> (f64, f64, f64) {
+        (0.0, 0.0, 0.0)
     }
     /// The exact frozen-strain step of φ over `dt_s` at strain `eps` and coefficient A.
     fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64;
@@ -145,23 +137,16 @@ impl Film for SecondOrder {
 }
 
 /// The paper's film with the ramp-corrected step (`numerics.film_step = "ramp"`): the
-/// frozen step of [`SecondOrder`], then [`super::ramp::correction`].
+/// frozen step of [`SecondOrder`], then [`super::ramp::correct_all`].
 #[derive(Debug, Clone, Copy)]
 pub(super) struct SecondOrderRamp(pub SecondOrder);
 
 impl Film for SecondOrderRamp {
     const RAMP: bool = true;
 
-    fn ramp_correction(
-        &self,
-        u: (f64, f64),
-        ramp: (f64, f64, f64),
-        c_eff: f64,
-        e_w: f64,
-        h_s: f64,
-    ) -> f64 {
+    fn ramp_coefficients(&self) -> (f64, f64, f64) {
         let f = &self.0;
-        super::ramp::correction(u, ramp, (f.params.a_pa, f.b, f.two_gamma), c_eff, e_w, h_s)
+        (f.params.a_pa, f.b, f.two_gamma)
     }
 
     fn step(&self, phi0: f64, eps: f64, a_coeff: f64, dt_s: f64) -> f64 {

@@ -50,52 +50,8 @@ const fn series_tables() -> [[f64; SERIES_TERMS]; 3] {
 /// v = h·ū(h)·I0 without forming E.
 const Z_GROW: f64 = 40.0;
 
-/// The first-order correction v of u = 1/φ² over a step of `h_s` (see the module docs).
-/// `u_frozen` = ū(h) = 1/φ1² of the frozen step, `u0` = 1/φ0², `theta` the frozen strain's
-/// place on the ramp, `eps_eff` = ε0 + θ·Δ, `delta` = Δ = ε1 − ε0, `c_eff` = c(ε_eff),
-/// `e_w` = e^(−2γ·|c_eff|·h) (the frozen step's exponential).
-#[allow(clippy::too_many_arguments)]
-#[must_use]
-pub fn correction(
-    (u0, u_frozen): (f64, f64),
-    (theta, eps_eff, delta): (f64, f64, f64),
-    (a_pa, b_pa, two_gamma): (f64, f64, f64),
-    c_eff: f64,
-    e_w: f64,
-    h_s: f64,
-) -> f64 {
-    if delta == 0.0 {
-        return 0.0;
-    }
-    let alpha = 2.0 * a_pa * eps_eff * delta;
-    let beta = a_pa * delta * delta;
-    // ∫₀¹ (σ − θ) dσ and ∫₀¹ (σ − θ)² dσ.
-    let p1 = 0.5 - theta;
-    let p2 = 1.0 / 3.0 - theta + theta * theta;
-    let i0 = two_gamma * (alpha * p1 + beta * p2);
-    let z = -two_gamma * c_eff * h_s;
-    if z < -Z_GROW {
-        return h_s * u_frozen * i0;
-    }
-    let e = if c_eff <= 0.0 { e_w } else { 1.0 / e_w };
-    let (q1, q2) = if z.abs() < SERIES_Z {
-        let sums = series_sums(z);
-        let d = 1.0 - theta;
-        (
-            q_series(&sums, d, -1.0, 0.0),
-            q_series(&sums, d * d, -2.0 * d, 1.0),
-        )
-    } else {
-        let (m0, m1, m2) = moments_closed(z, e);
-        let mm1 = m1 - theta * m0;
-        let mm2 = m2 - 2.0 * theta * m1 + theta * theta * m0;
-        ((e * p1 - mm1) / z, (e * p2 - mm2) / z)
-    };
-    let q = two_gamma * (alpha * q1 + beta * q2);
-    h_s * (u0 * e * i0 - two_gamma * b_pa * h_s * q)
-}
-
 /// m0, m1, m2 of z (|z| ≥ [`SERIES_Z`]) given E = e^(−z).
+#[inline(always)]
 fn moments_closed(z: f64, e: f64) -> (f64, f64, f64) {
     let m0 = (1.0 - e) / z;
     let m1 = (z - 1.0 + e) / (z * z);
@@ -104,6 +60,7 @@ fn moments_closed(z: f64, e: f64) -> (f64, f64, f64) {
 }
 
 /// The three polynomials of [`SERIES`] at z (Horner), for p's parts in τ⁰, τ¹, τ².
+#[inline(always)]
 fn series_sums(z: f64) -> [f64; 3] {
     let mut out = [0.0; 3];
     for (o, row) in out.iter_mut().zip(&SERIES) {
@@ -115,8 +72,168 @@ fn series_sums(z: f64) -> [f64; 3] {
 /// Q_p = (E·∫₀¹p − ∫₀¹e^(−z(1−σ))·p dσ)/z for p(σ) = q0 + q1·τ + q2·τ², τ = 1 − σ, by its
 /// series: e^(−z) − e^(−zτ) = Σ_{j≥1} (−z)^j·(1 − τ^j)/j!, so Q_p = Σ_m q_m·S_m(z) with
 /// S_m(z) = Σ_j (−1)^j z^(j−1)/j!·∫₀¹ (1 − τ^j)·τ^m dτ.
+#[inline(always)]
 fn q_series(sums: &[f64; 3], q0: f64, q1: f64, q2: f64) -> f64 {
     q0 * sums[0] + q1 * sums[1] + q2 * sums[2]
+}
+
+/// The first-order correction v of u = 1/φ² over a step of `h_s` (see the module docs).
+/// `u_frozen` = ū(h) = 1/φ1² of the frozen step, `u0` = 1/φ0², `theta` the frozen strain's
+/// place on the ramp, `eps_eff` = ε0 + θ·Δ, `delta` = Δ = ε1 − ε0, `c_eff` = c(ε_eff),
+/// `e_w` = e^(−2γ·|c_eff|·h) (the frozen step's exponential).
+///
+/// Without branches: v = 0 for Δ = 0; v = h·ū(h)·I0 below z = −[`Z_GROW`]; else Q by its
+/// series for |z| < [`SERIES_Z`] or by the closed moments. Every case is computed and the one
+/// that applies is selected, so a loop over nodes that calls this inline is vectorised
+/// ([`correct_all`]); the cases not selected may be ∞ or NaN, which a select discards.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+#[must_use]
+pub fn correction(
+    (u0, u_frozen): (f64, f64),
+    (theta, eps_eff, delta): (f64, f64, f64),
+    (a_pa, b_pa, two_gamma): (f64, f64, f64),
+    c_eff: f64,
+    e_w: f64,
+    h_s: f64,
+) -> f64 {
+    let alpha = 2.0 * a_pa * eps_eff * delta;
+    let beta = a_pa * delta * delta;
+    // ∫₀¹ (σ − θ) dσ and ∫₀¹ (σ − θ)² dσ.
+    let p1 = 0.5 - theta;
+    let p2 = 1.0 / 3.0 - theta + theta * theta;
+    let i0 = two_gamma * (alpha * p1 + beta * p2);
+    let z = -two_gamma * c_eff * h_s;
+    let grow = h_s * u_frozen * i0;
+    let e = if c_eff <= 0.0 { e_w } else { 1.0 / e_w };
+    let sums = series_sums(z);
+    let d = 1.0 - theta;
+    let (q1s, q2s) = (
+        q_series(&sums, d, -1.0, 0.0),
+        q_series(&sums, d * d, -2.0 * d, 1.0),
+    );
+    let (m0, m1, m2) = moments_closed(z, e);
+    let mm1 = m1 - theta * m0;
+    let mm2 = m2 - 2.0 * theta * m1 + theta * theta * m0;
+    let (q1c, q2c) = ((e * p1 - mm1) / z, (e * p2 - mm2) / z);
+    let series = z.abs() < SERIES_Z;
+    let q1 = if series { q1s } else { q1c };
+    let q2 = if series { q2s } else { q2c };
+    let q = two_gamma * (alpha * q1 + beta * q2);
+    let general = h_s * (u0 * e * i0 - two_gamma * b_pa * h_s * q);
+    let v = if z < -Z_GROW { grow } else { general };
+    if delta == 0.0 { 0.0 } else { v }
+}
+
+/// Largest correction relative to the frozen step's u = 1/φ² that is applied (an accepted
+/// step at the default tolerance corrects by far less: its remainder (v/u)²/2 is within the
+/// tolerance).
+pub(super) const CORRECTION_MAX: f64 = 0.5;
+
+/// One step's correction pass over every node: the frozen step's φ1 in, the corrected φ1 out.
+pub(super) struct RampPass<'a> {
+    /// φ at the step's start.
+    pub phi0: &'a [f64],
+    /// u3D's predicted change over the step, m.
+    pub du3d_m: &'a [f64],
+    /// The frozen step's strain ε_eff = ε0 + θ·Δ.
+    pub eps_eff: &'a [f64],
+    /// The frozen step's exponential e^(−2γ·|c_eff|·h).
+    pub e_w: &'a [f64],
+    /// In: the frozen step's φ1; out: the corrected φ1 (the frozen one where the correction is
+    /// not applied).
+    pub phi1: &'a mut [f64],
+    /// In: θ, the frozen strain's place on the ramp; out: the correction's relative
+    /// second-order remainder (v/u)²/2 — 0 where φ0 or φ1 is 0, 1 where the correction is
+    /// larger than [`CORRECTION_MAX`]·u (which rejects an adaptive step).
+    pub theta: &'a mut [f64],
+    /// The melting threshold: below it the node's u0 does not follow the stamp.
+    pub threshold: f64,
+    /// The stamp's advance over the step, m.
+    pub dx_m: f64,
+    /// h0, m.
+    pub h0_m: f64,
+    /// A·b/a at the step's middle, Pa (c = a·ε² − A·b/a).
+    pub c_shift_pa: f64,
+    /// (a, b, 2γ) of the film.
+    pub coefficients: (f64, f64, f64),
+    /// The step, s.
+    pub h_s: f64,
+}
+
+/// The correction pass (see [`RampPass`]) under the best instruction set the CPU has (pulp's
+/// run-time dispatch, as [`crate::vexp::exp_expm1_all`]): branch-free per node, so the loop is
+/// vectorised; no fused multiply-add, so the bits are the scalar arithmetic's.
+///
+/// # Panics
+/// If the slices differ in length.
+pub(super) fn correct_all(pass: RampPass<'_>) {
+    let n = pass.phi0.len();
+    assert!(
+        [
+            pass.du3d_m.len(),
+            pass.eps_eff.len(),
+            pass.e_w.len(),
+            pass.phi1.len(),
+            pass.theta.len()
+        ]
+        .iter()
+        .all(|&l| l == n),
+        "slice lengths differ"
+    );
+    faer::traits::pulp::Arch::new().dispatch(pass);
+}
+
+impl faer::traits::pulp::WithSimd for RampPass<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: faer::traits::pulp::Simd>(self, _simd: S) {
+        let (a_pa, _, _) = self.coefficients;
+        let nodes = self
+            .phi0
+            .iter()
+            .zip(self.du3d_m)
+            .zip(self.eps_eff)
+            .zip(self.e_w)
+            .zip(self.phi1.iter_mut())
+            .zip(self.theta.iter_mut());
+        for (((((&phi0, &du3d), &eps_eff), &e_w), phi1), theta) in nodes {
+            let frozen = *phi1;
+            let du0 = if phi0 >= self.threshold {
+                self.dx_m
+            } else {
+                0.0
+            };
+            let delta = (du0 - du3d) / self.h0_m;
+            let c_eff = a_pa * eps_eff * eps_eff - self.c_shift_pa;
+            let uf = 1.0 / (frozen * frozen);
+            let v = correction(
+                (1.0 / (phi0 * phi0), uf),
+                (*theta, eps_eff, delta),
+                self.coefficients,
+                c_eff,
+                e_w,
+                self.h_s,
+            );
+            let u1 = uf + v;
+            let applied = v.abs() <= CORRECTION_MAX * uf && u1.is_finite();
+            let r = v / u1;
+            let valid = !(phi0 <= 0.0 || frozen <= 0.0);
+            *phi1 = if valid && applied {
+                (1.0 / u1).sqrt()
+            } else {
+                frozen
+            };
+            *theta = if !valid {
+                0.0
+            } else if applied {
+                0.5 * r * r
+            } else {
+                1.0
+            };
+        }
+    }
 }
 
 #[cfg(test)]
