@@ -323,6 +323,10 @@ pub struct StepTrace {
     pub shortest_between_step_s: f64,
     /// The most nodes melted at once.
     pub max_melted: usize,
+    /// The rises of the melted-node count from step to step, summed: how many nodes melted
+    /// one after another in the cascades (a node melting and regrowing inside one step counts
+    /// as melted at that step's end).
+    pub node_meltings: u64,
     /// Wall time of the in-process run from the start to the trace's end, s.
     pub wall_s: f64,
     /// The steps (for the figure; not written).
@@ -344,7 +348,10 @@ impl StepTrace {
             ..Self::default()
         };
         let mut melted_before = false;
+        let mut count_before = 0;
         for r in &rows {
+            t.node_meltings += r.melted.saturating_sub(count_before) as u64;
+            count_before = r.melted;
             let part = ErrorPart::of(&r.error);
             t.rejected += r.rejected;
             t.shortest_step_s = t.shortest_step_s.min(r.h_s);
@@ -724,7 +731,9 @@ fn trace_section(m: &mut String, t: &StepTrace) {
          {} nodes melted; {} steps ({} %, {} rejected attempts) with none melted cover the \
          rest of the {} ms. Steps run from {} s to {} s: the cascades' longest is {} s, the \
          shortest with no node melted {} s. The largest part of the error estimate limited \
-         the cascade steps {} and the others {}.\n",
+         the cascade steps {} and the others {}. The melted-node count rose by {} in all: \
+         the nodes melt one after another, {} evaluations (accepted and rejected) per node \
+         that melted.\n",
         t.nodes,
         t.tolerance,
         sig(t.from_s, 9),
@@ -753,6 +762,11 @@ fn trace_section(m: &mut String, t: &StepTrace) {
         sig(t.shortest_between_step_s, 2),
         t.limited_in_cascade.words(),
         t.limited_between.words(),
+        t.node_meltings,
+        sig(
+            (t.cascade_steps + t.cascade_rejected) as f64 / t.node_meltings.max(1) as f64,
+            3
+        ),
     );
 }
 
@@ -903,6 +917,8 @@ mod tests {
         assert_eq!(t.longest_cascade_step_s, 3e-9);
         assert_eq!(t.shortest_between_step_s, 1e-7);
         assert_eq!(t.max_melted, 5);
+        // Melted counts 0, 0, 3, 5, 0, 1: rises 3 + 2 + 1.
+        assert_eq!(t.node_meltings, 6);
         assert_eq!((t.from_s, t.to_s), (0.9, 1.5));
         // The first cascade ends with the step at 1.3.
         assert_eq!(t.first_cascade_end_s(), 1.3);
