@@ -9,7 +9,9 @@
 //!    iterations, and goes on to convergence from the best of those.
 //! 2. **Local stage**: Levenberg–Marquardt bounded by projection onto the box, its step from
 //!    the Jacobian's SVD, δ = −Σ σᵢ/(σᵢ² + λ)·(uᵢ·r)·vᵢ; each iteration tries `jobs` damping
-//!    values at once (λ, 16λ, …) and keeps the best that lowers χ². Jacobians are central
+//!    values at once (λ, 16λ, …) and keeps the best that lowers χ²; a small gain from a
+//!    step the damping held back is tried once more from λ = σ²min ([`after_step`]) before
+//!    it counts as convergence. Jacobians are central
 //!    differences (one-sided at a bound) whose step per parameter grows from 1e-3 of the box
 //!    until the residuals move by at least [`NOISE_RATIO`] times the solver's noise, so the
 //!    derivative's error from that noise is below 1/[`NOISE_RATIO`] of it.
@@ -219,6 +221,37 @@ pub struct Local {
     pub converged: bool,
 }
 
+/// What the local stage does after an accepted step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AfterStep {
+    /// Go on as usual (λ eased by 8).
+    Go,
+    /// One more iteration from λ = σ²min: the small gain came from a step the damping held
+    /// back.
+    Undamped,
+    /// Converged: χ² no longer falls.
+    Converged,
+}
+
+/// The local stage's decision after a step accepted with damping `lambda`, its gain `small`
+/// (below [`RTOL_CHI2`] of χ²) or not, `weakest` the least σ² of the Jacobian, and `retried`
+/// whether this step was already the one more try after a stall.
+///
+/// A small gain from a step the damping held back (λ above σ²min, so the weakest direction
+/// barely moved) is no sign of convergence: in a long, narrow valley — one parameter fixed a
+/// thousand times more sharply than another — the damping the steep direction needs stops
+/// the step along the valley, and each step gains little. Once per stall the next iteration
+/// therefore starts at λ = σ²min, where the weakest direction takes about half its
+/// Gauss–Newton step; a small gain then, or from an undamped step, is convergence.
+#[must_use]
+pub fn after_step(small: bool, lambda: f64, weakest: f64, retried: bool) -> AfterStep {
+    match (small, lambda > weakest && !retried) {
+        (false, _) => AfterStep::Go,
+        (true, true) => AfterStep::Undamped,
+        (true, false) => AfterStep::Converged,
+    }
+}
+
 /// Levenberg–Marquardt from `start` over the parameters `free` (the others held), bounded to
 /// the unit box, for at most `max_iterations`; stops early (unconverged) when interrupted.
 pub fn levenberg_marquardt(
@@ -231,6 +264,8 @@ pub fn levenberg_marquardt(
 ) -> Local {
     let mut cur = start;
     let mut lambda: Option<f64> = None;
+    // Whether the last iteration was the one more, undamped, try after a stall (below).
+    let mut retried = false;
     let tries = problem.jobs.clamp(2, 4);
     for iteration in 0..max_iterations {
         let Some(j) = jacobian(problem, &cur, free, steps, noise) else {
@@ -281,14 +316,14 @@ pub fn levenberg_marquardt(
                 .filter(|(e, _)| e.failed.is_none() && e.chi2 < cur.chi2)
                 .min_by(|a, b| a.0.chi2.total_cmp(&b.0.chi2));
             if let Some((e, &l)) = best {
-                accepted = Some(e);
+                accepted = Some((e, l));
                 lam = l / 8.0;
                 break;
             }
             lam *= 16f64.powi(tries as i32);
         }
         lambda = Some(lam);
-        let Some(next) = accepted else {
+        let Some((next, used)) = accepted else {
             return Local {
                 best: cur,
                 iterations: iteration + 1,
@@ -304,12 +339,20 @@ pub fn levenberg_marquardt(
             .fold(0.0, f64::max);
         let small = gain <= RTOL_CHI2 * cur.chi2 || moved < 1e-7;
         cur = next;
-        if small {
-            return Local {
-                best: cur,
-                iterations: iteration + 1,
-                converged: true,
-            };
+        let weakest = d.s.last().map_or(0.0, |s| s * s);
+        match after_step(small, used, weakest, retried) {
+            AfterStep::Go => retried = false,
+            AfterStep::Undamped => {
+                retried = true;
+                lambda = Some(weakest.min(lam));
+            }
+            AfterStep::Converged => {
+                return Local {
+                    best: cur,
+                    iterations: iteration + 1,
+                    converged: true,
+                };
+            }
         }
     }
     Local {
@@ -322,6 +365,18 @@ pub fn levenberg_marquardt(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_small_gain_of_a_damped_step_is_tried_once_more_undamped() {
+        // A large gain goes on, whatever the damping.
+        assert_eq!(after_step(false, 1e6, 1.0, false), AfterStep::Go);
+        assert_eq!(after_step(false, 1e-6, 1.0, true), AfterStep::Go);
+        // A small gain with λ far above σ²min: the valley's direction was held back.
+        assert_eq!(after_step(true, 1e6, 1.0, false), AfterStep::Undamped);
+        // …but only once in a row, and not when the step was already undamped.
+        assert_eq!(after_step(true, 1e6, 1.0, true), AfterStep::Converged);
+        assert_eq!(after_step(true, 0.5, 1.0, false), AfterStep::Converged);
+    }
 
     #[test]
     fn the_sample_has_one_point_in_each_stratum_of_each_parameter() {
