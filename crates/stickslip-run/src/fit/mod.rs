@@ -187,33 +187,33 @@ pub fn fit(
     };
     let mut steps = vec![optimise::FD_STEP_START; params.len()];
     let free: Vec<usize> = (0..params.len()).collect();
-    let mut noise = None;
+    let mut noise: Option<optimise::SolverNoise> = None;
     let mut local = optimise::Local {
         best: first.clone(),
         iterations: 0,
         converged: false,
     };
-    if let Some(nu) = optimise::noise(&mut problem, &first) {
+    if let Some(nu) = optimise::measure(&mut problem, &first) {
         noise = Some(nu);
         problem.stage = "local";
         // A few iterations from each start, then the best one on to convergence.
-        let mut screened: Vec<(optimise::Local, Vec<f64>)> = Vec::new();
+        let mut screened: Vec<(optimise::Local, Vec<f64>, optimise::SolverNoise)> = Vec::new();
         for s in optimise::starts(&global) {
-            let mut h = steps.clone();
+            let (mut h, mut n) = (steps.clone(), nu);
             let l = optimise::levenberg_marquardt(
                 &mut problem,
                 s,
                 &free,
                 &mut h,
-                nu,
+                &mut n,
                 optimise::SCREEN_ITERATIONS,
             );
-            screened.push((l, h));
+            screened.push((l, h, n));
             if problem.interrupted() {
                 break;
             }
         }
-        if let Some((l, h)) = screened
+        if let Some((l, h, mut n)) = screened
             .into_iter()
             .min_by(|a, b| a.0.best.chi2.total_cmp(&b.0.best.chi2))
         {
@@ -227,12 +227,13 @@ pub fn fit(
                     l.best,
                     &free,
                     &mut steps,
-                    nu,
+                    &mut n,
                     optimise::MAX_ITERATIONS,
                 );
                 more.iterations += spent;
                 more
             };
+            noise = Some(n);
         }
     }
     let best: Eval = match &problem.best {
@@ -240,11 +241,17 @@ pub fn fit(
         _ => local.best.clone(),
     };
     let m = target.len();
-    // The uncertainty from the Jacobian at the optimum.
+    // The uncertainty from the Jacobian at the optimum, its steps grown above the solver's
+    // noise measured there (not where the local stage started: the noise scales with the
+    // residuals, and steps grown far off blur the derivative).
     let mut unc = None;
     if !problem.interrupted() {
         problem.stage = "uncertainty";
-        let nu = noise.unwrap_or(0.0);
+        if let Some(n) = optimise::measure(&mut problem, &best) {
+            noise = Some(n);
+            steps.iter_mut().for_each(|h| *h = optimise::FD_STEP_START);
+        }
+        let nu = noise.map_or(0.0, |n| n.value);
         if let Some(j) = optimise::jacobian(&mut problem, &best, &free, &mut steps, nu)
             && let Some(d) = linalg::svd(&j)
         {
@@ -257,15 +264,11 @@ pub fn fit(
     {
         let sz = u.intervals[k].stderr / params[k].slope(best.z[k]);
         let s2 = u.residual_sigma.powi(2);
-        profile_out = profile::profile(
-            &mut problem,
-            &best,
-            k,
-            sz,
-            s2,
-            &mut steps,
-            noise.unwrap_or(0.0),
-        );
+        let mut n = noise.unwrap_or(optimise::SolverNoise {
+            value: 0.0,
+            at_chi2: best.chi2,
+        });
+        profile_out = profile::profile(&mut problem, &best, k, sz, s2, &mut steps, &mut n);
     }
     let interrupted = problem.interrupted();
     // The fitted model's curves (the interrupt no longer applies: one more run).
@@ -319,7 +322,7 @@ pub fn fit(
         noise_n: target.sigma_f_n,
         noise_estimated: target.sigma_estimated,
         hysteresis_n: target.hysteresis_n,
-        solver_noise: noise,
+        solver_noise: noise.map(|n| n.value),
         fd_steps: steps,
         time_tolerance: forward.tolerance,
         settings: overrides,

@@ -115,6 +115,58 @@ pub fn global(problem: &mut Problem<'_, '_>, start: Option<Vec<f64>>) -> Option<
     Some(evals)
 }
 
+/// The solver's noise as last measured, and the misfit where it was measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverNoise {
+    /// ‖r(tolerance) − r(tolerance/10)‖, residual units.
+    pub value: f64,
+    /// χ² of the model it was measured at.
+    pub at_chi2: f64,
+}
+
+/// The noise is measured again once χ² has fallen this many times below where it was
+/// measured. It scales with the residuals (the solver's relative error times their size): a
+/// value from far off the optimum makes the difference steps grow far beyond what the
+/// optimum needs, and a Jacobian from steps of a twentieth of the box is a secant, not a
+/// derivative.
+pub const REMEASURE_FALL: f64 = 100.0;
+
+impl SolverNoise {
+    /// Whether a model of misfit `chi2` should have the noise measured again.
+    #[must_use]
+    pub fn stale(&self, chi2: f64) -> bool {
+        chi2 * REMEASURE_FALL < self.at_chi2
+    }
+}
+
+/// The solver's noise at `at` (see [`noise`]), as a [`SolverNoise`]. `None` when interrupted.
+pub fn measure(problem: &mut Problem<'_, '_>, at: &Eval) -> Option<SolverNoise> {
+    noise(problem, at).map(|value| SolverNoise {
+        value,
+        at_chi2: at.chi2,
+    })
+}
+
+/// Measures the noise again at `at` when it is stale, and then starts the difference steps
+/// again from [`FD_STEP_START`] (they grow from there as the new noise needs). `false` when
+/// interrupted.
+pub fn refresh(
+    problem: &mut Problem<'_, '_>,
+    noise: &mut SolverNoise,
+    at: &Eval,
+    steps: &mut [f64],
+) -> bool {
+    if !noise.stale(at.chi2) {
+        return true;
+    }
+    let Some(fresh) = measure(problem, at) else {
+        return false;
+    };
+    *noise = fresh;
+    steps.iter_mut().for_each(|h| *h = FD_STEP_START);
+    true
+}
+
 /// The solver's noise at `z`: ‖r(tolerance) − r(tolerance/10)‖, in residual units (as
 /// `verify` bounds a run's error by its distance to a refined run). `None` when interrupted.
 pub fn noise(problem: &mut Problem<'_, '_>, at: &Eval) -> Option<f64> {
@@ -254,12 +306,13 @@ pub fn after_step(small: bool, lambda: f64, weakest: f64, retried: bool) -> Afte
 
 /// Levenberg–Marquardt from `start` over the parameters `free` (the others held), bounded to
 /// the unit box, for at most `max_iterations`; stops early (unconverged) when interrupted.
+/// The solver's `noise` is measured again as χ² falls ([`refresh`]).
 pub fn levenberg_marquardt(
     problem: &mut Problem<'_, '_>,
     start: Eval,
     free: &[usize],
     steps: &mut [f64],
-    noise: f64,
+    noise: &mut SolverNoise,
     max_iterations: usize,
 ) -> Local {
     let mut cur = start;
@@ -268,7 +321,14 @@ pub fn levenberg_marquardt(
     let mut retried = false;
     let tries = problem.jobs.clamp(2, 4);
     for iteration in 0..max_iterations {
-        let Some(j) = jacobian(problem, &cur, free, steps, noise) else {
+        if !refresh(problem, noise, &cur, steps) {
+            return Local {
+                best: cur,
+                iterations: iteration,
+                converged: false,
+            };
+        }
+        let Some(j) = jacobian(problem, &cur, free, steps, noise.value) else {
             return Local {
                 best: cur,
                 iterations: iteration,
@@ -365,6 +425,16 @@ pub fn levenberg_marquardt(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_noise_is_stale_once_the_misfit_has_fallen_a_hundredfold() {
+        let n = SolverNoise {
+            value: 50.0,
+            at_chi2: 1e10,
+        };
+        assert!(!n.stale(1e10) && !n.stale(2e8) && !n.stale(1e8));
+        assert!(n.stale(0.99e8) && n.stale(30.0));
+    }
 
     #[test]
     fn a_small_gain_of_a_damped_step_is_tried_once_more_undamped() {

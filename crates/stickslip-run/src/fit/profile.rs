@@ -5,7 +5,7 @@
 //! χ² with one degree of freedom) is the profile's 95 % interval: unlike the covariance's, it
 //! follows a misfit that is not quadratic.
 
-use super::optimise::{MAX_ITERATIONS, levenberg_marquardt};
+use super::optimise::{MAX_ITERATIONS, SolverNoise, levenberg_marquardt};
 use super::problem::{Eval, Problem};
 use crate::schema::fit::FitProfile;
 
@@ -23,7 +23,7 @@ pub fn profile(
     sigma_z: f64,
     s2: f64,
     steps: &mut [f64],
-    noise: f64,
+    noise: &mut SolverNoise,
 ) -> Option<FitProfile> {
     problem.stage = "profile";
     let p = problem.params.len();

@@ -94,9 +94,10 @@ pub struct FitReport {
     pub noise_estimated: bool,
     /// The events' hysteresis, N.
     pub hysteresis_n: f64,
-    /// The solver's noise: ‖r(tolerance) − r(tolerance/10)‖ at the start of the local stage.
+    /// The solver's noise: ‖r(tolerance) − r(tolerance/10)‖ at the optimum (where the
+    /// uncertainty's Jacobian is taken).
     pub solver_noise: Option<f64>,
-    /// The finite-difference steps at the end, box units, per parameter.
+    /// The finite-difference steps of the uncertainty's Jacobian, box units, per parameter.
     pub fd_steps: Vec<f64>,
     /// `time.tolerance` of the fit's runs (null with fixed steps).
     pub time_tolerance: Option<f64>,
