@@ -1,5 +1,5 @@
 //! `cargo xtask …`: the project's automation entry point (test, validate, convergence, bench,
-//! maps, slurm-check, python-test, wheel).
+//! fit-study, maps, slurm-check, python-test, wheel).
 
 mod build_timing;
 mod maps;
@@ -33,6 +33,12 @@ Commands:
                 write reports/performance.{md,json} and reports/performance_*.svg
       --quick   smoke run (few, short runs; not for the report)
       --repeats N, --max-nodes N, --out DIR   (see crates/stickslip-convergence/src/bin/performance.rs)
+  fit-study     fit synthetic traces from known parameters through the run library's fit and
+                write reports/fit.{md,json} and reports/fit_*.svg: coverage of the 95 %
+                intervals, width against samples, Jacobians, costs (the fig2 and SFA targets),
+                the damped viscous SFA contact, identifiability; exits 1 if a verdict fails
+      --quick   smoke study (N = 30, few seeds) into target/fit-study/quick/report
+      --resume, --render-only, --out DIR, --jobs J   (`cargo xtask fit-study --help`)
   maps          run the showcase friction maps (maps/*.toml) and write reports/maps.md and
                 reports/maps_*.svg with their checks; exits 1 if a check fails
       --jobs J  points run in parallel (default: the available cores)
@@ -173,6 +179,7 @@ fn main() -> ExitCode {
         Some("convergence") => convergence(&args[1..]),
         Some("bench") => bench(&args[1..]),
         Some("maps") => maps::main(&args[1..], workspace_root()),
+        Some("fit-study") => stickslip_fit_study::cli(&args[1..], workspace_root()),
         Some("slurm-check") => slurm::main(workspace_root()),
         Some("test") => test_all::main(&args[1..], &workspace_root()),
         Some("build-timing") => build_timing::main(&workspace_root()),

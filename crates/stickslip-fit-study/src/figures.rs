@@ -1,0 +1,143 @@
+//! The study's figures, drawn with the reporting kit's one plotting layer: each seed's 95 %
+//! interval against the truth (coverage), the intervals' widths against the number of samples
+//! on log–log axes with the n^−½ guide, and the single fits' data and model (the kit's `fit`
+//! figure, as `stickslip fit` draws it).
+
+use crate::measures;
+use crate::record::{CoverageRun, SingleFit, WidthRun};
+use stickslip_report::palette::PALETTE;
+use stickslip_report::plot::{LegendAt, Marker, Panel, Segment, Series, render_svg};
+
+/// Pixels of one panel of the study's own figures.
+const PANEL: (u32, u32) = (620, 330);
+
+/// The last part of a key.
+fn short(key: &str) -> &str {
+    key.rsplit('.').next().unwrap_or(key)
+}
+
+/// One panel per set and parameter: per seed the fitted value and its 95 % interval as
+/// fitted/true − 1, the truth at 0; intervals missing the truth in a second colour.
+///
+/// # Errors
+/// A drawing error, as text.
+pub fn coverage_svg(runs: &[CoverageRun]) -> Result<String, String> {
+    let mut panels = Vec::new();
+    for run in runs {
+        for (key, truth) in &run.case.truth {
+            let mut hits = Vec::new();
+            let mut misses = Vec::new();
+            let mut ends = Vec::new();
+            let mut segments = Vec::new();
+            for f in &run.fits {
+                let Some(p) = f.param(key) else { continue };
+                let x = f.seed as f64;
+                let rel = |v: f64| v / truth - 1.0;
+                let hit = p.covers() == Some(true);
+                let color = if hit { PALETTE[0] } else { PALETTE[3] };
+                if let (Some(a), Some(b)) = (p.lo95, p.hi95) {
+                    segments.push(Segment {
+                        from: (x, rel(a)),
+                        to: (x, rel(b)),
+                        color,
+                        width: 2,
+                    });
+                    ends.push((x, rel(a)));
+                    ends.push((x, rel(b)));
+                }
+                if hit {
+                    hits.push((x, rel(p.value)));
+                } else {
+                    misses.push((x, rel(p.value)));
+                }
+            }
+            let c = measures::coverage(&run.fits, key);
+            let mut panel = Panel::new(
+                &format!(
+                    "set {} ({}): {} — {} of {} intervals hold the truth",
+                    run.case.id,
+                    run.case.scene.trim_end_matches(".toml"),
+                    short(key),
+                    c.covered,
+                    c.fits
+                ),
+                "noise seed",
+                &format!("{} fitted/true − 1", short(key)),
+            )
+            .with(vec![
+                Series::new("fitted, 95 % interval holds the truth", hits, PALETTE[0])
+                    .points()
+                    .marker(Marker::Circle),
+                Series::new("fitted, interval misses the truth", misses, PALETTE[3])
+                    .points()
+                    .marker(Marker::Triangle),
+                Series::new("", ends, PALETTE[7])
+                    .points()
+                    .marker(Marker::Cross),
+            ])
+            .hline(0.0, "truth")
+            .legend(LegendAt::UpperLeft)
+            .headroom(0.35);
+            panel.segments = segments;
+            panels.push(panel);
+        }
+    }
+    render_svg(&panels, 2, PANEL.0, PANEL.1)
+}
+
+/// Log–log panels, one per misfit: each parameter's median relative 95 % half-width against
+/// the number of samples, with the n^−½ guide.
+///
+/// # Errors
+/// A drawing error, as text.
+pub fn width_svg(w: &WidthRun) -> Result<String, String> {
+    let mut panels = Vec::new();
+    for (kind, fits) in [("events", &w.events), ("trace", &w.trace)] {
+        let series: Vec<Series> = w
+            .case
+            .truth
+            .iter()
+            .enumerate()
+            .map(|(i, (key, _))| {
+                let s = measures::scaling(fits, key, &w.levels);
+                Series::new(
+                    format!("{} (slope {:.2})", short(key), s.slope),
+                    s.points,
+                    PALETTE[i],
+                )
+                .marker(if i == 0 {
+                    Marker::Circle
+                } else {
+                    Marker::Square
+                })
+            })
+            .collect();
+        let mut panel = Panel::new(
+            &format!(
+                "{kind} misfit: set {}'s trace sampled more densely",
+                w.case.id
+            ),
+            "samples over the trace",
+            "median 95 % half-width / value",
+        )
+        .with(series)
+        .log_log()
+        .x_ticks(w.levels.iter().map(|&n| n as f64).collect());
+        panel.auto_guides(&[0.5], true);
+        panels.push(panel);
+    }
+    render_svg(&panels, 2, PANEL.0, PANEL.1)
+}
+
+/// A single fit's figure: the kit's fit.svg from the record's thinned curves.
+///
+/// # Errors
+/// A drawing error, as text.
+pub fn single_svg(s: &SingleFit) -> Result<String, String> {
+    stickslip_report::fit::svg(
+        &s.report,
+        &s.curves.t_s,
+        &s.curves.data_f_n,
+        &s.curves.model_f_n,
+    )
+}

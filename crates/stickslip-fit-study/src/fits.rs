@@ -1,0 +1,259 @@
+//! The study's sections: a case prepared once ([`crate::prepared`]), then one fit per noisy
+//! trace. Each section — the coverage of a set, the widths against samples, the single fits —
+//! is a function here returning its part of the record, with the Jacobian checks of its fits,
+//! each fit's CPU time and the χ² of the true model on its data.
+
+use crate::cases::{Case, Sizes};
+use crate::jacobian;
+use crate::prepared::{Prepared, prepare};
+use crate::record::{CoverageRun, Curves, FitSummary, JacobianCheck, SingleFit, WidthRun};
+use std::path::Path;
+use stickslip_run::fit::{FitOutcome, MisfitKind};
+
+/// The CPU time of this process so far (user and system, all threads), s: from
+/// `/proc/self/stat` in clock ticks of 1/100 s; none where unreadable.
+#[must_use]
+pub fn cpu_time_s() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The fields after the command's closing parenthesis: utime and stime are the 12th and
+    // 13th of them (fields 14 and 15 of the line).
+    let rest = text.rsplit_once(')')?.1;
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// The summary of `out`, a fit of `p`'s trace of `seed` with `samples`, begun at CPU time
+/// `cpu0`, with the χ² of the true model on the same data.
+fn summary(
+    p: &Prepared,
+    out: &FitOutcome,
+    (seed, samples): (u64, usize),
+    cpu0: Option<f64>,
+    jobs: usize,
+) -> Result<FitSummary, String> {
+    let mut s = FitSummary::new(&p.case, seed, samples, &out.report);
+    s.cpu_s = cpu0.zip(cpu_time_s()).map(|(a, b)| b - a);
+    s.chi2_truth = Some(jacobian::chi2_at_truth(p, out, jobs)?);
+    Ok(s)
+}
+
+/// A progress line.
+pub type Log<'a> = dyn FnMut(&str) + 'a;
+
+/// One line on a fit: its values and intervals against the truth, χ², runs and time.
+fn line(what: &str, s: &FitSummary) -> String {
+    let parts: Vec<String> = s
+        .params
+        .iter()
+        .filter(|p| p.key != "time_shift")
+        .map(|p| {
+            let short = p.key.rsplit('.').next().unwrap_or(&p.key);
+            let mark = match p.covers() {
+                Some(true) => "",
+                Some(false) => " MISSES",
+                None => " (not determined)",
+            };
+            format!(
+                "{short} {:.6e} [{}, {}]{mark}",
+                p.value,
+                p.lo95.map_or("–".into(), |v| format!("{v:.5e}")),
+                p.hi95.map_or("–".into(), |v| format!("{v:.5e}")),
+            )
+        })
+        .collect();
+    format!(
+        "{what}: {}; χ² {:.2} (truth {}) over {}, {} runs, {:.1} s{}",
+        parts.join("; "),
+        s.chi2,
+        s.chi2_truth.map_or("–".into(), |c| format!("{c:.2}")),
+        s.residuals,
+        s.evaluations,
+        s.wall_s,
+        s.cpu_s
+            .map_or_else(String::new, |c| format!(" ({:.2} cores)", c / s.wall_s))
+    )
+}
+
+/// Item 1: the coverage of `case` over the seeds 1…`sizes.seeds`, and the Jacobian check at
+/// the first seed's optimum.
+///
+/// # Errors
+/// A case that cannot be prepared, or a fit without any successful run.
+pub fn coverage(
+    root: &Path,
+    case: Case,
+    sizes: &Sizes,
+    jobs: usize,
+    log: &mut Log<'_>,
+) -> Result<(CoverageRun, JacobianCheck), String> {
+    let p = prepare(root, case)?;
+    log(&format!(
+        "{}: {} samples over {} s",
+        p.case.id, p.case.samples, p.case.end_s
+    ));
+    let mut fits = Vec::new();
+    let mut check = None;
+    for seed in 1..=sizes.seeds as u64 {
+        let trace = p.trace(p.case.samples, seed)?;
+        let cpu0 = cpu_time_s();
+        let out = p.fit(trace, MisfitKind::Events, jobs, false)?;
+        let s = summary(&p, &out, (seed, p.case.samples), cpu0, jobs)?;
+        log(&line(&format!("{} seed {seed}", p.case.id), &s));
+        if check.is_none() {
+            check = Some(jacobian::check(&p, &out, seed, jobs)?);
+        }
+        fits.push(s);
+    }
+    let check = check.ok_or("no seeds")?;
+    Ok((CoverageRun { case: p.case, fits }, check))
+}
+
+/// Item 2: `case` (set A) sampled at 1, 2, 4, … times its samples, `sizes.width_seeds` seeds
+/// per level, fitted with the events and the trace misfit given the known σF (so that the
+/// widths change with the samples alone); the Jacobian check of the trace misfit at its first
+/// fit.
+///
+/// # Errors
+/// As [`coverage`].
+pub fn width(
+    root: &Path,
+    case: Case,
+    sizes: &Sizes,
+    jobs: usize,
+    log: &mut Log<'_>,
+) -> Result<(WidthRun, JacobianCheck), String> {
+    let p = prepare(root, case)?;
+    let levels: Vec<usize> = (0..sizes.width_levels)
+        .map(|k| p.case.samples << k)
+        .collect();
+    let (mut events, mut trace_fits) = (Vec::new(), Vec::new());
+    let mut check = None;
+    for (k, &n) in levels.iter().enumerate() {
+        for s in 1..=sizes.width_seeds as u64 {
+            let seed = 1000 * (k as u64 + 1) + s;
+            for (kind, into) in [
+                (MisfitKind::Events, &mut events),
+                (MisfitKind::Trace, &mut trace_fits),
+            ] {
+                let cpu0 = cpu_time_s();
+                let out = p.fit(p.trace(n, seed)?, kind, jobs, true)?;
+                let sum = summary(&p, &out, (seed, n), cpu0, jobs)?;
+                log(&line(
+                    &format!("width, {} misfit, {n} samples, seed {seed}", kind.name()),
+                    &sum,
+                ));
+                if kind == MisfitKind::Trace && check.is_none() {
+                    check = Some(jacobian::check(&p, &out, seed, jobs)?);
+                }
+                into.push(sum);
+            }
+        }
+    }
+    let check = check.ok_or("no width fits")?;
+    Ok((
+        WidthRun {
+            case: p.case,
+            levels,
+            events,
+            trace: trace_fits,
+        },
+        check,
+    ))
+}
+
+/// Items 4 and 5: one fit of `case` (seed 1), its curves and its Jacobian check. With
+/// `stage = Some(k)` the fit is staged, as a user would stage it: first the case's first `k`
+/// parameters alone from the scene's own values (the others held there), then every parameter
+/// from the values the first stage found.
+///
+/// # Errors
+/// As [`coverage`].
+pub fn single(
+    root: &Path,
+    case: Case,
+    stage: Option<usize>,
+    jobs: usize,
+    log: &mut Log<'_>,
+) -> Result<(SingleFit, JacobianCheck), String> {
+    let mut p = prepare(root, case)?;
+    log(&format!(
+        "{}: {} samples over {} s",
+        p.case.id, p.case.samples, p.case.end_s
+    ));
+    let seed = 1;
+    let trace = p.trace(p.case.samples, seed)?;
+    let mut first_stage = None;
+    if let Some(k) = stage {
+        let mut case = p.case.clone();
+        case.params.truncate(k);
+        case.truth.truncate(k);
+        let first = Prepared {
+            case,
+            scene: p.scene.clone(),
+            curve: p.curve.clone(),
+        };
+        let cpu0 = cpu_time_s();
+        let out = first.fit(trace.clone(), MisfitKind::Events, jobs, false)?;
+        let s = summary(&first, &out, (seed, p.case.samples), cpu0, jobs)?;
+        log(&line(&format!("{} first stage", p.case.id), &s));
+        let found: Vec<String> = s
+            .params
+            .iter()
+            .map(|q| format!("{}={:e}", q.key, q.value))
+            .collect();
+        p.scene = p
+            .scene
+            .with_overrides(&found)
+            .map_err(|e| format!("{}: {e}", p.case.id))?;
+        first_stage = Some(s);
+    }
+    let cpu0 = cpu_time_s();
+    let out = p.fit(trace, MisfitKind::Events, jobs, false)?;
+    let summary = summary(&p, &out, (seed, p.case.samples), cpu0, jobs)?;
+    log(&line(&p.case.id, &summary));
+    let check = jacobian::check(&p, &out, seed, jobs)?;
+    Ok((
+        SingleFit {
+            case: p.case,
+            summary,
+            first_stage,
+            report: out.report.clone(),
+            curves: thin(&out, CURVE_BUCKETS),
+        },
+        check,
+    ))
+}
+
+/// Buckets of a figure's thinned curves.
+pub const CURVE_BUCKETS: usize = 600;
+
+/// The data and the model at the samples that keep each of `buckets` time buckets' least and
+/// largest values of either (so drops survive), in order.
+#[must_use]
+pub fn thin(out: &FitOutcome, buckets: usize) -> Curves {
+    let t = &out.trace.t_s;
+    let (d, m) = (&out.trace.f_n, &out.model_f_n);
+    let n = t.len().min(m.len());
+    let per = n.div_ceil(buckets.max(1)).max(1);
+    let mut keep = Vec::new();
+    for start in (0..n).step_by(per) {
+        let end = (start + per).min(n);
+        let arg = |f: &[f64], max: bool| {
+            (start..end)
+                .max_by(|&a, &b| {
+                    let o = f[a].total_cmp(&f[b]);
+                    if max { o } else { o.reverse() }
+                })
+                .unwrap_or(start)
+        };
+        keep.extend([arg(d, true), arg(d, false), arg(m, true), arg(m, false)]);
+    }
+    keep.sort_unstable();
+    keep.dedup();
+    Curves {
+        t_s: keep.iter().map(|&i| t[i]).collect(),
+        data_f_n: keep.iter().map(|&i| d[i]).collect(),
+        model_f_n: keep.iter().map(|&i| m[i]).collect(),
+    }
+}
