@@ -1,6 +1,7 @@
 //! `stickslip.fit`: the run library's fit of scene parameters to a measured trace
 //! (`stickslip_run::fit`) with the GIL released, Ctrl-C and progress through the bridge; the
-//! result as fit.json's dict with the fitted scene's TOML and the curves.
+//! result as fit.json's dict with the fitted scene's TOML and the curves, and with `out` the
+//! command line's three files (the reporting kit's `fit::write_outputs`).
 
 use crate::progress::{Bridge, Report};
 use crate::scene::PyScene;
@@ -15,9 +16,10 @@ use stickslip_run::fit::{Columns, FitError, FitOptions, MisfitKind, Progress, Tr
 /// ``columns`` as ``t=NAME,F=NAME``) or the arrays ``t`` (s), ``f`` (N) and ``x`` (m, or
 /// None). Returns ``{"report": fit.json's dict, "fitted_toml": str, "t": [...], "f":
 /// [...], "model_f": [...]}``; an interrupted fit returns its best model so far (report
-/// status ``"interrupted"``). Internal: use ``stickslip.fit``.
+/// status ``"interrupted"``). With ``out``, also writes fit.json, fit.svg and fitted.toml
+/// there as ``stickslip fit --out`` does. Internal: use ``stickslip.fit``.
 #[pyfunction]
-#[pyo3(signature = (scene, params, misfit = "events", path = None, columns = None, t = None, f = None, x = None, noise = None, jobs = 2, profile = None, progress = None))]
+#[pyo3(signature = (scene, params, misfit = "events", path = None, columns = None, t = None, f = None, x = None, noise = None, jobs = 2, profile = None, progress = None, out = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -33,6 +35,7 @@ pub fn fit<'py>(
     jobs: usize,
     profile: Option<String>,
     progress: Option<Py<PyAny>>,
+    out: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let kind = MisfitKind::from_name(misfit).map_err(|e| error(&e))?;
     let trace = match (path, t, f) {
@@ -86,6 +89,9 @@ pub fn fit<'py>(
         return Err(e);
     }
     let outcome = result.map_err(|e| error(&e))?;
+    if let Some(dir) = &out {
+        stickslip_report::fit::write_outputs(dir, &outcome).map_err(PyOSError::new_err)?;
+    }
     let json = serde_json::to_value(&outcome.report)
         .map_err(|e| PyRuntimeError::new_err(format!("cannot encode the report: {e}")))?;
     let d = PyDict::new(py);

@@ -65,9 +65,21 @@ def test_a_fit_finds_known_parameters_and_matches_the_command_line(trace, tmp_pa
     for d in (cli, report):
         d.pop("wall_s")
     assert cli == report
-    # And from the file through Python too.
-    again = stickslip.fit(scene(), path, PARAMS, columns={"t": "time", "F": "force"})
+    # And from the file through Python too, writing the command line's three files: fit.json
+    # equal but for the wall time, fit.svg and fitted.toml byte for byte.
+    mine = tmp_path / "py" / "fit"
+    again = stickslip.fit(scene(), path, PARAMS, columns={"t": "time", "F": "force"}, out=mine)
     assert again.values == r.values
+    written = json.loads((mine / "fit.json").read_text())
+    written.pop("wall_s")
+    assert written == cli
+    for name in ("fit.svg", "fitted.toml"):
+        assert (mine / name).read_bytes() == (out / name).read_bytes(), name
+    # A directory that cannot be made is an OSError.
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(OSError, match="cannot write"):
+        stickslip.fit(scene(), path, PARAMS, columns={"t": "time", "F": "force"}, out=blocker / "sub")
 
 
 def test_bad_input_raises_value_error_naming_the_field(trace) -> None:

@@ -1,9 +1,12 @@
 //! The figure of `stickslip fit` (fit.svg): the data and the fitted model over time with the
 //! matched events' onsets and peaks marked, and below it the residual F_model − F_data at the
-//! data's times against ±2σF.
+//! data's times against ±2σF; and [`write_outputs`], the fit's three files as both
+//! `stickslip fit` and `stickslip.fit(…, out=DIR)` write them.
 
 use crate::palette::PALETTE;
 use crate::plot::{LegendAt, Marker, Panel, Series, decimate};
+use std::path::Path;
+use stickslip_run::fit::FitOutcome;
 use stickslip_run::schema::fit::FitReport;
 
 /// Pixels of one panel.
@@ -97,4 +100,28 @@ pub fn svg(
         PANEL_PX.0,
         PANEL_PX.1,
     )
+}
+
+/// Writes `dir/fit.json`, `dir/fit.svg` and `dir/fitted.toml` of `outcome` (creating `dir`),
+/// each through the atomic writer.
+///
+/// # Errors
+/// The figure cannot be drawn (`cannot draw fit.svg: …`) or a file cannot be written
+/// (`cannot write DIR: …`).
+pub fn write_outputs(dir: &Path, outcome: &FitOutcome) -> Result<(), String> {
+    let r = &outcome.report;
+    let svg = svg(
+        r,
+        &outcome.trace.t_s,
+        &outcome.trace.f_n,
+        &outcome.model_f_n,
+    )
+    .map_err(|e| format!("cannot draw fit.svg: {e}"))?;
+    std::fs::create_dir_all(dir)
+        .and_then(|()| r.write(dir))
+        .and_then(|()| stickslip_run::atomic::write_atomic(dir, "fit.svg", svg.as_bytes()))
+        .and_then(|()| {
+            stickslip_run::atomic::write_atomic(dir, "fitted.toml", outcome.fitted_toml.as_bytes())
+        })
+        .map_err(|e| format!("cannot write {}: {e}", dir.display()))
 }

@@ -1,7 +1,7 @@
 //! `stickslip fit`: the run library's fit (`stickslip_run::fit`) of a scene's parameters to a
 //! measured trace; a line on stderr per stage (and every few seconds), the table of fitted
-//! values at the end, and `DIR/fit.json`, `DIR/fit.svg` (the reporting kit's `fit`) and
-//! `DIR/fitted.toml`, each through the atomic writer. Exit 0, 2 for bad input, 3 when no run
+//! values at the end, and `DIR/fit.json`, `DIR/fit.svg` and `DIR/fitted.toml`, written by the
+//! reporting kit's `fit::write_outputs` (each through the atomic writer). Exit 0, 2 for bad input, 3 when no run
 //! of the optimiser succeeded, 130 when interrupted (the best fit so far written, status
 //! `interrupted`).
 
@@ -178,23 +178,8 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         || crate::verify::fresh_dir("fit", &scene.name),
         Path::to_path_buf,
     );
-    let svg = match stickslip_report::fit::svg(
-        r,
-        &outcome.trace.t_s,
-        &outcome.trace.f_n,
-        &outcome.model_f_n,
-    ) {
-        Ok(s) => s,
-        Err(e) => return crate::fail(format!("cannot draw fit.svg: {e}"), Exit::Io),
-    };
-    let written = std::fs::create_dir_all(&dir)
-        .and_then(|()| r.write(&dir))
-        .and_then(|()| stickslip_run::atomic::write_atomic(&dir, "fit.svg", svg.as_bytes()))
-        .and_then(|()| {
-            stickslip_run::atomic::write_atomic(&dir, "fitted.toml", outcome.fitted_toml.as_bytes())
-        });
-    if let Err(e) = written {
-        return crate::fail(format!("cannot write {}: {e}", dir.display()), Exit::Io);
+    if let Err(e) = stickslip_report::fit::write_outputs(&dir, &outcome) {
+        return crate::fail(e, Exit::Io);
     }
     say!(
         "wrote {}, fit.svg and fitted.toml (stickslip run {} reproduces the fitted model)",

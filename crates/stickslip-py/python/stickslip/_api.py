@@ -407,6 +407,7 @@ def fit(
     jobs: int = 2,
     profile: Optional[str] = None,
     progress: Optional[Any] = None,
+    out: Optional[PathLike] = None,
 ) -> FitResult:
     """Fits scene parameters to a measured friction trace, as ``stickslip fit`` does
     (docs/fit.md): a space-filling sample of the bounds, then bounded Levenberg–Marquardt
@@ -422,7 +423,9 @@ def fit(
     deviation of F's noise, N (default: estimated from the data). ``profile``: a parameter whose
     profile likelihood to compute. ``progress``: None, or a callable receiving a dict
     (``stage``, ``evaluations``, ``failed_runs``, ``best_chi2``, ``elapsed_s``) a few times a
-    second.
+    second. ``out``: a directory to write ``fit.json``, ``fit.svg`` and ``fitted.toml`` into,
+    the files ``stickslip fit --out DIR`` writes (created if missing; an interrupted fit's best
+    model so far is written too).
 
     Returns a ``FitResult`` (``.values``, ``.stderr``, ``.intervals``, ``.correlation``,
     ``.unidentified``, ``.scene``, ``.to_dict()``: fit.json's content).
@@ -430,9 +433,10 @@ def fit(
     Raises ``ValueError`` for bad input (naming the field: an unknown key, a bound outside the
     key's range, lo >= hi, a trace whose t is not increasing, a value that is not a finite
     number, too few samples, a trace without events for the events misfit), ``SceneError``
-    for a value the scene refuses, ``OSError`` for a trace file that cannot be read,
-    ``RuntimeError`` when no run of the optimiser succeeded, ``Interrupted`` on Ctrl-C
-    (``.result``: the best fit so far, status ``"interrupted"``, or None before any run ended).
+    for a value the scene refuses, ``OSError`` for a trace file that cannot be read or an
+    ``out`` that cannot be written, ``RuntimeError`` when no run of the optimiser succeeded,
+    ``Interrupted`` on Ctrl-C (``.result``: the best fit so far, status ``"interrupted"``, or
+    None before any run ended).
     """
     if isinstance(params, str):
         params = [params]
@@ -451,6 +455,7 @@ def fit(
         "jobs": int(jobs),
         "profile": profile,
         "progress": progress,
+        "out": None if out is None else os.fspath(out),
     }
     if isinstance(data, (str, os.PathLike)):
         spec = ",".join(f"{k}={v}" for k, v in cols.items()) or None

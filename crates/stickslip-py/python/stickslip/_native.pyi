@@ -99,6 +99,7 @@ def fit(
     jobs: int = ...,
     profile: Optional[str] = ...,
     progress: Optional[Any] = ...,
+    out: Optional[str] = ...,
 ) -> Dict[str, Any]:
     """Internal: the fit of ``stickslip.fit``."""
 
