@@ -79,6 +79,7 @@ mod tests {
         let curve = ModelCurve {
             t_s: vec![0.0, 1.0],
             f_n: vec![0.0, 1.0],
+            x_m: Vec::new(),
         };
         let t = sample_times(1.0, 4000);
         assert_eq!(t.len(), 4000);

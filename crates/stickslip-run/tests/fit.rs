@@ -1,7 +1,8 @@
 //! Fits of synthetic traces: fig2's scene at N = 30 over 1 ms (four meltings), the trace made
 //! by the forward model itself from known parameters plus a known noise; the fit must find
-//! them within its 95 % intervals, its Jacobian must agree with central differences at two
-//! step sizes, and fitted.toml must be the fitted model.
+//! them within its 95 % intervals (also the trace misfit with the stamp's position X), its
+//! Jacobian must agree with central differences at two step sizes, and fitted.toml must be
+//! the fitted model.
 
 use stickslip_run::Scene;
 use stickslip_run::fit::forward::{Forward, Run};
@@ -112,6 +113,57 @@ fn an_event_fit_recovers_known_parameters_within_its_intervals() {
     let (_, output) =
         stickslip_run::run_in_memory(&fitted, &mut stickslip_run::Control::default()).unwrap();
     assert_eq!(output.events.onsets_s().len(), r.model_events.len());
+}
+
+#[test]
+fn a_trace_fit_with_the_stamps_position_fits_it_too() {
+    // The synthetic trace with the true model's X and noise of 1e-9 m added.
+    let scene = scene();
+    let trace = synthetic(&scene);
+    let forward = Forward::new(&scene, 1e-3).unwrap();
+    let truth = scene
+        .with_overrides(&[
+            format!("lubricant.tau_max={TAU_MAX:e}"),
+            format!("lubricant.gamma={GAMMA:e}"),
+        ])
+        .unwrap();
+    let Run::Done(curve) = (Forward {
+        base: truth,
+        ..forward
+    })
+    .run(&[], &[], None) else {
+        panic!("the true model failed")
+    };
+    let x: Vec<f64> = trace
+        .t_s
+        .iter()
+        .enumerate()
+        .map(|(i, &t)| curve.x_at(t) + if i % 2 == 0 { 1e-9 } else { -1e-9 })
+        .collect();
+    let n = trace.t_s.len();
+    let with_x = Trace::new(trace.t_s, trace.f_n, Some(x)).unwrap();
+    let out = stickslip_run::fit::fit(
+        &scene,
+        with_x,
+        &["lubricant.tau_max=5e5:2e6".to_string()],
+        FitOptions {
+            misfit: MisfitKind::Trace,
+            jobs: 2,
+            ..FitOptions::default()
+        },
+    )
+    .unwrap();
+    let r = &out.report;
+    // One residual per sample for F and one for X; σX estimated near the noise added.
+    assert_eq!(r.residuals, 2 * n);
+    let sx = r.noise_x_m.unwrap();
+    assert!(sx > 3e-10 && sx < 3e-9, "{sx}");
+    let p = r.parameter("lubricant.tau_max").unwrap();
+    let (lo, hi) = (p.lo95.unwrap(), p.hi95.unwrap());
+    assert!(
+        lo <= TAU_MAX && TAU_MAX <= hi,
+        "{TAU_MAX} not in [{lo}, {hi}]"
+    );
 }
 
 #[test]

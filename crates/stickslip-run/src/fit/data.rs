@@ -1,5 +1,5 @@
 //! The measured trace a fit reads: a CSV file with a header line and columns `t` (s) and `F`
-//! (N), optionally `X` (m), other names mapped by `--columns t=NAME,F=NAME,X=NAME`; read under
+//! (N), optionally `X` (m, the stamp's position, which the trace misfit fits too), other names mapped by `--columns t=NAME,F=NAME,X=NAME`; read under
 //! the trace file's cap ([`crate::bounded::TRACE`]) and checked before any run: every cell a
 //! finite number, t ≥ 0 (the model's drive starts at t = 0) and strictly increasing, at least
 //! [`MIN_SAMPLES`] samples. The noise of F is estimated from the data
@@ -249,12 +249,24 @@ pub const NOISE_FLOOR_OF_RANGE: f64 = 1e-6;
 /// span.
 #[must_use]
 pub fn noise_sigma_n(trace: &Trace) -> f64 {
-    let f = &trace.f_n;
-    let mut d: Vec<f64> = f.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
+    noise_sigma(&trace.f_n)
+}
+
+/// The standard deviation of the noise of evenly or unevenly sampled values `v` (F in N, or
+/// the stamp's position X in m), estimated as [`noise_sigma_n`] describes; at least
+/// [`NOISE_FLOOR_OF_RANGE`] of their span.
+#[must_use]
+pub fn noise_sigma(v: &[f64]) -> f64 {
+    let mut d: Vec<f64> = v.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
     let m = median(&mut d.clone());
     let mut dev: Vec<f64> = d.iter_mut().map(|x| (*x - m).abs()).collect();
     let sigma = 1.4826 * median(&mut dev) / 6f64.sqrt();
-    sigma.max(NOISE_FLOOR_OF_RANGE * trace.f_range_n())
+    let (lo, hi) = v
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    sigma.max(NOISE_FLOOR_OF_RANGE * (hi - lo))
 }
 
 #[cfg(test)]

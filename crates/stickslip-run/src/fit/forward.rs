@@ -1,7 +1,8 @@
 //! The fit's forward runs: the scene with the parameters' values applied as `--set` overrides
 //! (exactly as the command line's `--set`, so the fitted scene is the scene a user would run),
-//! run by the driver with a null sink while an observer records the friction force at every
-//! step (the model's F at the data's times is interpolated from those).
+//! run by the driver with a null sink while an observer records the friction force and the
+//! stamp's position at every step (the model's F and X at the data's times are interpolated
+//! from those).
 //!
 //! Every run of a fit also carries the fit's settings: `time.end` at the trace's end (plus the
 //! largest time shift), no profile times, and with adaptive steps a tolerance tightened by
@@ -127,6 +128,7 @@ fn run_scene(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
         let p = &sim.state().physical;
         curve.t_s.push(p.drive.t_s);
         curve.f_n.push(p.force_n);
+        curve.x_m.push(p.drive.x_m);
     };
     let mut control = Control {
         interrupt,

@@ -15,9 +15,10 @@
 //!   trace's end with zero peak and drop; the model's extra events count as drops the data do
 //!   not have, √(Σ drop²)/(√2·σF).
 //! - **trace**: F at each of the data's times, the model's at t + shift (a fitted time shift),
-//!   over σF.
+//!   over σF; and when the trace has the stamp's position X, X at each of the data's times
+//!   likewise, over σX (estimated from the data as σF is). The events misfit uses F alone.
 
-use super::data::{Trace, noise_sigma_n};
+use super::data::{Trace, noise_sigma, noise_sigma_n};
 use super::error::FitError;
 use super::events::{Event, SMOOTH, Windows, find, refine, refine_model};
 
@@ -62,34 +63,49 @@ pub const HYSTERESIS_SIGMAS: f64 = 10.0;
 /// noise are no events either.
 pub const HYSTERESIS_OF_RANGE: f64 = 0.05;
 
-/// The model's force over time, as a forward run recorded it (every step).
+/// The model's force and stamp position over time, as a forward run recorded them (every
+/// step).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ModelCurve {
     /// Step times, s (increasing).
     pub t_s: Vec<f64>,
     /// Friction force at those times, N.
     pub f_n: Vec<f64>,
+    /// The stamp's position at those times, m (empty: not recorded, taken as 0).
+    pub x_m: Vec<f64>,
 }
 
 impl ModelCurve {
     /// F at `t`, linearly interpolated between steps (the nearest end outside them).
     #[must_use]
     pub fn at(&self, t: f64) -> f64 {
-        let n = self.t_s.len();
-        if n == 0 {
-            return 0.0;
-        }
-        let i = self.t_s.partition_point(|&x| x <= t);
-        if i == 0 {
-            return self.f_n[0];
-        }
-        if i == n {
-            return self.f_n[n - 1];
-        }
-        let (t0, t1) = (self.t_s[i - 1], self.t_s[i]);
-        let w = (t - t0) / (t1 - t0);
-        self.f_n[i - 1] + w * (self.f_n[i] - self.f_n[i - 1])
+        interpolate(&self.t_s, &self.f_n, t)
     }
+
+    /// X at `t`, likewise (0 when X was not recorded).
+    #[must_use]
+    pub fn x_at(&self, t: f64) -> f64 {
+        interpolate(&self.t_s, &self.x_m, t)
+    }
+}
+
+/// `v(t)` linearly interpolated between the times `t_s` (the nearest end outside them; 0 when
+/// `v` does not have a value per time).
+fn interpolate(t_s: &[f64], v: &[f64], t: f64) -> f64 {
+    let n = t_s.len();
+    if n == 0 || v.len() != n {
+        return 0.0;
+    }
+    let i = t_s.partition_point(|&x| x <= t);
+    if i == 0 {
+        return v[0];
+    }
+    if i == n {
+        return v[n - 1];
+    }
+    let (t0, t1) = (t_s[i - 1], t_s[i]);
+    let w = (t - t0) / (t1 - t0);
+    v[i - 1] + w * (v[i] - v[i - 1])
 }
 
 /// What a fit compares with: the data, their noise, and (events misfit) their events.
@@ -101,6 +117,8 @@ pub struct Target {
     pub trace: Trace,
     /// σF, N: given, or estimated from the data.
     pub sigma_f_n: f64,
+    /// σX, m, estimated from the data, when the trace has X and the misfit is the trace's.
+    pub sigma_x_m: Option<f64>,
     /// Whether σF was estimated from the data.
     pub sigma_estimated: bool,
     /// The events' hysteresis, N: max(10σF, 5 % of F's span).
@@ -156,6 +174,10 @@ impl Target {
                 ),
             ));
         }
+        let sigma_x_m = match (kind, &trace.x_m) {
+            (MisfitKind::Trace, Some(x)) => Some(noise_sigma(x)),
+            _ => None,
+        };
         let sigma_onset_s = events
             .iter()
             .map(|e| {
@@ -172,6 +194,7 @@ impl Target {
             kind,
             trace,
             sigma_f_n,
+            sigma_x_m,
             sigma_estimated: noise_n.is_none(),
             hysteresis_n,
             events,
@@ -185,7 +208,7 @@ impl Target {
     pub fn len(&self) -> usize {
         match self.kind {
             MisfitKind::Events => 3 * self.events.len() + 1,
-            MisfitKind::Trace => self.trace.t_s.len(),
+            MisfitKind::Trace => self.trace.t_s.len() * (1 + usize::from(self.sigma_x_m.is_some())),
         }
     }
 
@@ -205,12 +228,20 @@ impl Target {
                 // The model's events too, for fit.json and the figure (not in the misfit).
                 let found = find(t, &model_f_n, self.hysteresis_n);
                 let model_events = refine_model(t, &|x| model.at(x + shift_s), &self.found, &found);
+                let mut residuals: Vec<f64> = model_f_n
+                    .iter()
+                    .zip(&self.trace.f_n)
+                    .map(|(m, d)| (m - d) / self.sigma_f_n)
+                    .collect();
+                if let (Some(sx), Some(x)) = (self.sigma_x_m, &self.trace.x_m) {
+                    residuals.extend(
+                        t.iter()
+                            .zip(x)
+                            .map(|(&ti, d)| (model.x_at(ti + shift_s) - d) / sx),
+                    );
+                }
                 Compared {
-                    residuals: model_f_n
-                        .iter()
-                        .zip(&self.trace.f_n)
-                        .map(|(m, d)| (m - d) / self.sigma_f_n)
-                        .collect(),
+                    residuals,
                     model_f_n,
                     model_events,
                 }
@@ -255,7 +286,8 @@ impl Target {
     }
 
     /// The residuals of a model that could not be run: every data event missing (events), or
-    /// F = 0 throughout (trace); a failed run costs as much as a model without any of the data.
+    /// F = 0 (and X = 0) throughout (trace); a failed run costs as much as a model without any
+    /// of the data.
     #[must_use]
     pub fn failed(&self) -> Vec<f64> {
         self.compare(&ModelCurve::default(), 0.0).residuals
@@ -292,6 +324,7 @@ mod tests {
         let data = ModelCurve {
             t_s: target.trace.t_s.clone(),
             f_n: target.trace.f_n.clone(),
+            x_m: Vec::new(),
         };
         let same = target.compare(&data, 0.0);
         assert_eq!(same.residuals.len(), target.len());
@@ -305,6 +338,7 @@ mod tests {
         let shifted = ModelCurve {
             t_s: s.t_s.clone(),
             f_n: s.f_n,
+            x_m: Vec::new(),
         };
         let r = target.compare(&shifted, 0.0).residuals;
         assert!(r[0] < -1.0, "an earlier onset: {r:?}");
@@ -319,6 +353,39 @@ mod tests {
         assert!(off <= 6, "{off} samples off");
         // A failed run is no better than missing every event.
         assert!(target.failed().iter().map(|r| r * r).sum::<f64>() > 1.0);
+    }
+
+    #[test]
+    fn the_trace_misfit_fits_x_when_the_trace_has_it() {
+        // F a sawtooth, X a staircase rising by 1 µm at each drop.
+        let s = sawtooth(0.0);
+        let x: Vec<f64> = s.t_s.iter().map(|&t| 1e-6 * (t / 1e-4).floor()).collect();
+        let trace = Trace::new(s.t_s.clone(), s.f_n.clone(), Some(x.clone())).unwrap();
+        let target = Target::new(trace.clone(), MisfitKind::Trace, Some(1e-3)).unwrap();
+        let n = trace.t_s.len();
+        assert_eq!(target.len(), 2 * n);
+        let sx = target.sigma_x_m.unwrap();
+        assert!(sx > 0.0 && sx < 1e-6, "{sx}");
+        let model = |dx: f64| ModelCurve {
+            t_s: trace.t_s.clone(),
+            f_n: trace.f_n.clone(),
+            x_m: x.iter().map(|v| v + dx).collect(),
+        };
+        let same = target.compare(&model(0.0), 0.0).residuals;
+        assert_eq!(same.len(), 2 * n);
+        assert!(same.iter().all(|r| r.abs() < 1e-9));
+        // X off by 3σX everywhere: every X residual is 3, every F residual 0.
+        let off = target.compare(&model(3.0 * sx), 0.0).residuals;
+        assert!(off[..n].iter().all(|r| r.abs() < 1e-9));
+        assert!(
+            off[n..].iter().all(|r| (r - 3.0).abs() < 1e-6),
+            "{:?}",
+            &off[n..n + 3]
+        );
+        // The events misfit leaves X out.
+        let events = Target::new(trace, MisfitKind::Events, Some(1e-3)).unwrap();
+        assert!(events.sigma_x_m.is_none());
+        assert_eq!(events.len(), 3 * events.events.len() + 1);
     }
 
     #[test]

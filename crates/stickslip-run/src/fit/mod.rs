@@ -321,6 +321,7 @@ pub fn fit(
         residual_sigma: unc.as_ref().map(|u| u.residual_sigma),
         noise_n: target.sigma_f_n,
         noise_estimated: target.sigma_estimated,
+        noise_x_m: target.sigma_x_m,
         hysteresis_n: target.hysteresis_n,
         solver_noise: noise.map(|n| n.value),
         fd_steps: steps,

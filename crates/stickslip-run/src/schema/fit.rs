@@ -92,6 +92,10 @@ pub struct FitReport {
     pub noise_n: f64,
     /// Whether `noise_n` was estimated from the data (else given).
     pub noise_estimated: bool,
+    /// σX, m: the noise of the stamp's position, estimated from the data, when the trace has
+    /// X and the trace misfit fits it (null otherwise).
+    #[serde(default)]
+    pub noise_x_m: Option<f64>,
     /// The events' hysteresis, N.
     pub hysteresis_n: f64,
     /// The solver's noise: ‖r(tolerance) − r(tolerance/10)‖ at the optimum (where the
