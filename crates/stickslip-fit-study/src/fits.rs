@@ -225,16 +225,21 @@ pub fn single(
     ))
 }
 
-/// Buckets of a figure's thinned curves.
-pub const CURVE_BUCKETS: usize = 600;
+/// Buckets of a figure's thinned curves (with the least and largest of data and model in
+/// each, at most four points a bucket: enough for a panel a few hundred pixels wide).
+pub const CURVE_BUCKETS: usize = 300;
 
-/// The data and the model at the samples that keep each of `buckets` time buckets' least and
-/// largest values of either (so drops survive), in order.
+/// The data and the model of `out` thinned to [`CURVE_BUCKETS`] buckets ([`thin_curves`]).
 #[must_use]
 pub fn thin(out: &FitOutcome, buckets: usize) -> Curves {
-    let t = &out.trace.t_s;
-    let (d, m) = (&out.trace.f_n, &out.model_f_n);
-    let n = t.len().min(m.len());
+    thin_curves(&out.trace.t_s, &out.trace.f_n, &out.model_f_n, buckets)
+}
+
+/// The samples of `(t, data, model)` that keep each of `buckets` runs of samples' least and
+/// largest values of either (so drops survive), in order.
+#[must_use]
+pub fn thin_curves(t: &[f64], d: &[f64], m: &[f64], buckets: usize) -> Curves {
+    let n = t.len().min(d.len()).min(m.len());
     let per = n.div_ceil(buckets.max(1)).max(1);
     let mut keep = Vec::new();
     for start in (0..n).step_by(per) {
@@ -255,5 +260,30 @@ pub fn thin(out: &FitOutcome, buckets: usize) -> Curves {
         t_s: keep.iter().map(|&i| t[i]).collect(),
         data_f_n: keep.iter().map(|&i| d[i]).collect(),
         model_f_n: keep.iter().map(|&i| m[i]).collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_each_buckets_extremes_in_order() {
+        let t: Vec<f64> = (0..1000).map(f64::from).collect();
+        let d: Vec<f64> = t.iter().map(|x| (x / 37.0).sin()).collect();
+        let m: Vec<f64> = t
+            .iter()
+            .map(|x| if *x == 500.0 { 9.0 } else { 0.0 })
+            .collect();
+        let c = thin_curves(&t, &d, &m, 10);
+        assert!(c.t_s.len() <= 40 && c.t_s.len() >= 20, "{}", c.t_s.len());
+        assert!(c.t_s.windows(2).all(|w| w[0] < w[1]));
+        // The model's lone spike and the data's extremes survive.
+        assert!(c.model_f_n.contains(&9.0));
+        let top = d.iter().copied().fold(f64::MIN, f64::max);
+        assert!(c.data_f_n.contains(&top));
+        // Thinning again to as many buckets keeps what is there.
+        let again = thin_curves(&c.t_s, &c.data_f_n, &c.model_f_n, 10);
+        assert!(again.model_f_n.contains(&9.0));
     }
 }

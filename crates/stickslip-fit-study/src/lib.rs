@@ -151,7 +151,7 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
             fits::width(root, cases::set_a(&sizes), &sizes, jobs, l)
         })?;
     jacobians.push(jw);
-    let (first_slip, jf): (SingleFit, JacobianCheck) =
+    let (mut first_slip, jf): (SingleFit, JacobianCheck) =
         section(opts, "first-slip", &mut times, log, &mut |l| {
             fits::single(root, cases::first_slip(&sizes), None, jobs, l)
         })?;
@@ -175,11 +175,21 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
         jacobians.push(js);
         first_slip_staged = Some(f);
     }
-    let (viscous, jv): (SingleFit, JacobianCheck) =
+    let (mut viscous, jv): (SingleFit, JacobianCheck) =
         section(opts, "viscous-staged", &mut times, log, &mut |l| {
             fits::single(root, cases::viscous(&sizes), staged, jobs, l)
         })?;
     jacobians.push(jv);
+    // The figures' curves as thin as the record keeps them (a section kept from an earlier
+    // run may hold more).
+    let mut singles: Vec<&mut SingleFit> = vec![&mut first_slip, &mut viscous];
+    if let Some(f) = first_slip_staged.as_mut() {
+        singles.push(f);
+    }
+    for f in singles {
+        let c = &f.curves;
+        f.curves = fits::thin_curves(&c.t_s, &c.data_f_n, &c.model_f_n, fits::CURVE_BUCKETS);
+    }
     Ok(Study {
         sizes,
         host: Host {
