@@ -17,7 +17,9 @@ fn short(key: &str) -> &str {
 }
 
 /// One panel per set and parameter: per seed the fitted value and its 95 % interval as
-/// fitted/true − 1, the truth at 0; intervals missing the truth in a second colour.
+/// fitted/true − 1, the truth at 0; intervals missing the truth in a second colour. The axis
+/// spans the fits that reach the true model's χ²; a fit that stops short of it and lies
+/// beyond is drawn at the axis's edge with its own marker.
 ///
 /// # Errors
 /// A drawing error, as text.
@@ -25,30 +27,59 @@ pub fn coverage_svg(runs: &[CoverageRun]) -> Result<String, String> {
     let mut panels = Vec::new();
     for run in runs {
         for (key, truth) in &run.case.truth {
+            let rel = |v: f64| v / truth - 1.0;
+            // The axis: the reaching fits' values and intervals (every fit's when none reach).
+            let reaching: Vec<_> = run
+                .fits
+                .iter()
+                .filter(|f| measures::reached(std::slice::from_ref(*f)) == 1)
+                .collect();
+            let basis = if reaching.is_empty() {
+                run.fits.iter().collect()
+            } else {
+                reaching
+            };
+            let (mut lo, mut hi) = (0.0f64, 0.0f64);
+            for p in basis.iter().filter_map(|f| f.param(key)) {
+                for v in [Some(p.value), p.lo95, p.hi95].into_iter().flatten() {
+                    lo = lo.min(rel(v));
+                    hi = hi.max(rel(v));
+                }
+            }
+            let pad = 0.08 * (hi - lo).max(f64::MIN_POSITIVE);
+            let (lo, hi) = (lo - pad, hi + pad);
+            let clamp = |y: f64| y.clamp(lo, hi);
             let mut hits = Vec::new();
             let mut misses = Vec::new();
+            let mut beyond = Vec::new();
             let mut ends = Vec::new();
             let mut segments = Vec::new();
             for f in &run.fits {
                 let Some(p) = f.param(key) else { continue };
                 let x = f.seed as f64;
-                let rel = |v: f64| v / truth - 1.0;
                 let hit = p.covers() == Some(true);
                 let color = if hit { PALETTE[0] } else { PALETTE[3] };
                 if let (Some(a), Some(b)) = (p.lo95, p.hi95) {
                     segments.push(Segment {
-                        from: (x, rel(a)),
-                        to: (x, rel(b)),
+                        from: (x, clamp(rel(a))),
+                        to: (x, clamp(rel(b))),
                         color,
                         width: 2,
                     });
-                    ends.push((x, rel(a)));
-                    ends.push((x, rel(b)));
+                    ends.extend(
+                        [rel(a), rel(b)]
+                            .into_iter()
+                            .filter(|y| (lo..=hi).contains(y))
+                            .map(|y| (x, y)),
+                    );
                 }
-                if hit {
-                    hits.push((x, rel(p.value)));
+                let y = rel(p.value);
+                if !(lo..=hi).contains(&y) {
+                    beyond.push((x, clamp(y)));
+                } else if hit {
+                    hits.push((x, y));
                 } else {
-                    misses.push((x, rel(p.value)));
+                    misses.push((x, y));
                 }
             }
             let c = measures::coverage(&run.fits, key);
@@ -64,20 +95,32 @@ pub fn coverage_svg(runs: &[CoverageRun]) -> Result<String, String> {
                 "noise seed",
                 &format!("{} fitted/true − 1", short(key)),
             )
-            .with(vec![
-                Series::new("fitted, 95 % interval holds the truth", hits, PALETTE[0])
+            .with(
+                [
+                    Series::new("fitted, 95 % interval holds the truth", hits, PALETTE[0])
+                        .points()
+                        .marker(Marker::Circle),
+                    Series::new("fitted, interval misses the truth", misses, PALETTE[3])
+                        .points()
+                        .marker(Marker::Triangle),
+                    Series::new(
+                        "fitted beyond the axis (short of the truth's χ²)",
+                        beyond,
+                        PALETTE[5],
+                    )
                     .points()
-                    .marker(Marker::Circle),
-                Series::new("fitted, interval misses the truth", misses, PALETTE[3])
-                    .points()
-                    .marker(Marker::Triangle),
-                Series::new("", ends, PALETTE[7])
-                    .points()
-                    .marker(Marker::Cross),
-            ])
+                    .marker(Marker::Square),
+                    Series::new("", ends, PALETTE[7])
+                        .points()
+                        .marker(Marker::Cross),
+                ]
+                .into_iter()
+                .filter(|s| !s.points.is_empty())
+                .collect(),
+            )
             .hline(0.0, "truth")
             .legend(LegendAt::UpperLeft)
-            .headroom(0.35);
+            .y_range(lo, hi + 0.45 * (hi - lo));
             panel.segments = segments;
             panels.push(panel);
         }
@@ -129,15 +172,25 @@ pub fn width_svg(w: &WidthRun) -> Result<String, String> {
     render_svg(&panels, 2, PANEL.0, PANEL.1)
 }
 
-/// A single fit's figure: the kit's fit.svg from the record's thinned curves.
+/// A single fit's figure: the kit's fit.svg from the record's thinned curves, over the part
+/// of the window with the meltings (from a quarter of their span before the first onset; the
+/// slow loading before it is a straight rise).
 ///
 /// # Errors
 /// A drawing error, as text.
 pub fn single_svg(s: &SingleFit) -> Result<String, String> {
+    let c = &s.curves;
+    let end = c.t_s.last().copied().unwrap_or(0.0);
+    let from = s.report.data_events.first().map_or(0.0, |e| {
+        let t0 = e.t_onset_s;
+        (t0 - 0.25 * (end - t0)).max(0.0)
+    });
+    let keep: Vec<usize> = (0..c.t_s.len()).filter(|&i| c.t_s[i] >= from).collect();
+    let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
     stickslip_report::fit::svg(
         &s.report,
-        &s.curves.t_s,
-        &s.curves.data_f_n,
-        &s.curves.model_f_n,
+        &pick(&c.t_s),
+        &pick(&c.data_f_n),
+        &pick(&c.model_f_n),
     )
 }

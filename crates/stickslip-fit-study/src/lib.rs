@@ -12,6 +12,8 @@
 //!   samples (item 2), the single fits (items 4 and 5);
 //! - [`jacobian`]: the fit's Jacobian at its optimum against central differences at two
 //!   steps (item 3);
+//! - [`sigmas`]: the events misfit's σ against the residuals' scatter at the truth (item 1's
+//!   explanation);
 //! - [`record`]: `fit.json`, the record every number of the report comes from;
 //! - [`measures`]: coverage, slopes, agreement, costs and identifiability from the record, with
 //!   targets and verdicts (item 6 among them);
@@ -28,6 +30,7 @@ pub mod measures;
 pub mod prepared;
 pub mod record;
 pub mod report;
+pub mod sigmas;
 pub mod synth;
 
 use record::{CoverageRun, Host, JacobianCheck, SectionTime, SingleFit, Study, WidthRun};
@@ -180,6 +183,12 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
             fits::single(root, cases::viscous(&sizes), staged, jobs, l)
         })?;
     jacobians.push(jv);
+    let sigmas: Vec<sigmas::SigmaCheck> = section(opts, "sigmas", &mut times, log, &mut |_| {
+        [cases::set_a(&sizes), cases::set_b(&sizes)]
+            .into_iter()
+            .map(|c| sigmas::check(root, c, &sizes))
+            .collect()
+    })?;
     // The figures' curves as thin as the record keeps them (a section kept from an earlier
     // run may hold more).
     let mut singles: Vec<&mut SingleFit> = vec![&mut first_slip, &mut viscous];
@@ -203,6 +212,7 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
         coverage: vec![a, b],
         width,
         jacobians,
+        sigmas,
         first_slip,
         first_slip_staged,
         viscous,

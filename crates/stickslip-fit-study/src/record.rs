@@ -313,6 +313,9 @@ pub struct Study {
     pub width: WidthRun,
     /// Item 3: Jacobians at optima.
     pub jacobians: Vec<JacobianCheck>,
+    /// The events misfit's σ against the residuals' scatter at the truth, per coverage set.
+    #[serde(default)]
+    pub sigmas: Vec<crate::sigmas::SigmaCheck>,
     /// Item 4: the four-parameter fit of the SFA contact's first slip.
     pub first_slip: SingleFit,
     /// The same, staged: τmax and γ first, then all four from there.

@@ -230,6 +230,21 @@ pub fn markdown(st: &Study) -> String {
          the same meltings at any N.\n\n",
     );
     out.push_str(&body);
+    out.push_str(
+        "## What building the study changed in the fit\n\n\
+         - **A stalled local stage** (`fit/optimise`, `after_step`): in a long, narrow valley — \
+         the SFA contact's first onset fixes τmax far more sharply than γ — the damping the \
+         steep direction needs stopped every step along the valley, each step gained a sliver \
+         of χ², and the local stage declared convergence far from the optimum. A small gain \
+         from a step the damping held back now starts the next iteration undamped in the \
+         weakest direction, once per stall.\n\
+         - **The solver's noise measured far off** (`fit/optimise`, `SolverNoise`): it was \
+         measured once, at the global sample's best point, where the residuals — and with \
+         them the solver's noise — are large, and the difference steps grown above it stayed \
+         a twentieth of the box to the end, so the uncertainty came from a secant. It is now \
+         measured again as χ² falls a hundredfold, and at the optimum for the uncertainty's \
+         Jacobian.\n",
+    );
     out
 }
 
@@ -301,6 +316,29 @@ fn coverage_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
                 measured: format!("{} of {} ({})", c.covered, c.fits, pct(c.share)),
                 verdict: verdict(c.pass).into(),
             });
+        }
+    }
+    if !st.sigmas.is_empty() {
+        let _ = writeln!(
+            out,
+            "\nThe misfit's σ against the data's scatter: the residuals of the true model \
+             against each seed's noisy trace (what a fit sees at the truth, nothing fitted), \
+             by kind over the seeds. Each is a difference over its σ, so their root mean square \
+             is 1 when the σ are right; above 1 the weights claim more precision than the data \
+             have.\n\n| set | residuals | count | mean | root mean square |\n|---|---|---|---|---|"
+        );
+        for c in &st.sigmas {
+            for (i, r) in c.rows.iter().enumerate() {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {} |",
+                    if i == 0 { c.case.as_str() } else { "" },
+                    r.kind,
+                    r.count,
+                    sig(r.mean, 2),
+                    sig(r.rms, 3)
+                );
+            }
         }
     }
     let _ = writeln!(
@@ -679,9 +717,9 @@ fn cost_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
     let _ = writeln!(
         out,
         "![the first slip's direct fit: data, model and residual]({})\n\nWhat to see: the \
-         data and the fitted model over the window with the events' onsets and peaks, and the \
-         residual against ±2σF (the curves thinned to each time bucket's extremes for the \
-         record).\n",
+         data and the fitted model over the meltings (from a quarter of their span before the \
+         first onset) with the events' onsets and peaks, and the residual against ±2σF (the \
+         curves thinned to each time bucket's extremes for the record).\n",
         crate::report::FIRST_SLIP_SVG
     );
     if let Some(g) = &st.first_slip_staged {
