@@ -86,6 +86,7 @@ pub fn check(
     let b = rebuild(p, out)?;
     let params = &b.params;
     let mut problem = Problem::new(&b.forward, params, &b.target, jobs);
+    problem.level = b.forward.level_of(r.time_tolerance);
     let z: Vec<f64> = params
         .iter()
         .zip(&r.parameters)
@@ -99,8 +100,8 @@ pub fn check(
     let noise = optimise::noise(&mut problem, &at).ok_or_else(interrupted)?;
     let mut steps = r.fd_steps.clone();
     let free: Vec<usize> = (0..params.len()).collect();
-    let j =
-        optimise::jacobian(&mut problem, &at, &free, &mut steps, noise).ok_or_else(interrupted)?;
+    let j = optimise::jacobian(&mut problem, &at, &free, &mut steps, noise, true)
+        .ok_or_else(interrupted)?;
     let mut columns = Vec::new();
     for (k, column) in j.iter().enumerate() {
         let mut diffs = Vec::new();

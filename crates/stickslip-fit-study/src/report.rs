@@ -174,9 +174,9 @@ pub fn markdown(st: &Study) -> String {
          added from a seeded ChaCha8 stream — through the run library's fit \
          (`stickslip_run::fit::fit`, what `stickslip fit` runs; [docs/fit.md](../docs/fit.md) \
          states its misfits, optimiser and uncertainty), with the noise estimated from the data \
-         as a user's fit does. The true trace is made by the fit's own forward run (the \
-         scene's tolerance / 100), so a model at the truth differs from the data by the noise \
-         alone. The whole study took **{wall}** on {cores} cores, each fit running {jobs} \
+         as a user's fit does. The true trace is made by the fit's own forward run at the \
+         scene's tolerance / 10⁶, a tenth of the tightest a fit tightens to, so that it stands \
+         for a measurement: the model's converged answer plus noise. The whole study took **{wall}** on {cores} cores, each fit running {jobs} \
          forward runs at a time; the host was shared with other work, and over the study's {n} \
          fits the process had a median of {used} cores (its CPU time over the wall time, per \
          fit in §4), so the wall times are upper bounds of an idle host's.\n\n",

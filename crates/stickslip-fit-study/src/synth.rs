@@ -1,6 +1,8 @@
 //! Synthetic traces from known parameters: the scene with the true values run once by the
-//! fit's own forward model (the fit's settings and tolerance, so a fit at the truth differs
-//! from the data by the noise alone), its F sampled at evenly spaced times (linearly
+//! fit's own forward model (the fit's settings) at a tenth of the tightest tolerance a fit may
+//! tighten to (the scene's tolerance / 10⁶), so that the data stand for a measurement — the
+//! model's exact answer plus noise — and a fit at the truth differs from them by the noise
+//! and its own solver's error alone; its F sampled at evenly spaced times (linearly
 //! interpolated between the model's steps, as the fit compares), and gaussian noise of a known
 //! standard deviation added from a seeded ChaCha stream.
 
@@ -8,12 +10,12 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use stickslip_run::fit::Trace;
-use stickslip_run::fit::forward::{Forward, Run};
+use stickslip_run::fit::forward::{Forward, MAX_LEVEL, Run};
 use stickslip_run::fit::misfit::ModelCurve;
 use stickslip_run::scene::ResolvedScene;
 
 /// The clean model curve of `scene` with `truth` (`KEY=VALUE` overrides) up to `end_s`, run
-/// as a fit's forward runs are.
+/// as a fit's forward runs are, at a tenth of their tightest tolerance.
 ///
 /// # Errors
 /// The scene refuses a value, or the run fails.
@@ -24,7 +26,7 @@ pub fn clean_curve(
 ) -> Result<ModelCurve, String> {
     let base = scene.with_overrides(truth).map_err(|e| e.to_string())?;
     let forward = Forward::new(&base, end_s).map_err(|e| e.to_string())?;
-    match forward.run(&[], &[], None) {
+    match forward.noise_run(&[], &[], MAX_LEVEL, None) {
         Run::Done(curve) => Ok(curve),
         Run::Failed(why) => Err(format!("the true model failed: {why}")),
         Run::Interrupted => Err("the true model was interrupted".into()),

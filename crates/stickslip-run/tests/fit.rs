@@ -185,7 +185,7 @@ fn the_jacobian_agrees_with_central_differences_at_two_step_sizes() {
         .remove(0);
     let noise = optimise::noise(&mut problem, &at).unwrap();
     let mut steps = vec![optimise::FD_STEP_START; 2];
-    let j = optimise::jacobian(&mut problem, &at, &[0, 1], &mut steps, noise).unwrap();
+    let j = optimise::jacobian(&mut problem, &at, &[0, 1], &mut steps, noise, true).unwrap();
     for (k, column) in j.iter().enumerate() {
         let norm = column.iter().map(|x| x * x).sum::<f64>().sqrt();
         assert!(norm > 0.0, "column {k}");

@@ -174,7 +174,8 @@ enum Command {
     },
     /// Fit scene parameters to a measured friction trace (docs/fit.md): a space-filling
     /// sample of the bounds, then bounded Levenberg–Marquardt with finite-difference
-    /// Jacobians above the solver's noise (the fit's runs use time.tolerance/100); prints the
+    /// Jacobians above the solver's noise (the fit's runs use time.tolerance/100, tightened
+    /// tenfold at a time while that noise is large against the residuals); prints the
     /// values with standard errors, 95 % intervals, correlations and the combinations the data
     /// cannot determine; writes DIR/fit.json, DIR/fit.svg and DIR/fitted.toml (the scene with
     /// the fitted values: `stickslip run` reproduces the fitted model). Exit 2 for bad input

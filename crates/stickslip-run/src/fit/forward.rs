@@ -9,6 +9,9 @@
 //! [`TOLERANCE_FACTOR`], so that the solver's noise — the run-to-run jitter of the adaptive
 //! step sequence, measured as `verify` measures an error, against a run at a tenth of the
 //! tolerance ([`Forward::noise_run`]) — stays far below the differences the Jacobian takes.
+//! Where that is not tight enough (a slow loading to a sharp onset: the SFA contact's onsets
+//! at the tolerance / 100 are tens of their own σ off), the optimiser tightens it tenfold at a
+//! time: the run's `level` ([`MAX_LEVEL`] at most), the tolerance / (100·10^level).
 
 use super::misfit::ModelCurve;
 use super::params::Param;
@@ -20,6 +23,8 @@ use std::sync::atomic::AtomicBool;
 
 /// The fit's runs use the scene's `time.tolerance` divided by this.
 pub const TOLERANCE_FACTOR: f64 = 100.0;
+/// The most tenfold tightenings beyond [`TOLERANCE_FACTOR`] (the tolerance / 10⁵ at most).
+pub const MAX_LEVEL: u32 = 3;
 
 /// How one forward run ended.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,7 +44,7 @@ pub struct Forward {
     pub base: ResolvedScene,
     /// The fit's settings, as --set text, applied before the parameters' values.
     pub settings: Vec<String>,
-    /// The tolerance of the fit's runs (none with fixed steps).
+    /// The tolerance of the fit's runs at level 0 (none with fixed steps).
     pub tolerance: Option<f64>,
 }
 
@@ -70,11 +75,40 @@ impl Forward {
         Ok(forward)
     }
 
+    /// The tolerance of the runs at `level` (none with fixed steps).
+    #[must_use]
+    pub fn tolerance_at(&self, level: u32) -> Option<f64> {
+        self.tolerance
+            .map(|t| t / 10f64.powi(level.min(MAX_LEVEL) as i32))
+    }
+
+    /// The level whose tolerance is `tolerance` (a fit.json's `time_tolerance`; 0 for none).
+    #[must_use]
+    pub fn level_of(&self, tolerance: Option<f64>) -> u32 {
+        match (self.tolerance, tolerance) {
+            (Some(t0), Some(t)) if t > 0.0 => {
+                ((t0 / t).log10().round().max(0.0) as u32).min(MAX_LEVEL)
+            }
+            _ => 0,
+        }
+    }
+
     /// The overrides of the model at `z`: the fit's settings, then each scene parameter's
     /// `KEY=VALUE`.
     #[must_use]
     pub fn overrides(&self, params: &[Param], z: &[f64]) -> Vec<String> {
+        self.overrides_at(params, z, 0)
+    }
+
+    /// [`Forward::overrides`] with the tolerance at `level`.
+    #[must_use]
+    pub fn overrides_at(&self, params: &[Param], z: &[f64], level: u32) -> Vec<String> {
         let mut out = self.settings.clone();
+        if level > 0
+            && let Some(tol) = self.tolerance_at(level)
+        {
+            out.push(time::TOLERANCE.set(tol).to_string());
+        }
         out.extend(
             params
                 .iter()
@@ -98,21 +132,42 @@ impl Forward {
     /// Runs the model at `z`.
     #[must_use]
     pub fn run(&self, params: &[Param], z: &[f64], interrupt: Option<&AtomicBool>) -> Run {
-        match self.scene(params, z) {
+        self.run_at(params, z, 0, interrupt)
+    }
+
+    /// Runs the model at `z` with the tolerance at `level`.
+    #[must_use]
+    pub fn run_at(
+        &self,
+        params: &[Param],
+        z: &[f64],
+        level: u32,
+        interrupt: Option<&AtomicBool>,
+    ) -> Run {
+        match self
+            .base
+            .with_overrides(&self.overrides_at(params, z, level))
+        {
             Ok(scene) => run_scene(&scene, interrupt),
             Err(e) => Run::Failed(e.to_string()),
         }
     }
 
-    /// Runs the model at `z` at a tenth of the fit's tolerance (the solver's noise is the
-    /// difference to [`Forward::run`]'s; with fixed steps, at half the step).
+    /// Runs the model at `z` at a tenth of the tolerance of `level` (the solver's noise is
+    /// the difference to [`Forward::run_at`]'s; with fixed steps, at half the step).
     #[must_use]
-    pub fn noise_run(&self, params: &[Param], z: &[f64], interrupt: Option<&AtomicBool>) -> Run {
-        let finer = match self.tolerance {
+    pub fn noise_run(
+        &self,
+        params: &[Param],
+        z: &[f64],
+        level: u32,
+        interrupt: Option<&AtomicBool>,
+    ) -> Run {
+        let finer = match self.tolerance_at(level) {
             Some(tol) => time::TOLERANCE.set(tol / 10.0),
             None => time::DT.set(self.base.config.time.dt_s / 2.0),
         };
-        let mut overrides = self.overrides(params, z);
+        let mut overrides = self.overrides_at(params, z, level);
         overrides.push(finer.to_string());
         match self.base.with_overrides(&overrides) {
             Ok(scene) => run_scene(&scene, interrupt),

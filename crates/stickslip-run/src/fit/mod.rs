@@ -236,23 +236,44 @@ pub fn fit(
             noise = Some(n);
         }
     }
-    let best: Eval = match &problem.best {
-        Some(b) if b.chi2 < local.best.chi2 => b.clone(),
+    let mut best: Eval = match &problem.best {
+        Some(b) if b.chi2 < local.best.chi2 && b.level == problem.level => b.clone(),
         _ => local.best.clone(),
     };
     let m = target.len();
     // The uncertainty from the Jacobian at the optimum, its steps grown above the solver's
     // noise measured there (not where the local stage started: the noise scales with the
-    // residuals, and steps grown far off blur the derivative).
+    // residuals, and steps grown far off blur the derivative). Where that noise is too large
+    // for the data the runs' tolerance is tightened and the local stage goes on from there.
     let mut unc = None;
     if !problem.interrupted() {
         problem.stage = "uncertainty";
-        if let Some(n) = optimise::measure(&mut problem, &best) {
-            noise = Some(n);
-            steps.iter_mut().for_each(|h| *h = optimise::FD_STEP_START);
+        let mut n = noise.unwrap_or(optimise::SolverNoise {
+            value: 0.0,
+            at_chi2: f64::INFINITY,
+        });
+        // Measured afresh at the optimum.
+        n.at_chi2 = f64::INFINITY;
+        while let Some(true) = optimise::settle(&mut problem, &mut n, &mut best, &mut steps) {
+            problem.stage = "local";
+            let more = optimise::levenberg_marquardt(
+                &mut problem,
+                best.clone(),
+                &free,
+                &mut steps,
+                &mut n,
+                optimise::MAX_ITERATIONS,
+            );
+            local.iterations += more.iterations;
+            local.converged = more.converged;
+            best = more.best;
+            problem.stage = "uncertainty";
+            n.at_chi2 = f64::INFINITY;
         }
-        let nu = noise.map_or(0.0, |n| n.value);
-        if let Some(j) = optimise::jacobian(&mut problem, &best, &free, &mut steps, nu)
+        noise = Some(n);
+        let nu = n.value;
+        if !problem.interrupted()
+            && let Some(j) = optimise::jacobian(&mut problem, &best, &free, &mut steps, nu, true)
             && let Some(d) = linalg::svd(&j)
         {
             unc = Some(uncertainty::uncertainty(&params, &best.z, &d, best.chi2, m));
@@ -274,7 +295,7 @@ pub fn fit(
     // The fitted model's curves (the interrupt no longer applies: one more run).
     problem.interrupt = None;
     let compared = problem.compare(&best.z).unwrap_or_default();
-    let overrides = forward.overrides(&params, &best.z);
+    let overrides = forward.overrides_at(&params, &best.z, problem.level);
     let mut source = forward.base.source.clone();
     for o in &overrides {
         crate::scene::overrides::apply_override(&mut source, o).map_err(Box::new)?;
@@ -325,7 +346,7 @@ pub fn fit(
         hysteresis_n: target.hysteresis_n,
         solver_noise: noise.map(|n| n.value),
         fd_steps: steps,
-        time_tolerance: forward.tolerance,
+        time_tolerance: forward.tolerance_at(problem.level),
         settings: overrides,
         data_events: target.events.iter().map(fit_event).collect(),
         model_events: compared.model_events.iter().map(fit_event).collect(),

@@ -29,8 +29,32 @@ pub const SEED: u64 = 0x5ee5_f17e_d00d_1e55;
 pub const FD_STEP_START: f64 = 1e-3;
 /// Largest finite-difference step, in box units.
 pub const FD_STEP_MAX: f64 = 0.05;
-/// A difference must exceed the solver's noise this many times.
+/// A difference must exceed the solver's noise this many times...
 pub const NOISE_RATIO: f64 = 100.0;
+/// ...unless that takes it beyond the linear range ([`LINEAR_MAX`]); then this many times.
+pub const NOISE_RATIO_LEAST: f64 = 10.0;
+/// A difference (‖r(z + h) − r(z − h)‖) larger than this many times the residuals' typical
+/// size, max(1, √(χ²/m)), leaves the range where the misfit is linear near its optimum: the
+/// step shrinks. A parameter the data fix to a millionth (the SFA contact's τmax, by its first
+/// onset) moved 1e-3 of its box shifts the residuals by thousands of σ, and the uncertainty
+/// from that secant is not the curvature's.
+pub const LINEAR_MAX: f64 = 10.0;
+/// Smallest finite-difference step, in box units.
+pub const FD_STEP_MIN: f64 = 1e-8;
+
+/// The band (lower, upper) a column's difference is steered into: above [`NOISE_RATIO`]
+/// times the solver's `noise` where that stays below a quarter of [`LINEAR_MAX`], at least
+/// [`NOISE_RATIO_LEAST`] times it; below [`LINEAR_MAX`] times the residuals' typical size
+/// (and at least four times the lower end, so that a fourfold step change cannot skip it).
+#[must_use]
+pub fn difference_band(noise: f64, chi2: f64, m: usize) -> (f64, f64) {
+    let scale = (chi2 / m.max(1) as f64).sqrt().max(1.0);
+    let linear = LINEAR_MAX * scale;
+    let lower = (NOISE_RATIO * noise)
+        .min(linear / 4.0)
+        .max(NOISE_RATIO_LEAST * noise);
+    (lower, linear.max(4.0 * lower))
+}
 /// Most Levenberg–Marquardt iterations.
 pub const MAX_ITERATIONS: usize = 40;
 /// Starts of the local stage (the best distinct points of the global sample).
@@ -147,24 +171,64 @@ pub fn measure(problem: &mut Problem<'_, '_>, at: &Eval) -> Option<SolverNoise> 
     })
 }
 
-/// Measures the noise again at `at` when it is stale, and then starts the difference steps
-/// again from [`FD_STEP_START`] (they grow from there as the new noise needs). `false` when
-/// interrupted.
-pub fn refresh(
+/// The solver's noise may be at most this many times the residuals' typical size,
+/// max(1, √(χ²/m)), before the runs' tolerance is tightened tenfold: a deterministic error δr
+/// of the residuals moves a parameter by at most ‖δr‖ of its standard error, and far from the
+/// optimum the residuals — and with them the noise — are larger.
+pub const NOISE_MAX: f64 = 0.3;
+/// A tightening that does not cut the noise by this factor is the last (the noise is then
+/// not the step sequence's).
+pub const TIGHTENING_GAIN: f64 = 2.0;
+
+/// Whether `noise` is too large for residuals of misfit `chi2` over `m` residuals.
+#[must_use]
+pub fn too_noisy(noise: f64, chi2: f64, m: usize) -> bool {
+    noise > NOISE_MAX * (chi2 / m.max(1) as f64).sqrt().max(1.0)
+}
+
+/// Brings `at` and the `noise` up to date: `at` run again when it was run at an older level;
+/// the noise measured again when it is stale; and while it is [`too_noisy`], the runs'
+/// tolerance tightened tenfold ([`super::forward::MAX_LEVEL`] times at most), `at` run again
+/// and the noise measured anew. The difference steps start again from [`FD_STEP_START`]
+/// whenever the noise is measured. `None` when interrupted, else whether the level rose.
+pub fn settle(
     problem: &mut Problem<'_, '_>,
     noise: &mut SolverNoise,
-    at: &Eval,
+    at: &mut Eval,
     steps: &mut [f64],
-) -> bool {
-    if !noise.stale(at.chi2) {
-        return true;
+) -> Option<bool> {
+    let start = problem.level;
+    if at.level != problem.level {
+        *at = rerun(problem, at)?;
+        *noise = measure(problem, at)?;
+        steps.iter_mut().for_each(|h| *h = FD_STEP_START);
+    } else if noise.stale(at.chi2) {
+        *noise = measure(problem, at)?;
+        steps.iter_mut().for_each(|h| *h = FD_STEP_START);
     }
-    let Some(fresh) = measure(problem, at) else {
-        return false;
-    };
-    *noise = fresh;
-    steps.iter_mut().for_each(|h| *h = FD_STEP_START);
-    true
+    let m = problem.target.len();
+    while problem.forward.tolerance.is_some()
+        && problem.level < super::forward::MAX_LEVEL
+        && too_noisy(noise.value, at.chi2, m)
+    {
+        problem.level += 1;
+        *at = rerun(problem, at)?;
+        // The best so far was run at the old tolerance: the point it came from, run again.
+        problem.best = (at.failed.is_none()).then(|| at.clone());
+        let before = noise.value;
+        *noise = measure(problem, at)?;
+        steps.iter_mut().for_each(|h| *h = FD_STEP_START);
+        if noise.value * TIGHTENING_GAIN > before {
+            break;
+        }
+    }
+    Some(problem.level > start)
+}
+
+/// `at` run again at the present level.
+fn rerun(problem: &mut Problem<'_, '_>, at: &Eval) -> Option<Eval> {
+    let mut e = problem.evaluate_all(std::slice::from_ref(&at.z), false)?;
+    e.pop()
 }
 
 /// The solver's noise at `z`: ‖r(tolerance) − r(tolerance/10)‖, in residual units (as
@@ -187,17 +251,28 @@ pub fn noise(problem: &mut Problem<'_, '_>, at: &Eval) -> Option<f64> {
 
 /// The Jacobian at `at` in the columns `free` (box units), by central differences (one-sided
 /// at a bound) with per-parameter `steps` grown until each column's difference exceeds
-/// [`NOISE_RATIO`]·`noise`. `None` when interrupted.
+/// [`NOISE_RATIO`]·`noise`; with `linear` (the uncertainty's Jacobian) steered into
+/// [`difference_band`] instead, shrinking a step whose difference leaves the linear range.
+/// The local stage's steps only grow: a secant over the misfit's small-scale roughness leads
+/// the search better than its local slope. `None` when interrupted.
 pub fn jacobian(
     problem: &mut Problem<'_, '_>,
     at: &Eval,
     free: &[usize],
     steps: &mut [f64],
     noise: f64,
+    linear: bool,
 ) -> Option<Vec<Vec<f64>>> {
     let m = at.residuals.len();
+    let (lower, upper) = if linear {
+        difference_band(noise, at.chi2, m)
+    } else {
+        (NOISE_RATIO * noise, f64::INFINITY)
+    };
     let mut columns = vec![vec![0.0; m]; free.len()];
     let mut todo: Vec<usize> = (0..free.len()).collect();
+    // Per column: +1 once its step grew, −1 once it shrank (it never turns back).
+    let mut moved = vec![0i8; free.len()];
     while !todo.is_empty() {
         // Per column: its two points (a, b), each the point at `at` itself when at a bound.
         let ends: Vec<(f64, f64)> = todo
@@ -246,8 +321,13 @@ pub fn jacobian(
                 .map(|(y, x)| y - x)
                 .collect();
             let size = dot(&diff, &diff).sqrt();
-            if size < NOISE_RATIO * noise && steps[j] < FD_STEP_MAX {
+            if size < lower && steps[j] < FD_STEP_MAX && moved[c] >= 0 {
                 steps[j] = (steps[j] * 4.0).min(FD_STEP_MAX);
+                moved[c] = 1;
+                again.push(c);
+            } else if size > upper && steps[j] > FD_STEP_MIN && moved[c] <= 0 {
+                steps[j] = (steps[j] / 4.0).max(FD_STEP_MIN);
+                moved[c] = -1;
                 again.push(c);
             }
             columns[c] = if width > 0.0 {
@@ -306,7 +386,8 @@ pub fn after_step(small: bool, lambda: f64, weakest: f64, retried: bool) -> Afte
 
 /// Levenberg–Marquardt from `start` over the parameters `free` (the others held), bounded to
 /// the unit box, for at most `max_iterations`; stops early (unconverged) when interrupted.
-/// The solver's `noise` is measured again as χ² falls ([`refresh`]).
+/// The solver's `noise` is measured again as χ² falls, and the runs' tolerance tightened
+/// while it is too large ([`settle`]).
 pub fn levenberg_marquardt(
     problem: &mut Problem<'_, '_>,
     start: Eval,
@@ -321,14 +402,14 @@ pub fn levenberg_marquardt(
     let mut retried = false;
     let tries = problem.jobs.clamp(2, 4);
     for iteration in 0..max_iterations {
-        if !refresh(problem, noise, &cur, steps) {
+        if settle(problem, noise, &mut cur, steps).is_none() {
             return Local {
                 best: cur,
                 iterations: iteration,
                 converged: false,
             };
         }
-        let Some(j) = jacobian(problem, &cur, free, steps, noise.value) else {
+        let Some(j) = jacobian(problem, &cur, free, steps, noise.value, false) else {
             return Local {
                 best: cur,
                 iterations: iteration,
@@ -425,6 +506,31 @@ pub fn levenberg_marquardt(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_noise_is_too_large_against_the_residuals_typical_size() {
+        // Near the optimum (χ²/m ≤ 1) against 1 σ; far off against √(χ²/m).
+        assert!(!too_noisy(0.29, 10.0, 13));
+        assert!(too_noisy(0.31, 10.0, 13));
+        assert!(!too_noisy(2.9, 1300.0, 13));
+        assert!(too_noisy(3.1, 1300.0, 13));
+    }
+
+    #[test]
+    fn the_difference_band_keeps_above_the_noise_and_within_the_linear_range() {
+        // A quiet solver: a hundred times the noise, below the linear range's end.
+        let (lo, hi) = difference_band(0.01, 13.0, 13);
+        assert!((lo - 1.0).abs() < 1e-12 && (hi - LINEAR_MAX).abs() < 1e-12);
+        // A noisier one: the lower end held to a quarter of the linear range, but never
+        // under ten times the noise.
+        let (lo, hi) = difference_band(0.2, 13.0, 13);
+        assert!((lo - LINEAR_MAX / 4.0).abs() < 1e-12 && (hi - LINEAR_MAX).abs() < 1e-12);
+        let (lo, hi) = difference_band(2.0, 13.0, 13);
+        assert!((lo - 20.0).abs() < 1e-12 && (hi - 80.0).abs() < 1e-12);
+        // Far from the optimum the range scales with the residuals.
+        let (_, hi) = difference_band(0.0, 1300.0, 13);
+        assert!((hi - 10.0 * LINEAR_MAX).abs() < 1e-9);
+    }
 
     #[test]
     fn the_noise_is_stale_once_the_misfit_has_fallen_a_hundredfold() {

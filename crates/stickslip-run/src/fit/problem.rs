@@ -21,6 +21,8 @@ pub struct Eval {
     pub chi2: f64,
     /// Why its run failed, if it did (the residuals are then the penalty).
     pub failed: Option<String>,
+    /// The tolerance level it was run at.
+    pub level: u32,
 }
 
 /// Where a fit is, for a progress display.
@@ -62,8 +64,11 @@ pub struct Problem<'a, 'p> {
     pub failed_runs: usize,
     /// The first failure, in words.
     pub first_failure: Option<String>,
-    /// The best model so far.
+    /// The best model so far (at the present `level`).
     pub best: Option<Eval>,
+    /// The runs' tolerance level ([`Forward::run_at`]); raised by the optimiser when the
+    /// solver's noise is too large for the data ([`super::optimise::settle`]).
+    pub level: u32,
     stopped: bool,
 }
 
@@ -82,6 +87,7 @@ impl<'a, 'p> Problem<'a, 'p> {
             failed_runs: 0,
             first_failure: None,
             best: None,
+            level: 0,
             stopped: false,
         }
     }
@@ -102,7 +108,7 @@ impl<'a, 'p> Problem<'a, 'p> {
     fn run(&self, z: &[f64], finer: bool) -> Option<Result<Compared, String>> {
         run_one(
             (self.forward, self.params, self.target),
-            self.interrupt,
+            (self.interrupt, self.level),
             z,
             finer,
         )
@@ -128,8 +134,8 @@ impl<'a, 'p> Problem<'a, 'p> {
             return None;
         }
         let model = (self.forward, self.params, self.target);
-        let interrupt = self.interrupt;
-        let work = |i: usize| run_one(model, interrupt, &zs[i], finer);
+        let how = (self.interrupt, self.level);
+        let work = |i: usize| run_one(model, how, &zs[i], finer);
         let (stage, evaluations, failed, best) = (
             self.stage,
             self.evaluations,
@@ -170,6 +176,7 @@ impl<'a, 'p> Problem<'a, 'p> {
                 residuals,
                 chi2,
                 failed,
+                level: self.level,
             });
         }
         // The runs that ended count for the best model even when the batch was interrupted.
@@ -196,18 +203,18 @@ fn shift_s(params: &[Param], z: &[f64]) -> f64 {
         .map_or(0.0, |(p, &z)| p.value(z))
 }
 
-/// One run of the model at `z` compared with the data (`finer`: at a tenth of the tolerance);
-/// `None` when interrupted.
+/// One run of the model at `z` at tolerance `level` compared with the data (`finer`: at a
+/// tenth of that tolerance); `None` when interrupted.
 fn run_one(
     (forward, params, target): (&Forward, &[Param], &Target),
-    interrupt: Option<&AtomicBool>,
+    (interrupt, level): (Option<&AtomicBool>, u32),
     z: &[f64],
     finer: bool,
 ) -> Option<Result<Compared, String>> {
     let run = if finer {
-        forward.noise_run(params, z, interrupt)
+        forward.noise_run(params, z, level, interrupt)
     } else {
-        forward.run(params, z, interrupt)
+        forward.run_at(params, z, level, interrupt)
     };
     match run {
         Run::Done(curve) => Some(Ok(target.compare(&curve, shift_s(params, z)))),
