@@ -50,6 +50,20 @@ pub struct Event {
     pub drop_n: f64,
     /// |dF/dt| at the onset's crossing, N/s (the timing's sensitivity to noise in F).
     pub slope_n_per_s: f64,
+    /// The onset's error from the sampling, s: (Δt/√12)·(q/D)², with q the largest fall of
+    /// the raw F from one sample to the next within the drop D. A drop faster than the
+    /// sampling (q ≈ D) is a step in the samples, whose smoothed crossing sits at a fixed
+    /// place between the samples around the step: it moves with the drop's phase against the
+    /// sample times, not with the drop, and is known to its interval (Δt/√12). A drop spread
+    /// over n samples (q ≈ D/n) is resolved, its error falling as 1/n².
+    pub interpolation_s: f64,
+    /// The peak's error from the sampling, N: its parabola's change per sample of window
+    /// shift (the larger of one sample either way) times the onset's sampling error in
+    /// samples — the model's windows are placed by the onsets, so an onset off by a fraction
+    /// of a sample moves them by as much.
+    pub peak_resolution_n: f64,
+    /// The least value's, likewise.
+    pub least_resolution_n: f64,
     /// The peak's variance per unit variance of the samples' noise (1 for a sample; smaller
     /// for a parabola's extremum, which averages the window's samples).
     pub peak_variance: f64,
@@ -82,20 +96,45 @@ pub fn find(t_s: &[f64], f_n: &[f64], h_n: f64) -> Vec<(Event, Windows)> {
             peak: (peak.saturating_sub(h).max(before), (peak + h).min(least)),
             least: (least.saturating_sub(h).max(peak), (least + h).min(after)),
         };
-        out.push((event(t_s, &smoothed, peak, least), windows));
+        let e = event(t_s, &smoothed, peak, least);
+        out.push((with_resolution(e, t_s, f_n, peak, least), windows));
         before = least;
     }
     out
 }
 
 /// The data's events: [`find`]'s, their peak and drop from the parabolas through the raw
-/// samples of their windows.
+/// samples of their windows, with their sampling errors.
 #[must_use]
 pub fn refine(t_s: &[f64], f_n: &[f64], found: &[(Event, Windows)]) -> Vec<Event> {
     found
         .iter()
-        .map(|(e, w)| with_extrema(e, &window(t_s, f_n, w.peak), &window(t_s, f_n, w.least)))
+        .map(|(e, w)| {
+            let mut out = with_extrema(e, &window(t_s, f_n, w.peak), &window(t_s, f_n, w.least));
+            let j = t_s
+                .partition_point(|&x| x <= e.t_onset_s)
+                .clamp(1, t_s.len() - 1);
+            let samples = e.interpolation_s / (t_s[j] - t_s[j - 1]);
+            out.peak_resolution_n = samples * window_sensitivity(t_s, f_n, w.peak, true);
+            out.least_resolution_n = samples * window_sensitivity(t_s, f_n, w.least, false);
+            out
+        })
         .collect()
+}
+
+/// How much the parabola's extremum through the samples `(a, b)` changes when the window
+/// moves by one sample, the larger of either way, N.
+fn window_sensitivity(t: &[f64], f: &[f64], (a, b): (usize, usize), max: bool) -> f64 {
+    let at = |a: usize, b: usize| extremum(&window(t, f, (a, b)), max).0;
+    let here = at(a, b);
+    let mut change: f64 = 0.0;
+    if a > 0 {
+        change = change.max((at(a - 1, b - 1) - here).abs());
+    }
+    if b + 1 < f.len() {
+        change = change.max((at(a + 1, b + 1) - here).abs());
+    }
+    change
 }
 
 /// `e` with its peak force and drop from the parabolas through the samples `peak` and
@@ -257,6 +296,36 @@ fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
     Some(x)
 }
 
+/// [`Event::interpolation_s`] of the drop from sample `peak` to `least` of `f` (raw, or as
+/// smoothed: [`find`] passes it the raw samples through [`with_resolution`]), its crossing
+/// between samples `j − 1` and `j`.
+fn resolution_s(t: &[f64], f: &[f64], peak: usize, least: usize, j: usize) -> f64 {
+    let dt = t[j] - t[j - 1];
+    let (a, b) = (
+        peak.saturating_sub(SMOOTH / 2),
+        (least + SMOOTH / 2).min(f.len() - 1),
+    );
+    let drop = f[a..=b].iter().fold(f64::NEG_INFINITY, |m, &x| m.max(x))
+        - f[a..=b].iter().fold(f64::INFINITY, |m, &x| m.min(x));
+    let fall = (a..b).map(|i| f[i] - f[i + 1]).fold(0.0, f64::max);
+    if drop > 0.0 {
+        dt / 12f64.sqrt() * (fall / drop).clamp(0.0, 1.0).powi(2)
+    } else {
+        dt / 12f64.sqrt()
+    }
+}
+
+/// `e` (found on the smoothed samples) with its onset's sampling error from the raw `f`.
+fn with_resolution(e: Event, t: &[f64], f: &[f64], peak: usize, least: usize) -> Event {
+    let j = t
+        .partition_point(|&x| x <= e.t_onset_s)
+        .clamp(1, t.len() - 1);
+    Event {
+        interpolation_s: resolution_s(t, f, peak, least, j),
+        ..e
+    }
+}
+
 /// An event from its peak and least samples of `f`: the onset where `f` crosses half-way
 /// between them.
 fn event(t: &[f64], f: &[f64], peak: usize, least: usize) -> Event {
@@ -276,6 +345,9 @@ fn event(t: &[f64], f: &[f64], peak: usize, least: usize) -> Event {
         f_peak_n: f[peak],
         drop_n: f[peak] - f[least],
         slope_n_per_s: ((f0 - f1) / dt).abs(),
+        interpolation_s: resolution_s(t, f, peak, least, j),
+        peak_resolution_n: 0.0,
+        least_resolution_n: 0.0,
         peak_variance: 1.0,
         least_variance: 1.0,
     }
@@ -316,7 +388,15 @@ mod tests {
         assert!(found.len() >= 4, "{found:?}");
         let data = refine(&t, &f, &found);
         let curve = |x: f64| f[(x.round() as usize).min(f.len() - 1)];
-        assert_eq!(refine_model(&t, &curve, &found, &found), data);
+        let measured = |e: &[Event]| -> Vec<(f64, f64, f64)> {
+            e.iter()
+                .map(|e| (e.t_onset_s, e.f_peak_n, e.drop_n))
+                .collect()
+        };
+        assert_eq!(
+            measured(&refine_model(&t, &curve, &found, &found)),
+            measured(&data)
+        );
         // A parabola's extremum: exact for samples on a parabola, the noise averaged out.
         let t: Vec<f64> = (0..21).map(f64::from).collect();
         let f: Vec<f64> = t
@@ -335,5 +415,46 @@ mod tests {
             .collect();
         let pts: Vec<(f64, f64)> = t.iter().copied().zip(noisy).collect();
         assert!((extremum(&pts, true).0 - 3.0).abs() < 0.02);
+    }
+
+    #[test]
+    fn a_drop_faster_than_the_sampling_carries_its_sampling_error() {
+        // A slow rise, then a drop of 10 within one sample (a step) or over 10 samples.
+        let trace = |fall_samples: usize| {
+            let t: Vec<f64> = (0..200).map(f64::from).collect();
+            let mut f = Vec::new();
+            let mut v = 0.0;
+            for i in 0..200 {
+                f.push(v);
+                v = if (100..100 + fall_samples).contains(&i) {
+                    v - 10.0 / fall_samples as f64
+                } else {
+                    v + 0.01
+                };
+            }
+            (t, f)
+        };
+        let (t, f) = trace(1);
+        let found = find(&t, &f, 3.0);
+        let step = refine(&t, &f, &found)[0];
+        assert!(
+            (step.interpolation_s - 1.0 / 12f64.sqrt()).abs() < 0.01,
+            "{step:?}"
+        );
+        let (t, f) = trace(10);
+        let found = find(&t, &f, 3.0);
+        let ramp = refine(&t, &f, &found)[0];
+        assert!(ramp.interpolation_s < 0.02 / 12f64.sqrt(), "{ramp:?}");
+        // The step's parabolas, fitted across it, move with the window: sampling errors of
+        // a percent of the drop, a hundred times the resolved drop's.
+        for (a, b) in [
+            (step.peak_resolution_n, ramp.peak_resolution_n),
+            (step.least_resolution_n, ramp.least_resolution_n),
+        ] {
+            assert!(
+                a > 0.005 * step.drop_n && a > 100.0 * b,
+                "{step:?} {ramp:?}"
+            );
+        }
     }
 }

@@ -183,11 +183,12 @@ impl Target {
             .map(|e| {
                 // A crossing on a flat stretch (no slope between its samples) is known to
                 // the sample spacing.
-                if e.slope_n_per_s > 0.0 {
+                let noise = if e.slope_n_per_s > 0.0 {
                     sigma_f_n / (SMOOTH as f64).sqrt() / e.slope_n_per_s
                 } else {
                     local_spacing(&trace.t_s, e.t_onset_s)
-                }
+                };
+                noise.hypot(e.interpolation_s)
             })
             .collect();
         Ok(Self {
@@ -273,11 +274,13 @@ impl Target {
             r.push((model_gap - data_gap) / s);
         }
         for (k, d) in self.events.iter().enumerate() {
-            let s = sf * d.peak_variance.sqrt();
+            let s = (sf * d.peak_variance.sqrt()).hypot(d.peak_resolution_n);
             r.push((model.get(k).map_or(0.0, |e| e.f_peak_n) - d.f_peak_n) / s);
         }
         for (k, d) in self.events.iter().enumerate() {
-            let s = sf * (d.peak_variance + d.least_variance).sqrt();
+            let s = (sf * (d.peak_variance + d.least_variance).sqrt())
+                .hypot(d.peak_resolution_n)
+                .hypot(d.least_resolution_n);
             r.push((model.get(k).map_or(0.0, |e| e.drop_n) - d.drop_n) / s);
         }
         let extra: f64 = model.iter().skip(n).map(|e| e.drop_n * e.drop_n).sum();

@@ -236,6 +236,46 @@ pub fn fit(
             noise = Some(n);
         }
     }
+    // Walk the valley the local stage ended in: a sharply determined parameter makes a valley
+    // narrower than the global sample's spacing, with further minima along it.
+    if !problem.interrupted() && params.len() > 1 {
+        let mut n = noise.unwrap_or(optimise::SolverNoise {
+            value: 0.0,
+            at_chi2: local.best.chi2,
+        });
+        for _ in 0..optimise::VALLEY_WALKS {
+            problem.stage = "valley";
+            let Some(j) =
+                optimise::jacobian(&mut problem, &local.best, &free, &mut steps, n.value, false)
+            else {
+                break;
+            };
+            let Some(d) = linalg::svd(&j) else { break };
+            let Some(points) = optimise::valley(&mut problem, &local.best, &free, &d) else {
+                break;
+            };
+            let Some(lower) = points
+                .into_iter()
+                .filter(|e| e.failed.is_none() && e.chi2 < local.best.chi2)
+                .min_by(|a, b| a.chi2.total_cmp(&b.chi2))
+            else {
+                break;
+            };
+            problem.stage = "local";
+            let more = optimise::levenberg_marquardt(
+                &mut problem,
+                lower,
+                &free,
+                &mut steps,
+                &mut n,
+                optimise::MAX_ITERATIONS,
+            );
+            local.iterations += more.iterations;
+            local.converged = more.converged;
+            local.best = more.best;
+        }
+        noise = Some(n);
+    }
     let mut best: Eval = match &problem.best {
         Some(b) if b.chi2 < local.best.chi2 && b.level == problem.level => b.clone(),
         _ => local.best.clone(),

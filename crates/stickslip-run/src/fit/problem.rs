@@ -28,7 +28,7 @@ pub struct Eval {
 /// Where a fit is, for a progress display.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress {
-    /// The stage: `global`, `local`, `noise`, `uncertainty` or `profile`.
+    /// The stage: `global`, `local`, `valley`, `noise`, `uncertainty` or `profile`.
     pub stage: &'static str,
     /// Forward runs so far.
     pub evaluations: usize,
