@@ -144,10 +144,12 @@ impl Forward {
         level: u32,
         interrupt: Option<&AtomicBool>,
     ) -> Run {
-        match self
-            .base
-            .with_overrides(&self.overrides_at(params, z, level))
-        {
+        self.run_overrides(&self.overrides_at(params, z, level), interrupt)
+    }
+
+    /// Runs the base scene with `overrides`.
+    fn run_overrides(&self, overrides: &[String], interrupt: Option<&AtomicBool>) -> Run {
+        match self.base.with_overrides(overrides) {
             Ok(scene) => run_scene(&scene, interrupt),
             Err(e) => Run::Failed(e.to_string()),
         }
@@ -169,10 +171,7 @@ impl Forward {
         };
         let mut overrides = self.overrides_at(params, z, level);
         overrides.push(finer.to_string());
-        match self.base.with_overrides(&overrides) {
-            Ok(scene) => run_scene(&scene, interrupt),
-            Err(e) => Run::Failed(e.to_string()),
-        }
+        self.run_overrides(&overrides, interrupt)
     }
 }
 

@@ -261,18 +261,7 @@ pub fn fit(
             else {
                 break;
             };
-            problem.stage = "local";
-            let more = optimise::levenberg_marquardt(
-                &mut problem,
-                lower,
-                &free,
-                &mut steps,
-                &mut n,
-                optimise::MAX_ITERATIONS,
-            );
-            local.iterations += more.iterations;
-            local.converged = more.converged;
-            local.best = more.best;
+            local.best = go_on(&mut problem, lower, &free, &mut steps, &mut n, &mut local);
         }
         noise = Some(n);
     }
@@ -295,18 +284,7 @@ pub fn fit(
         // Measured afresh at the optimum.
         n.at_chi2 = f64::INFINITY;
         while let Some(true) = optimise::settle(&mut problem, &mut n, &mut best, &mut steps) {
-            problem.stage = "local";
-            let more = optimise::levenberg_marquardt(
-                &mut problem,
-                best.clone(),
-                &free,
-                &mut steps,
-                &mut n,
-                optimise::MAX_ITERATIONS,
-            );
-            local.iterations += more.iterations;
-            local.converged = more.converged;
-            best = more.best;
+            best = go_on(&mut problem, best, &free, &mut steps, &mut n, &mut local);
             problem.stage = "uncertainty";
             n.at_chi2 = f64::INFINITY;
         }
@@ -404,4 +382,22 @@ pub fn fit(
         trace: target.trace,
         model_f_n: compared.model_f_n,
     })
+}
+
+/// The local stage gone on from `start` to convergence, its iterations and convergence
+/// counted into `local`; its optimum.
+fn go_on(
+    problem: &mut Problem<'_, '_>,
+    start: Eval,
+    free: &[usize],
+    steps: &mut [f64],
+    noise: &mut optimise::SolverNoise,
+    local: &mut optimise::Local,
+) -> Eval {
+    problem.stage = "local";
+    let more =
+        optimise::levenberg_marquardt(problem, start, free, steps, noise, optimise::MAX_ITERATIONS);
+    local.iterations += more.iterations;
+    local.converged = more.converged;
+    more.best
 }
