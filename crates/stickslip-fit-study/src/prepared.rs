@@ -70,14 +70,20 @@ impl Prepared {
         jobs: usize,
         known_noise: bool,
     ) -> Result<FitOutcome, String> {
-        let (mut last, mut stage) = (Instant::now(), "");
+        let (mut last, mut stage, mut level) = (Instant::now(), "", 0);
+        let began = Instant::now();
         let mut progress = |p: &Progress| {
-            if p.stage != stage || last.elapsed() >= PROGRESS_EVERY {
+            if p.stage != stage || last.elapsed() >= PROGRESS_EVERY || p.level != level {
                 eprintln!(
-                    "fit-study:   {} {} stage, {} runs, best χ² {:.6}",
-                    self.case.id, p.stage, p.evaluations, p.best_chi2
+                    "fit-study:   {} {} stage at {:.0} s, {} runs, best χ² {:.6}, tolerance level {}",
+                    self.case.id,
+                    p.stage,
+                    began.elapsed().as_secs_f64(),
+                    p.evaluations,
+                    p.best_chi2,
+                    p.level
                 );
-                (last, stage) = (Instant::now(), p.stage);
+                (last, stage, level) = (Instant::now(), p.stage, p.level);
             }
             false
         };

@@ -36,6 +36,8 @@ pub struct Progress {
     pub failed_runs: usize,
     /// The least misfit χ² so far (infinite before the first run).
     pub best_chi2: f64,
+    /// The runs' tolerance level: their tolerance is the fit's first one / 10^level.
+    pub level: u32,
 }
 
 /// A progress callback; returning true stops the fit as Ctrl-C does.
@@ -136,6 +138,7 @@ impl<'a, 'p> Problem<'a, 'p> {
         let model = (self.forward, self.params, self.target);
         let how = (self.interrupt, self.level);
         let work = |i: usize| run_one(model, how, &zs[i], finer);
+        let level = self.level;
         let (stage, evaluations, failed, best) = (
             self.stage,
             self.evaluations,
@@ -151,6 +154,7 @@ impl<'a, 'p> Problem<'a, 'p> {
                     evaluations,
                     failed_runs: failed,
                     best_chi2: best,
+                    level,
                 });
             }
         };
