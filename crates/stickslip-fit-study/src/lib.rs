@@ -164,20 +164,13 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
         })?;
     jacobians.push(jb);
     jacobians.push(jf);
-    // The four-parameter SFA fits staged (τmax and γ first): the direct fit above stops far
-    // from the truth (the first onset is known to a few parts in 1e7, a needle the global
-    // sample does not find).
+    // The viscous fit is staged as a user would stage it (τmax and γ first, from the scene's
+    // values, then all four). The first slip's fit is
+    // the direct one alone, the target's measure: its twelve meltings make a needle that
+    // staging does not remove (docs/fit.md, "What is not there yet").
     // (The smoke size frees τmax and γ alone: nothing to stage.)
     let staged = (!sizes.quick).then_some(2);
-    let mut first_slip_staged = None;
-    if staged.is_some() {
-        let (f, js): (SingleFit, JacobianCheck) =
-            section(opts, "first-slip-staged", &mut times, log, &mut |l| {
-                fits::single(root, cases::first_slip(&sizes), staged, jobs, l)
-            })?;
-        jacobians.push(js);
-        first_slip_staged = Some(f);
-    }
+    let mut first_slip_staged: Option<SingleFit> = None;
     let (mut viscous, jv): (SingleFit, JacobianCheck) =
         section(opts, "viscous-staged", &mut times, log, &mut |l| {
             fits::single(root, cases::viscous(&sizes), staged, jobs, l)
