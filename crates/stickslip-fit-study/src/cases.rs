@@ -58,6 +58,15 @@ impl Case {
         self.samples = (end_s / self.spacing_s).round() as usize;
     }
 
+    /// The case's contact.nodes as its settings give it ("?" when they do not).
+    #[must_use]
+    pub fn nodes(&self) -> &str {
+        self.settings
+            .iter()
+            .find_map(|s| s.strip_prefix("contact.nodes="))
+            .unwrap_or("?")
+    }
+
     /// The true value of `key`.
     #[must_use]
     pub fn true_value(&self, key: &str) -> Option<f64> {

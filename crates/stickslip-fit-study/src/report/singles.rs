@@ -81,12 +81,7 @@ pub(super) fn cost_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
     if let Some(a) = st.coverage.iter().find(|c| c.case.id == "A") {
         let (med, max, over) = measures::wall_times(&a.fits, FIG2_FIT_TARGET_S);
         let pass = med <= FIG2_FIT_TARGET_S;
-        let nodes = a
-            .case
-            .settings
-            .iter()
-            .find_map(|s| s.strip_prefix("contact.nodes="))
-            .unwrap_or("?");
+        let nodes = a.case.nodes();
         let _ = writeln!(
             out,
             "**Target: a {}-parameter event fit of fig2 at N = {nodes} ({} of trace) within {} \
@@ -115,12 +110,7 @@ pub(super) fn cost_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
     }
     let f = &st.first_slip;
     let pass = f.summary.wall_s <= FIRST_SLIP_TARGET_S;
-    let nodes = f
-        .case
-        .settings
-        .iter()
-        .find_map(|s| s.strip_prefix("contact.nodes="))
-        .unwrap_or("?");
+    let nodes = f.case.nodes();
     let _ = writeln!(
         out,
         "**Target: a {}-parameter fit of the SFA contact's first slip at N = {nodes} within \
