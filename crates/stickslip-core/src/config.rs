@@ -130,6 +130,12 @@ pub struct NumericsConfig {
     /// the frozen-strain one).
     #[serde(default)]
     pub film_step: FilmStep,
+    /// The smallest scale of a node's φ error in the adaptive step's error norm, as a fraction
+    /// of the solid film's φ at zero strain (docs/model.md#adaptive-steps): a node's φ error
+    /// is taken relative to max(φ, melt threshold, this·φ_s). 0 (the default) keeps φ
+    /// relative down to the melt threshold.
+    #[serde(default)]
+    pub phi_error_floor: f64,
 }
 
 /// The accurate scheme's step of the second-order film (docs/model.md#the-accurate-scheme).
@@ -156,6 +162,7 @@ impl NumericsConfig {
         runaway_stress_factor: 10.0,
         operator: None,
         film_step: FilmStep::Ramp,
+        phi_error_floor: 0.0,
     };
 }
 
@@ -328,6 +335,7 @@ impl SimConfig {
         let n = &self.numerics;
         bounds::COUPLING_TOL.check(n.coupling_tol)?;
         bounds::RUNAWAY_STRESS_FACTOR.check(n.runaway_stress_factor)?;
+        bounds::PHI_ERROR_FLOOR.check(n.phi_error_floor)?;
         self.check_derived()
     }
 

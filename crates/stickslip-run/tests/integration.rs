@@ -7,6 +7,7 @@ mod common;
 mod checkpoint_instants;
 mod dir_states;
 mod drive_damping;
+mod error_norm;
 mod events;
 mod first_order;
 mod fit;

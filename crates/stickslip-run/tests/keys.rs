@@ -134,6 +134,7 @@ coupling_tol = 1.0
 runaway_stress_factor = 1.0
 operator = "auto"
 film_step = "frozen"
+phi_error_floor = 0.5
 "#;
     full = toml::from_str(text).unwrap_or(full);
     let mut paths = Vec::new();

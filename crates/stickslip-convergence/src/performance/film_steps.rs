@@ -7,7 +7,9 @@
 //! This module writes the section "Film steps: work–precision" and its figure;
 //! [`super::report`] places them. Every number comes from the runs here.
 
-use super::experiment::{P7_EVALUATIONS_GOAL, P7_ONSET_GOAL_S, SfaBench, onset_deviations};
+use super::experiment::{
+    P7_EVALUATIONS_GOAL, P7_ONSET_GOAL_S, PHI_ERROR_FLOOR, SfaBench, onset_deviations,
+};
 use super::{BenchSettings, T4_NODES, Timed, timed, timed_scene};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -25,6 +27,14 @@ const SFA_TOLERANCES: [f64; 4] = [5e-3, 5e-4, 1.5e-4, 5e-5];
 /// The quick bench's tolerances, both scenes.
 const QUICK_TOLERANCES: [f64; 2] = [1e-3, 1e-4];
 
+/// The variants run: (film step, `numerics.phi_error_floor`): both steps with φ's error
+/// relative down to the melt threshold (the default), and the ramp step with the floor.
+const VARIANTS: [(FilmStep, f64); 3] = [
+    (FilmStep::Ramp, 0.0),
+    (FilmStep::Frozen, 0.0),
+    (FilmStep::Ramp, PHI_ERROR_FLOOR),
+];
+
 /// One run: a scene at a tolerance with one film step.
 #[derive(Debug, Clone, Serialize)]
 pub struct FilmStepPoint {
@@ -32,6 +42,8 @@ pub struct FilmStepPoint {
     pub scene: String,
     /// `ramp` or `frozen`.
     pub film_step: String,
+    /// `numerics.phi_error_floor` (0: the default).
+    pub phi_error_floor: f64,
     /// `time.tolerance`.
     pub tolerance: f64,
     /// Step evaluations (accepted, rejected, onset retakes).
@@ -47,11 +59,18 @@ pub struct FilmStepPoint {
 }
 
 impl FilmStepPoint {
-    fn new(scene: &str, step: FilmStep, tolerance: f64, t: &Timed, reference_s: &[f64]) -> Self {
+    fn new(
+        scene: &str,
+        (step, floor): (FilmStep, f64),
+        tolerance: f64,
+        t: &Timed,
+        reference_s: &[f64],
+    ) -> Self {
         let deviations = onset_deviations(&t.event_values.onsets_s, reference_s);
         Self {
             scene: scene.into(),
             film_step: step_name(step).into(),
+            phi_error_floor: floor,
             tolerance,
             evaluations: t.evaluations(),
             wall_s: t.wall_s,
@@ -59,6 +78,28 @@ impl FilmStepPoint {
             reference_meltings: reference_s.len(),
             max_onset_error_s: deviations.into_iter().reduce(f64::max),
         }
+    }
+}
+
+/// The points of `scene` with `step` and `floor`, in the order run.
+fn of<'a>(
+    points: &'a [FilmStepPoint],
+    scene: &str,
+    step: &str,
+    floor: f64,
+) -> Vec<&'a FilmStepPoint> {
+    points
+        .iter()
+        .filter(|p| p.scene == scene && p.film_step == step && p.phi_error_floor == floor)
+        .collect()
+}
+
+/// A variant in words: `ramp`, `frozen`, `ramp, φ floor 0.1`.
+fn variant_name(step: &str, floor: f64) -> String {
+    if floor > 0.0 {
+        format!("{step}, φ floor {floor}")
+    } else {
+        step.to_string()
     }
 }
 
@@ -86,32 +127,40 @@ pub fn measure(
     } else {
         (&FIG2_TOLERANCES, &SFA_TOLERANCES)
     };
-    for step in [FilmStep::Ramp, FilmStep::Frozen] {
+    for variant @ (step, floor) in VARIANTS {
         for &tol in fig2_tols {
             progress(&format!(
                 "film steps: fig2, {}, tolerance {tol:e}",
-                step_name(step)
+                variant_name(step_name(step), floor)
             ));
             let sets = vec![
                 contact::NODES.set(T4_NODES as i64).to_string(),
                 time::TOLERANCE.set(tol).to_string(),
                 numerics::FILM_STEP.set(step).to_string(),
+                numerics::PHI_ERROR_FLOOR.set(floor).to_string(),
             ];
             let t = timed(s, "film_steps", &sets, 2, s.repeats, fig2_reference_s)?;
-            points.push(FilmStepPoint::new("fig2", step, tol, &t, fig2_reference_s));
+            points.push(FilmStepPoint::new(
+                "fig2",
+                variant,
+                tol,
+                &t,
+                fig2_reference_s,
+            ));
         }
     }
     let sfa_scene = s.scene.with_file_name(super::experiment::SFA_SCENE);
     let sfa_reference_s = &sfa.p7.reference.event_values.onsets_s;
-    for step in [FilmStep::Ramp, FilmStep::Frozen] {
+    for variant @ (step, floor) in VARIANTS {
         for &tol in sfa_tols {
             progress(&format!(
                 "film steps: SFA, {}, tolerance {tol:e}",
-                step_name(step)
+                variant_name(step_name(step), floor)
             ));
             let mut sets = sfa.p7.settings.clone();
             sets.push(time::TOLERANCE.set(tol).to_string());
             sets.push(numerics::FILM_STEP.set(step).to_string());
+            sets.push(numerics::PHI_ERROR_FLOOR.set(floor).to_string());
             let t = timed_scene(
                 s,
                 &sfa_scene,
@@ -121,7 +170,7 @@ pub fn measure(
                 1,
                 sfa_reference_s,
             )?;
-            points.push(FilmStepPoint::new("sfa", step, tol, &t, sfa_reference_s));
+            points.push(FilmStepPoint::new("sfa", variant, tol, &t, sfa_reference_s));
         }
     }
     Ok(points)
@@ -135,7 +184,14 @@ pub fn section(points: &[FilmStepPoint]) -> String {
         "## Film steps: work–precision\n\n\
          The second-order film's two steps (`numerics.film_step`): `ramp`, the frozen-strain \
          step corrected to first order in the film coefficient's change along the step's \
-         strain ramp (the default), and `frozen`, the step before it. fig2 at N = ",
+         strain ramp (the default), and `frozen`, the step before it; and the ramp step with \
+         `numerics.phi_error_floor` = ",
+    );
+    let _ = write!(
+        out,
+        "{PHI_ERROR_FLOOR} (a node's φ error relative to max(φ, melt threshold, \
+         {PHI_ERROR_FLOOR}·φ_s) rather than max(φ, melt threshold); φ floor in the table). fig2 \
+         at N = ",
     );
     let _ = write!(
         out,
@@ -144,8 +200,9 @@ pub fn section(points: &[FilmStepPoint]) -> String {
          accepted steps, rejected attempts and onset retakes.\n\n\
          ![film steps](performance_film_steps.svg)\n\n\
          | scene | tolerance | ramp: evaluations | ramp: s | ramp: onset error | frozen: \
-         evaluations | frozen: s | frozen: onset error | evaluations frozen/ramp |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         evaluations | frozen: s | frozen: onset error | evaluations frozen/ramp | φ floor: \
+         evaluations | φ floor: s | φ floor: onset error | evaluations ramp/φ floor |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
         super::experiment::SFA_STIFFNESS
     );
     let err = |p: &FilmStepPoint| match p.max_onset_error_s {
@@ -153,16 +210,25 @@ pub fn section(points: &[FilmStepPoint]) -> String {
         None => format!("{} of {} meltings", p.meltings, p.reference_meltings),
     };
     for scene in ["fig2", "sfa"] {
-        let of = |step: &str| -> Vec<&FilmStepPoint> {
-            points
-                .iter()
-                .filter(|p| p.scene == scene && p.film_step == step)
-                .collect()
-        };
-        for (r, f) in of("ramp").into_iter().zip(of("frozen")) {
+        let floored = of(points, scene, "ramp", PHI_ERROR_FLOOR);
+        for (k, (r, f)) in of(points, scene, "ramp", 0.0)
+            .into_iter()
+            .zip(of(points, scene, "frozen", 0.0))
+            .enumerate()
+        {
+            let g = match floored.get(k) {
+                Some(g) if g.tolerance == r.tolerance => format!(
+                    "{} | {} | {} | {}",
+                    g.evaluations,
+                    sig(g.wall_s, 3),
+                    err(g),
+                    sig(r.evaluations as f64 / g.evaluations.max(1) as f64, 3)
+                ),
+                _ => "– | – | – | –".into(),
+            };
             let _ = writeln!(
                 out,
-                "| {scene} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {scene} | {} | {} | {} | {} | {} | {} | {} | {} | {g} |",
                 tick(r.tolerance),
                 r.evaluations,
                 sig(r.wall_s, 3),
@@ -183,11 +249,14 @@ pub fn section(points: &[FilmStepPoint]) -> String {
 /// between its loosest and tightest runs), and for the SFA contact the fewest evaluations that
 /// keep every onset within P7's accuracy goal, against P7's goal of evaluations.
 fn floor_words(out: &mut String, points: &[FilmStepPoint]) {
-    for scene in ["fig2", "sfa"] {
-        let ramp: Vec<&FilmStepPoint> = points
-            .iter()
-            .filter(|p| p.scene == scene && p.film_step == "ramp")
-            .collect();
+    for (scene, floor) in [
+        ("fig2", 0.0),
+        ("sfa", 0.0),
+        ("fig2", PHI_ERROR_FLOOR),
+        ("sfa", PHI_ERROR_FLOOR),
+    ] {
+        let ramp = of(points, scene, "ramp", floor);
+        let name = variant_name("ramp step", floor);
         let loose = ramp
             .iter()
             .max_by(|a, b| a.tolerance.total_cmp(&b.tolerance));
@@ -202,7 +271,7 @@ fn floor_words(out: &mut String, points: &[FilmStepPoint]) {
                 / (l.tolerance / t.tolerance).ln();
             let _ = write!(
                 out,
-                "{scene}, ramp step: from tolerance {} to {} ({}× tighter) the evaluations grow \
+                "{scene}, {name}: from tolerance {} to {} ({}× tighter) the evaluations grow \
                  from {} to {}, like tolerance^−{}. ",
                 tick(l.tolerance),
                 tick(t.tolerance),
@@ -225,7 +294,7 @@ fn floor_words(out: &mut String, points: &[FilmStepPoint]) {
             };
             let _ = write!(
                 out,
-                "The floor of P7 with this scheme: even at tolerance {} the run takes {} \
+                "The floor of P7 with the {name}: even at tolerance {} the run takes {} \
                  evaluations ({}× P7's goal of {P7_EVALUATIONS_GOAL}) with {err}",
                 tick(l.tolerance),
                 l.evaluations,
@@ -251,6 +320,7 @@ fn floor_words(out: &mut String, points: &[FilmStepPoint]) {
                     );
                 }
             }
+            out.push(' ');
         }
     }
     out.push_str("\n\n");
@@ -273,13 +343,16 @@ pub fn figure(points: &[FilmStepPoint]) -> Result<String, String> {
             "largest onset error (µs)",
         )
         .log_log();
-        for (k, (step, marker)) in [("ramp", Marker::Circle), ("frozen", Marker::Square)]
-            .into_iter()
-            .enumerate()
+        for (k, (step, floor, marker)) in [
+            ("ramp", 0.0, Marker::Circle),
+            ("frozen", 0.0, Marker::Square),
+            ("ramp", PHI_ERROR_FLOOR, Marker::Triangle),
+        ]
+        .into_iter()
+        .enumerate()
         {
-            let shown: Vec<&FilmStepPoint> = points
-                .iter()
-                .filter(|p| p.scene == scene && p.film_step == step)
+            let shown: Vec<&FilmStepPoint> = of(points, scene, step, floor)
+                .into_iter()
                 .filter(|p| p.max_onset_error_s.is_some_and(|e| e > 0.0))
                 .collect();
             let pts = shown
@@ -293,7 +366,7 @@ pub fn figure(points: &[FilmStepPoint]) -> Result<String, String> {
                 .collect();
             let labels = shown.iter().map(|p| format!("{:e}", p.tolerance)).collect();
             panel.series.push(
-                Series::new(step, pts, PALETTE[k])
+                Series::new(variant_name(step, floor), pts, PALETTE[k])
                     .marker(marker)
                     .labels(labels),
             );
@@ -311,6 +384,7 @@ mod tests {
         FilmStepPoint {
             scene: scene.into(),
             film_step: "ramp".into(),
+            phi_error_floor: 0.0,
             tolerance,
             evaluations,
             wall_s: 1.0,
@@ -328,6 +402,8 @@ mod tests {
             point("sfa", 5e-3, 60_000, Some(4e-3)),
             point("sfa", 5e-4, 120_000, Some(1.1e-4)),
             point("sfa", 1.5e-4, 170_000, Some(1.3e-5)),
+            floored(point("sfa", 5e-3, 40_000, Some(3e-3))),
+            floored(point("sfa", 5e-4, 57_000, Some(9.7e-5))),
         ];
         let mut out = String::new();
         floor_words(&mut out, &points);
@@ -342,5 +418,24 @@ mod tests {
             out.contains("are 170000 (tolerance 1.5e-4, 5.67× the goal)"),
             "{out}"
         );
+        // The floored variant's own statement, from its own points only.
+        assert!(
+            out.contains(
+                "The floor of P7 with the ramp step, φ floor 0.1: even at tolerance 0.005 the run \
+                 takes 40000 evaluations"
+            ),
+            "{out}"
+        );
+        assert!(
+            out.contains("are 57000 (tolerance 5e-4, 1.90× the goal)"),
+            "{out}"
+        );
+    }
+
+    fn floored(p: FilmStepPoint) -> FilmStepPoint {
+        FilmStepPoint {
+            phi_error_floor: PHI_ERROR_FLOOR,
+            ..p
+        }
     }
 }

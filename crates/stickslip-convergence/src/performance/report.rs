@@ -487,6 +487,7 @@ mod tests {
                     |(step, (evaluations, err))| super::super::film_steps::FilmStepPoint {
                         scene: "fig2".into(),
                         film_step: (*step).into(),
+                        phi_error_floor: 0.0,
                         tolerance: 1e-4,
                         evaluations,
                         wall_s: 0.01,

@@ -296,6 +296,8 @@ pub const COUPLING_TOL: Bound = bound("numerics.coupling_tol", "–", Range::Ope
 /// `numerics.runaway_stress_factor`.
 pub const RUNAWAY_STRESS_FACTOR: Bound =
     bound("numerics.runaway_stress_factor", "–", Range::Above(1.0));
+/// `numerics.phi_error_floor`.
+pub const PHI_ERROR_FLOOR: Bound = bound("numerics.phi_error_floor", "–", Range::Closed(0.0, 1.0));
 
 #[cfg(test)]
 mod tests {

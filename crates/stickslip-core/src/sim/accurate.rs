@@ -39,10 +39,12 @@ impl Simulation {
         // The film's recovery level at the step's end: the last node to cross it upwards,
         // located on its path, ends an open event (see `events`).
         let a_end = self.config.temperature.a_coeff_pa(t0 + dt_s);
-        let recovery_phi = self
-            .config
-            .events
-            .recovery_phi(thr, params.solid_phi(0.0, a_end));
+        let solid_phi_end = params.solid_phi(0.0, a_end);
+        let recovery_phi = self.config.events.recovery_phi(thr, solid_phi_end);
+        // The error norm's φ scale: φ itself, but not below the melt threshold nor below
+        // `numerics.phi_error_floor`·φ_s (squared: the norm divides y = φ²'s error).
+        let phi_scale = thr.max(self.config.numerics.phi_error_floor * solid_phi_end);
+        let y_scale_min = phi_scale * phi_scale;
         let mut recovered_s = f64::NEG_INFINITY;
         let n = self.state.physical.phi.len();
         // The per-node step in passes, so that each pass's exponentials are taken for all
@@ -143,7 +145,7 @@ impl Simulation {
                 self.est_base[i] = y1 * self.node_theta[i];
                 self.est_eps_eff[i] = eps1;
             }
-            self.est_norm[i] = 0.5 / y1.max(thr * thr);
+            self.est_norm[i] = 0.5 / y1.max(y_scale_min);
             let u0 = self.state.physical.u0_m[i];
             // `path`: where the node's last exact path starts (φ, strain, offset and length in
             // the step, s), to locate its crossing of the recovery level.
@@ -173,7 +175,7 @@ impl Simulation {
                         * (w0c * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0))
                             + w1c * (-two_gamma * a * ys * (eps_eff * eps_eff - eps_c * eps_c)));
                     self.est_gain[i] = 0.0;
-                    self.est_norm[i] = 0.5 / ys;
+                    self.est_norm[i] = 0.5 / ys.max(y_scale_min);
                     let rest_s = (1.0 - theta) * dt_s;
                     let u3d = self.state.physical.u3d_m[i];
                     let eps_a = -(u3d + theta * du3d) / h0;
@@ -241,7 +243,8 @@ impl Simulation {
     }
 
     /// The local error of the accurate step just taken (see [`error_estimate`]), in units of scales
-    /// that follow the state: φ relative to max(φ, threshold) per node, ε relative to the melting
+    /// that follow the state: φ relative to max(φ, threshold, `numerics.phi_error_floor`·φ_s) per
+    /// node, ε relative to the melting
     /// strain (εc(t); ε₊(t) for the first-order film), X to
     /// max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0). V's scale is its own size, not V0: a
     /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an error in

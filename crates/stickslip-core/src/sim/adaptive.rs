@@ -12,7 +12,8 @@ use serde::Serialize;
 /// `time.tolerance`.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct StepError {
-    /// Film: the largest |Δφ| / max(φ, melt threshold) over the nodes.
+    /// Film: the largest |Δφ| / max(φ, melt threshold, `numerics.phi_error_floor`·φ_s) over
+    /// the nodes (φ_s: the solid film's φ at zero strain).
     pub phi: f64,
     /// Strain: the stamp's position error over h0·εc(t) (the strain it shifts).
     pub eps: f64,

@@ -518,6 +518,9 @@ section! {
         FILM_STEP film_step "film_step": FilmStep =
             "the accurate scheme's step of the second-order film: ramp (the exact frozen-strain step corrected to first order in the film coefficient's change along the step's strain ramp, in closed form) or frozen (the exact step under one effective strain, as before the correction; for comparison). The first-order film always takes the frozen one"
             { default: Value(&FilmStep::Ramp), range: Range::Word }
+        PHI_ERROR_FLOOR phi_error_floor "phi_error_floor" @ bounds::PHI_ERROR_FLOOR: f64 =
+            "adaptive steps: the smallest scale of a node's φ error, as a fraction of the solid film's φ at zero strain: φ's error is taken relative to max(φ, melt threshold, this·φ_s). 0 keeps it relative down to the melt threshold; 0.1 stops steps from resolving a molten or regrowing node's φ to relative accuracy where its stress is below a hundredth of a solid node's, and halves the steps of a thin film's slip of many meltings (reports/performance.md)"
+            { default: Value(&0.0), rule: "only with time.stepping = \"adaptive\"" }
     }
 }
 

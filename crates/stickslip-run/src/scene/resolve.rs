@@ -393,6 +393,20 @@ fn resolve_numerics(
 ) -> Result<(NumericsConfig, NumericsSection), SceneError> {
     let operator = numerics::OPERATOR.value(nm.operator, &nothing())?;
     let film_step = numerics::FILM_STEP.value(nm.film_step, &nothing())?;
+    // The φ error's floor scales the adaptive step's error norm: nothing to scale with fixed
+    // steps, where it is refused and left out of the resolved scene.
+    let adaptive_steps = so_far.time.as_ref().and_then(|t| t.stepping) == Some(Stepping::Adaptive);
+    let phi_error_floor = if adaptive_steps {
+        Some(numerics::PHI_ERROR_FLOOR.value(nm.phi_error_floor, &nothing())?)
+    } else {
+        contradiction(
+            numerics::PHI_ERROR_FLOOR.path,
+            nm.phi_error_floor,
+            "time.stepping = \"fixed\"",
+            "only with time.stepping = \"adaptive\"",
+        )?;
+        None
+    };
     let numerics = NumericsConfig {
         coupling_tol: numerics::COUPLING_TOL.value(nm.coupling_tol, so_far)?,
         runaway_stress_factor: numerics::RUNAWAY_STRESS_FACTOR
@@ -403,12 +417,14 @@ fn resolve_numerics(
             OperatorChoice::Auto => None,
         },
         film_step,
+        phi_error_floor: phi_error_floor.unwrap_or(0.0),
     };
     let section = NumericsSection {
         coupling_tol: Some(numerics.coupling_tol),
         runaway_stress_factor: Some(numerics.runaway_stress_factor),
         operator: Some(operator),
         film_step: Some(film_step),
+        phi_error_floor,
     };
     Ok((numerics, section))
 }
