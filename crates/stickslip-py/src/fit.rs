@@ -64,6 +64,7 @@ pub fn fit<'py>(
                 evaluations: p.evaluations,
                 failed: p.failed_runs,
                 best_chi2: p.best_chi2,
+                tolerance: p.tolerance,
                 stop: None,
             });
             false

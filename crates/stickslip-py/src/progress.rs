@@ -53,6 +53,9 @@ pub enum Report<'a> {
         failed: usize,
         /// The least χ² so far (infinite before the first run).
         best_chi2: f64,
+        /// The runs' `time.tolerance` (tightened as the fit nears its optimum; none with
+        /// fixed steps).
+        tolerance: Option<f64>,
         /// Why the fit stopped, once it has.
         stop: Option<&'a str>,
     },
@@ -160,12 +163,14 @@ impl Bridge {
                 evaluations,
                 failed,
                 best_chi2,
+                tolerance,
                 stop,
             } => {
                 d.set_item("stage", stage)?;
                 d.set_item("evaluations", evaluations)?;
                 d.set_item("failed_runs", failed)?;
                 d.set_item("best_chi2", best_chi2)?;
+                d.set_item("tolerance", tolerance)?;
                 // A fit's length is not known ahead: no fraction until it ends.
                 (if stop.is_some() { 1.0 } else { 0.0 }, stop)
             }

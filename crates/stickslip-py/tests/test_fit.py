@@ -6,6 +6,7 @@ callback's KeyboardInterrupt keeps the best fit so far."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 
@@ -104,8 +105,11 @@ def test_bad_input_raises_value_error_naming_the_field(trace) -> None:
 def test_an_interrupt_keeps_the_best_fit_so_far(trace) -> None:
     seen = []
 
+    tolerances = []
+
     def stop_in_the_local_stage(p: dict) -> None:
         seen.append(p["stage"])
+        tolerances.append(p["tolerance"])
         if p["stage"] == "local":
             raise KeyboardInterrupt
 
@@ -115,6 +119,10 @@ def test_an_interrupt_keeps_the_best_fit_so_far(trace) -> None:
             jobs=1, progress=stop_in_the_local_stage,
         )
     assert "local" in seen
+    # The runs' tolerance: the scene's adaptive steps, tightened tenfold at a time from the
+    # fit's first one, never looser.
+    assert all(isinstance(t, float) and 0 < t <= tolerances[0] for t in tolerances)
+    assert all(round(math.log10(tolerances[0] / t), 9).is_integer() for t in tolerances)
     result = e.value.result
     assert result is not None and result.status == "interrupted"
     assert set(result.values) == {"lubricant.tau_max", "lubricant.gamma"}

@@ -145,7 +145,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     let mut progress = |p: &Progress| {
         if !quiet && (p.stage != stage || last.elapsed() >= PROGRESS_EVERY) {
             eprintln!(
-                "fit: {} stage, {} runs so far ({} failed), best χ² {}",
+                "fit: {} stage, {} runs so far ({} failed), best χ² {}{}",
                 p.stage,
                 p.evaluations,
                 p.failed_runs,
@@ -153,7 +153,11 @@ pub fn main(a: &Args<'_>) -> ExitCode {
                     format!("{:.4}", p.best_chi2)
                 } else {
                     "–".to_string()
-                }
+                },
+                // The runs' tolerance: a fit that tightens it has its runs grow costlier.
+                p.tolerance
+                    .map(|t| format!(", runs at time.tolerance {t:e}"))
+                    .unwrap_or_default()
             );
             stage = p.stage;
             last = Instant::now();

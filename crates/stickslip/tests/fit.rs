@@ -94,6 +94,14 @@ fn a_fit_writes_its_report_figure_and_fitted_scene_which_reproduces_it() {
     assert_eq!(done.status.code(), Some(0), "{stdout}{stderr}");
     assert!(stdout.contains("lubricant.tau_max"), "{stdout}");
     assert!(stderr.contains("fit: local stage"), "{stderr}");
+    // Each progress line names the runs' tolerance (the fit tightens it near the optimum).
+    assert!(
+        stderr
+            .lines()
+            .filter(|l| l.starts_with("fit: "))
+            .all(|l| l.contains(", runs at time.tolerance ")),
+        "{stderr}"
+    );
     let report = stickslip_run::schema::fit::FitReport::read(&out).unwrap();
     assert_eq!(report.status, "ok");
     let p = report.parameter("lubricant.tau_max").unwrap();

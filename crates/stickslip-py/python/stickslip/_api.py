@@ -422,7 +422,8 @@ def fit(
     or ``"trace"`` (F at the data's times, with a fitted time shift). ``noise``: the standard
     deviation of F's noise, N (default: estimated from the data). ``profile``: a parameter whose
     profile likelihood to compute. ``progress``: None, or a callable receiving a dict
-    (``stage``, ``evaluations``, ``failed_runs``, ``best_chi2``, ``elapsed_s``) a few times a
+    (``stage``, ``evaluations``, ``failed_runs``, ``best_chi2``, ``tolerance``: the runs'
+    ``time.tolerance``, which the fit tightens near its optimum, ``elapsed_s``) a few times a
     second. ``out``: a directory to write ``fit.json``, ``fit.svg`` and ``fitted.toml`` into,
     the files ``stickslip fit --out DIR`` writes (created if missing; an interrupted fit's best
     model so far is written too).

@@ -38,6 +38,8 @@ pub struct Progress {
     pub best_chi2: f64,
     /// The runs' tolerance level: their tolerance is the fit's first one / 10^level.
     pub level: u32,
+    /// The runs' `time.tolerance` at that level (none with fixed steps).
+    pub tolerance: Option<f64>,
 }
 
 /// A progress callback; returning true stops the fit as Ctrl-C does.
@@ -139,6 +141,7 @@ impl<'a, 'p> Problem<'a, 'p> {
         let how = (self.interrupt, self.level);
         let work = |i: usize| run_one(model, how, &zs[i], finer);
         let level = self.level;
+        let tolerance = self.forward.tolerance_at(level);
         let (stage, evaluations, failed, best) = (
             self.stage,
             self.evaluations,
@@ -155,6 +158,7 @@ impl<'a, 'p> Problem<'a, 'p> {
                     failed_runs: failed,
                     best_chi2: best,
                     level,
+                    tolerance,
                 });
             }
         };
