@@ -41,6 +41,7 @@ pub mod experiment;
 pub mod film_steps;
 pub mod refine;
 pub mod report;
+pub mod step_trace;
 pub mod sweep;
 mod targets;
 pub mod verify_cost;

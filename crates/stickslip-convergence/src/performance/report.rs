@@ -40,7 +40,7 @@ pub fn write_report(p: &Performance, dir: &Path) -> Result<Vec<PathBuf>, String>
     )?;
     put(
         "performance_steptrace.svg",
-        super::experiment::trace_figure(&p.sfa.step_trace)?,
+        super::step_trace::trace_figure(&p.sfa.step_trace)?,
     )?;
     put("performance.md", markdown(p))?;
     Ok(files)
@@ -326,7 +326,8 @@ fn t2_section(m: &mut String, p: &Performance) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::performance::experiment::{SfaBench, SfaTarget, StepTrace, TraceRow};
+    use crate::performance::experiment::{SfaBench, SfaTarget};
+    use crate::performance::step_trace::{StepTrace, TraceRow};
     use crate::performance::sweep::{SweepBench, SweepRun};
     use crate::performance::{CostPoint, Resolved, Timed, WpPoint};
     use stickslip_report::build_timing::{BuildTiming, StageTime};
@@ -664,7 +665,7 @@ mod tests {
         assert!(md.contains("in 2 cascade(s)"), "{md}");
         assert!(md.contains("the cascade steps 3 by the film φ"), "{md}");
         assert!(cost_figure(&p).is_ok() && wp_figure(&p).is_ok());
-        let svg = crate::performance::experiment::trace_figure(&p.sfa.step_trace);
+        let svg = crate::performance::step_trace::trace_figure(&p.sfa.step_trace);
         assert!(svg.is_ok_and(|s| s.contains("limited by φ")));
     }
 }
