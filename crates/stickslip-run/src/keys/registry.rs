@@ -361,7 +361,7 @@ section! {
 
 /// Whether the scene as resolved so far steps adaptively (the derived `time.stepping`, or
 /// the one given).
-fn adaptive(s: &Scene) -> Option<bool> {
+pub(crate) fn adaptive(s: &Scene) -> Option<bool> {
     Some(s.time.as_ref()?.stepping? == Stepping::Adaptive)
 }
 

@@ -395,8 +395,7 @@ fn resolve_numerics(
     let film_step = numerics::FILM_STEP.value(nm.film_step, &nothing())?;
     // The φ error's floor scales the adaptive step's error norm: nothing to scale with fixed
     // steps, where it is refused and left out of the resolved scene.
-    let adaptive_steps = so_far.time.as_ref().and_then(|t| t.stepping) == Some(Stepping::Adaptive);
-    let phi_error_floor = if adaptive_steps {
+    let phi_error_floor = if keys::adaptive(so_far) == Some(true) {
         Some(numerics::PHI_ERROR_FLOOR.value(nm.phi_error_floor, &nothing())?)
     } else {
         contradiction(
