@@ -27,6 +27,7 @@
 /// Celik et al.'s three-grid procedure (the run library's, which `stickslip verify` uses too).
 pub use stickslip_run::verify::celik;
 pub mod fig2;
+pub mod grid_study;
 pub mod noise;
 pub mod operators;
 pub mod performance;
@@ -84,6 +85,9 @@ pub struct Settings {
     /// The noise study (absent in studies written before it existed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise: Option<noise::NoiseSettings>,
+    /// The spatial study at the user's scale (absent in studies written before it existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<grid_study::GridSettings>,
 }
 
 impl Settings {
@@ -107,6 +111,7 @@ impl Settings {
             max_nodes,
             tolerance: Some(tolerance::ToleranceSettings::full(max_nodes, 3)),
             noise: Some(noise::NoiseSettings::full()),
+            grid: Some(grid_study::GridSettings::full()),
         }
     }
 
@@ -127,6 +132,7 @@ impl Settings {
             max_nodes: 200,
             tolerance: Some(tolerance::ToleranceSettings::quick()),
             noise: Some(noise::NoiseSettings::quick()),
+            grid: Some(grid_study::GridSettings::quick()),
         }
     }
 }
@@ -189,6 +195,9 @@ pub struct Results {
     /// The weak order of noisy fixed steps.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise: Option<noise::NoiseStudy>,
+    /// Spatial convergence at the user's scale, uniform and graded grids.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<grid_study::GridStudy>,
 }
 
 fn dev_profile() -> String {
@@ -324,6 +333,10 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
         "{} tolerance and noise studies done",
         stamp(&start)
     ));
+    let grid = settings
+        .grid
+        .as_ref()
+        .map(|g| grid_study::study(g, &mut |line| log(line)));
     Results {
         generated_by: "cargo xtask convergence (stickslip-convergence)".into(),
         total_wall_s: start.elapsed().as_secs_f64(),
@@ -348,6 +361,7 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
         localisation,
         tolerance,
         noise,
+        grid,
     }
 }
 
@@ -387,6 +401,8 @@ Options:
   --ref-nodes N    nodes of the work-precision reference (default 400)
   --quick          a smoke study of about a minute (small N, few levels)
   --render-only    re-render the .md and .svg files from the existing convergence.json
+  --grid-only      run only the spatial study at the user's scale (section 8; about 10 min,
+                   with --quick seconds) and merge it into the existing convergence.json
   --out DIR        output directory (default: the workspace's reports/)
   -h, --help       this text
 ";
@@ -400,6 +416,7 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
     let mut ref_nodes = None;
     let mut quick = false;
     let mut render_only = false;
+    let mut grid_only = false;
     let mut out = default_reports_dir();
     let mut it = args.iter();
     let bad = |msg: String| {
@@ -440,6 +457,10 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
                 render_only = true;
                 Ok(())
             }
+            "--grid-only" => {
+                grid_only = true;
+                Ok(())
+            }
             "--out" => value(a).map(|v| out = PathBuf::from(v)),
             other => Err(bad(format!("unknown option `{other}`"))),
         };
@@ -448,7 +469,7 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
         }
     }
     let json_path = out.join("convergence.json");
-    let results = if render_only {
+    let results = if render_only || grid_only {
         let text = match std::fs::read_to_string(&json_path) {
             Ok(t) => t,
             Err(e) => {
@@ -459,6 +480,17 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
         match serde_json::from_str::<Results>(&text) {
             Ok(mut r) => {
                 refresh_annotations(&mut r);
+                if grid_only {
+                    let settings = if quick {
+                        grid_study::GridSettings::quick()
+                    } else {
+                        grid_study::GridSettings::full()
+                    };
+                    let study = grid_study::study(&settings, &mut |line| eprintln!("{line}"));
+                    eprintln!("convergence: the spatial study took {:.0} s", study.wall_s);
+                    r.settings.grid = Some(settings);
+                    r.grid = Some(study);
+                }
                 r
             }
             Err(e) => {

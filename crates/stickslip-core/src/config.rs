@@ -76,6 +76,10 @@ pub struct ContactConfig {
     pub g_eff_pa: f64,
     /// Number of radial nodes N (forced to 1 for the homogeneous model).
     pub nodes: usize,
+    /// How the N nodes are spread over the contact (uniform, or graded toward its edge);
+    /// the literal scheme takes the uniform grid only.
+    #[serde(default)]
+    pub grid: crate::grid::Grading,
     /// Radial or homogeneous.
     pub model: ContactModel,
     /// Elastic or rigid substrate.
@@ -273,6 +277,26 @@ impl SimConfig {
                 &format!("1 ..= {MAX_NODES}"),
             ));
         }
+        if let crate::grid::Grading::Edge { power } = c.grid {
+            if self.time.scheme == Scheme::Literal {
+                return Err(ConfigError::new(
+                    "contact.grid",
+                    "graded",
+                    "\"uniform\" with time.scheme = \"literal\" (the paper's sums are defined \
+                     on its uniform grid r_i = i·a0/N)",
+                ));
+            }
+            bounds::GRADING.check(power)?;
+            if c.model == ContactModel::Radial {
+                crate::grid::Grid::graded(c.radius_m, c.nodes, c.grid).map_err(|e| match e {
+                    crate::grid::GridError::OutOfRange {
+                        field,
+                        value,
+                        allowed,
+                    } => ConfigError::new(field, value, allowed),
+                })?;
+            }
+        }
         match self.drive {
             Drive::Spring(s) => {
                 bounds::STIFFNESS.check(s.stiffness_n_per_m)?;
@@ -434,6 +458,7 @@ impl SimConfig {
                 film_thickness_m: 1e-7,
                 g_eff_pa: 1e9,
                 nodes: 2000,
+                grid: crate::grid::Grading::Uniform,
                 model: ContactModel::Radial,
                 substrate: Substrate::Elastic,
             },

@@ -59,6 +59,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(boundary::boundary, m)?)?;
     m.add_function(wrap_pyfunction!(keys::keys, m)?)?;
     m.add_function(wrap_pyfunction!(verify::verify, m)?)?;
+    m.add_function(wrap_pyfunction!(verify::verify_target, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::load_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::forward, m)?)?;

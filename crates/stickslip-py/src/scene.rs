@@ -165,7 +165,12 @@ impl PyScene {
     /// interval_for_limit_s, the series interval that keeps it under 100 MB when it would be
     /// larger), ``contact_spring`` (the contact as a linear spring up to the first melting:
     /// x_melt_m, f_melt_n; ``first_onset_estimate`` puts it on the drive; None when the film
-    /// starts molten), ``warnings`` (a list of ``{"severity": "note" | "warning" | "refusal",
+    /// starts molten), ``edge_layer`` (where the first melting starts: rho, the substrate's
+    /// share of the compliance; width_m, a0/(8·rho²); outermost_gap_m, the outermost node's
+    /// distance from the edge; nodes_needed and nodes_needed_graded, the N at which that
+    /// distance is 10 widths on this grid and on the graded one; a scene far below adds a
+    /// warning; None without an elastic radial contact), ``warnings`` (a list of
+    /// ``{"severity": "note" | "warning" | "refusal",
     /// "key", "message"}``), ``name`` and ``scene`` (the resolved scene as a dict).
     ///
     /// Nothing is written; the probe runs with the GIL released.
@@ -196,6 +201,7 @@ impl PyScene {
             json(serde_json::to_value(&report.resolution))?,
         )?;
         d.set_item("warnings", json(serde_json::to_value(&report.warnings))?)?;
+        d.set_item("edge_layer", json(serde_json::to_value(report.edge))?)?;
         d.set_item("output", json(serde_json::to_value(&report.output))?)?;
         d.set_item(
             "contact_spring",

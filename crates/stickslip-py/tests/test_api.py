@@ -228,9 +228,12 @@ def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
     c = scene.check()
     assert set(c) == {
         "name", "verdict", "derived", "cost", "warnings", "scene", "resolution", "output",
-        "contact_spring",
+        "contact_spring", "edge_layer",
     }
     assert c["resolution"]["nodes"] == [200, 400]
+    # fig2's edge layer is half the contact (rho about 0.47): no N is too coarse.
+    edge = c["edge_layer"]
+    assert 0.4 < edge["rho"] < 0.5 and edge["width_m"] > 1e-5 and edge["nodes_needed"] == 1
     # fig2's output: 13 001 series marks at most, 9 probes, one profile of 200 nodes.
     assert c["output"]["probes"] == 9 and c["output"]["profile_rows"] == 200
     assert 0 < c["output"]["series_rows"] <= 13001 and c["output"]["interval_for_limit_s"] is None
@@ -334,3 +337,24 @@ def test_verify_gives_every_quantity_with_its_error() -> None:
         stickslip.verify(scene, rtol=0.0)
     with pytest.raises(TypeError, match="rtol"):
         stickslip.verify(scene, rtol="tight")
+
+
+def test_verify_target_finds_the_cheapest_resolution_within_it() -> None:
+    # fig2 on the graded grid to 1e-6 relative: the pair found, applied to the scene, puts the
+    # first onset within the target of a much finer run.
+    scene = stickslip.Scene.load(SCENES / "fig2.toml", {"contact.grid": "graded"})
+    t = stickslip.verify(scene, target=1e-6)
+    c = t["choice"]
+    assert c is not None and t["target"] == 1e-6
+    assert [p["ladder"] for p in t["probes"]][0] == "space"
+    assert t["probes"][-1]["ladder"] == "chosen"
+    first = {"time.max_events": 1, "output.probe_radii": [], "output.series_interval": 1e-5}
+    chosen = scene.with_overrides({**first, "contact.nodes": c["nodes"], "time.tolerance": c["tolerance"]})
+    fine = scene.with_overrides({**first, "contact.nodes": 1600, "time.tolerance": 5e-9})
+    onset = stickslip.run(chosen).events["t_onset"][0]
+    reference = stickslip.run(fine).events["t_onset"][0]
+    assert abs(onset - reference) <= 1e-6 * reference
+    with pytest.raises(ValueError, match="--target = 0"):
+        stickslip.verify(scene, target=0.0)
+    with pytest.raises(TypeError, match="target"):
+        stickslip.verify(scene, target="fine")

@@ -76,6 +76,8 @@ pub struct CheckReport {
     pub cost: CostEstimate,
     /// The first event at N and at 2N.
     pub resolution: ResolutionProbe,
+    /// The contact's edge layer and the N it needs (none without an elastic radial contact).
+    pub edge: Option<crate::edge_layer::EdgeLayer>,
     /// The output's expected size.
     pub output: crate::output_size::OutputSize,
 }
@@ -204,6 +206,35 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     let preflight = driver.preflight().clone();
     let mut warnings = warnings_of(scene, &preflight);
     let resolution = resolution_probe(scene);
+    let edge = crate::edge_layer::EdgeLayer::of(scene);
+    let nodes = scene.config.contact.nodes;
+    if let Some(e) = edge.filter(|e| e.too_coarse(nodes)) {
+        let graded = scene.config.contact.grid.is_uniform();
+        warnings.push(Finding {
+            severity: stickslip_core::preflight::Severity::Warning,
+            key: crate::keys::contact::NODES.path.to_string(),
+            message: format!(
+                "contact.nodes = {nodes} leaves the outermost node {:.3e} m from the contact's \
+                 edge, {:.0} times the width a0/(8·rho²) = {:.3e} m of the edge layer where the first \
+                 melting starts (rho = {:.3}): its onset may be percents off. This grid needs N \
+                 >= {:.0} to reach the layer{}; `stickslip verify --target REL` finds the \
+                 cheapest N and tolerance for an accuracy",
+                e.outermost_gap_m,
+                e.outermost_gap_m / e.width_m,
+                e.width_m,
+                e.rho,
+                e.nodes_needed,
+                if graded {
+                    format!(
+                        ", contact.grid = \"graded\" N >= {:.0}",
+                        e.nodes_needed_graded
+                    )
+                } else {
+                    String::new()
+                }
+            ),
+        });
+    }
     if let Some(change) = resolution.relative_change.filter(|&c| c > RESOLUTION_WARN) {
         warnings.push(Finding {
             severity: stickslip_core::preflight::Severity::Warning,
@@ -246,6 +277,7 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
         preflight,
         warnings,
         resolution,
+        edge,
         output,
     })
 }

@@ -30,6 +30,7 @@ pub mod check;
 pub mod checkpoint;
 pub mod cycles;
 pub mod driver;
+pub mod edge_layer;
 pub mod exit;
 pub mod fit;
 pub mod keys;

@@ -11,6 +11,7 @@ mod error_norm;
 mod events;
 mod first_order;
 mod fit;
+mod grid;
 mod keys;
 mod onset_estimate;
 mod refine;

@@ -100,6 +100,8 @@ nu1 = 1.0
 g2 = 1.0
 nu2 = 1.0
 nodes = 1
+grid = "graded"
+grading = 2.0
 model = "radial"
 substrate = "elastic"
 [drive]
@@ -177,6 +179,14 @@ fn variants() -> Vec<(&'static str, toml::Table)> {
                 ("time.dt", 1e-6.into()),
                 ("time.dt_max", 5e-7.into()),
                 ("time.tolerance", 1e-3.into()),
+            ]),
+        ),
+        ("graded", with(&[("contact.grid", "graded".into())])),
+        (
+            "graded_fine",
+            with(&[
+                ("contact.grid", "graded".into()),
+                ("contact.nodes", 20_000.into()),
             ]),
         ),
     ]
@@ -268,6 +278,15 @@ fn derived_defaults_are_what_the_reference_says() {
                 ("minimal", toml::Value::Float(5e-5 / 100.0)),
                 ("capped", toml::Value::Float(1e-3 / 100.0)),
                 ("gaussian", toml::Value::Float(1e-10)),
+            ],
+        ),
+        (
+            "contact.grading",
+            "3, or 11.5/log10(N) where that is smaller (N > 6800, so that N^(−p) >= 3e-12)",
+            vec![
+                // N = 2000 (the default).
+                ("graded", toml::Value::Float(3.0)),
+                ("graded_fine", toml::Value::Float(11.5 / 20_000f64.log10())),
             ],
         ),
         (

@@ -192,6 +192,21 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
         (None, Some(why)) => say!("not compared: {why}"),
         (None, None) => say!("not compared"),
     }
+    if let Some(e) = &report.edge {
+        say!();
+        say!("# edge layer (where the first melting starts)");
+        say!(
+            "rho = {:.4} (the substrate's share of the compliance, pi*a0*a*phi0^2/(2*G*h0)), \
+             width = {:.4e} m (a0/(8*rho^2)), outermost node {:.4e} m from the edge ({:.3} widths); \
+             N needed on this grid: {:.0} (graded: {:.0})",
+            e.rho,
+            e.width_m,
+            e.outermost_gap_m,
+            e.outermost_gap_m / e.width_m,
+            e.nodes_needed,
+            e.nodes_needed_graded
+        );
+    }
     let cost = &report.cost;
     say!();
     say!("# cost estimate");

@@ -158,6 +158,14 @@ enum Command {
         /// Relative accuracy each quantity's uncertainty must be within.
         #[arg(long, default_value_t = 1e-3)]
         rtol: f64,
+        /// Instead of checking the scene's own resolution, search the cheapest N and
+        /// time.tolerance whose estimated error of the first onset and of its peak force is
+        /// within this relative error (runs to the first event: N doubling from 25, then the
+        /// tolerance falling tenfold); prints the pair and its cost and writes
+        /// DIR/resolution.toml (the pair as a scene's sections) and DIR/target.json. Exit 0
+        /// when a pair is found, 4 when the node limit or the smallest tolerance comes first.
+        #[arg(long, value_name = "REL")]
+        target: Option<f64>,
         /// Directory of verify.json [default: a fresh verify-NAME].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -545,6 +553,7 @@ fn dispatch(cli: Cli) -> ExitCode {
         Command::Verify {
             scene,
             rtol,
+            target,
             out,
             jobs,
             set,
@@ -554,6 +563,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             set: &set,
             unset: &unset,
             rtol,
+            target,
             out: out.as_deref(),
             jobs,
         }),

@@ -19,6 +19,8 @@ pub struct Args<'a> {
     pub unset: &'a [String],
     /// Requested relative accuracy.
     pub rtol: f64,
+    /// `--target`: search the cheapest resolution within this relative error instead.
+    pub target: Option<f64>,
     /// Output directory (default: a fresh `verify-NAME[-k]`).
     pub out: Option<&'a Path>,
     /// Runs at a time.
@@ -138,6 +140,9 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             Exit::BadInput,
         );
     }
+    if let Some(target) = a.target {
+        return search(&scene, target, a.out);
+    }
     let levels = match verify::level_scenes(&scene) {
         Ok(l) => l,
         Err(e) => return crate::fail(e, Exit::BadInput),
@@ -218,5 +223,100 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             Exit::FailedPoints.code()
         );
         crate::code(Exit::FailedPoints)
+    }
+}
+
+/// `verify --target`: the cheapest N and tolerance within `target`.
+fn search(scene: &stickslip_run::ResolvedScene, target: f64, out: Option<&Path>) -> ExitCode {
+    // The plan is said with the first run, once the options are known to be good.
+    let mut started = false;
+    let mut line = |p: &verify::target::Probe| {
+        if !std::mem::replace(&mut started, true) {
+            eprintln!(
+                "verify --target {}: runs to the first event, N doubling from {} at \
+                 time.tolerance / 100, then the tolerance falling tenfold at the N found",
+                stickslip_run::keys::human(target),
+                verify::target::FIRST_NODES
+            );
+        }
+        eprintln!(
+            "  {:<6} N = {:>5}  tolerance = {:<8}  first onset {}  peak force {}  ({} steps, \
+             {:.2} s)",
+            p.ladder,
+            p.nodes,
+            stickslip_run::keys::human(p.tolerance),
+            p.t_first_onset
+                .map_or("none".to_string(), |t| format!("{t:.9e} s")),
+            p.f_peak_first
+                .map_or("none".to_string(), |f| format!("{f:.6e} N")),
+            p.steps,
+            p.wall_s
+        );
+    };
+    let report = match verify::target::search(scene, target, &mut line) {
+        Ok(r) => r,
+        Err(e) => return crate::fail(e, Exit::BadInput),
+    };
+    let dir = out.map_or_else(|| fresh_dir("verify", &scene.name), Path::to_path_buf);
+    let json = match serde_json::to_vec_pretty(&report) {
+        Ok(j) => j,
+        Err(e) => return crate::fail(format!("cannot encode target.json: {e}"), Exit::Io),
+    };
+    let mut files = vec![("target.json", json)];
+    if let Some(c) = &report.choice {
+        files.push((
+            "resolution.toml",
+            c.overrides_toml(&scene.name, target).into_bytes(),
+        ));
+    }
+    for (name, bytes) in &files {
+        if let Err(e) = std::fs::create_dir_all(&dir)
+            .and_then(|()| stickslip_run::atomic::write_atomic(&dir, name, bytes))
+        {
+            return crate::fail(
+                format!("cannot write {}: {e}", dir.join(name).display()),
+                Exit::Io,
+            );
+        }
+    }
+    let spent: f64 = report.probes.iter().map(|p| p.wall_s).sum();
+    match &report.choice {
+        Some(c) => {
+            let [onset, force] = c.total_error();
+            say!(
+                "cheapest within {}: contact.nodes = {}, time.tolerance = {} (first onset ±{:.2e}, \
+                 peak force ±{:.2e} relative: space {:.2e} and {:.2e}, time {:.2e} and {:.2e}); \
+                 {:.3} s to the first event (estimated {:.3} s); the search ran {} runs in {:.1} s",
+                stickslip_run::keys::human(target),
+                c.nodes,
+                stickslip_run::keys::human(c.tolerance),
+                onset,
+                force,
+                c.space_error[0],
+                c.space_error[1],
+                c.time_error[0],
+                c.time_error[1],
+                c.wall_s,
+                c.estimated_wall_s,
+                report.probes.len(),
+                spent
+            );
+            say!(
+                "wrote {} (stickslip run SCENE --set {})",
+                dir.join("resolution.toml").display(),
+                c.overrides().join(" --set ")
+            );
+            ExitCode::SUCCESS
+        }
+        None => {
+            eprintln!(
+                "verify --target {}: no resolution found: {} (exit {}); wrote {}",
+                stickslip_run::keys::human(target),
+                report.note.as_deref().unwrap_or("unknown"),
+                Exit::FailedPoints.code(),
+                dir.join("target.json").display()
+            );
+            crate::code(Exit::FailedPoints)
+        }
     }
 }

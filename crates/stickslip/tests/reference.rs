@@ -107,3 +107,30 @@ fn check_reports_plausibility_and_warns_about_unit_slips() {
         "{stdout}"
     );
 }
+
+#[test]
+fn check_warns_when_the_outermost_node_misses_the_edge_layer() {
+    // The 1 nm SFA contact: on the uniform grid at N = 200 the outermost node is 100 nm from
+    // the edge, 89 widths of the 1.1 nm edge layer; the graded grid's is 2.5 pm away.
+    let scene = common::scene("sfa");
+    let uniform = run(&["check", scene.to_str().unwrap()]);
+    let (stdout, stderr) = texts(&uniform);
+    assert!(uniform.status.success(), "{stderr}");
+    assert!(stdout.contains("# edge layer"), "{stdout}");
+    let warning = "warning: contact.nodes = 200 leaves the outermost node 1.000e-7 m";
+    assert_eq!(stdout.matches(warning).count(), 1, "{stdout}");
+    assert!(stdout.contains("This grid needs N >= 1777"), "{stdout}");
+    assert!(
+        stdout.contains("contact.grid = \"graded\" N >= 13"),
+        "{stdout}"
+    );
+    let graded = run(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        "contact.grid=graded",
+    ]);
+    let (stdout, _) = texts(&graded);
+    assert!(stdout.contains("# edge layer"), "{stdout}");
+    assert!(!stdout.contains("leaves the outermost node"), "{stdout}");
+}

@@ -128,3 +128,107 @@ fn check_warns_when_the_first_event_moves_with_the_resolution() {
     );
     assert!(!stdout.contains("may be too coarse"), "{stdout}");
 }
+
+/// The first event's onset (s) and peak force (N) of fig2 with `sets`, from a run to it.
+fn first_event(tmp: &std::path::Path, tag: &str, sets: &[String]) -> (f64, f64) {
+    let out = tmp.join(tag);
+    let mut args = vec![
+        "run".to_string(),
+        scene("fig2").display().to_string(),
+        "--set".into(),
+        "time.max_events=1".into(),
+        "--set".into(),
+        "output.probe_radii=[]".into(),
+        "--set".into(),
+        "output.series_interval=1e-5".into(),
+    ];
+    for s in sets {
+        args.extend(["--set".to_string(), s.clone()]);
+    }
+    args.extend(["--out".to_string(), out.display().to_string()]);
+    let o = run_strings(&args);
+    assert!(o.status.success(), "{:?}", texts(&o));
+    let events = crate::common::Csv::read(&out.join("events.csv"));
+    let col = |name: &str| events.header.iter().position(|h| h == name).unwrap();
+    (
+        events.rows[0][col("t_onset")],
+        events.rows[0][col("f_peak")],
+    )
+}
+
+#[test]
+fn verify_target_finds_a_resolution_whose_error_is_within_the_target() {
+    // fig2 on the graded grid, to a relative error of 1e-7 in the first onset (60 ps) and its
+    // peak force: the search prints the pair and its cost and writes it as a scene's sections;
+    // a run at the pair is within the target of a much finer run.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("t");
+    let target = 1e-7;
+    let o = run_strings(&[
+        "verify".into(),
+        scene("fig2").display().to_string(),
+        "--set".into(),
+        "contact.grid=graded".into(),
+        "--target".into(),
+        target.to_string(),
+        "--out".into(),
+        out.display().to_string(),
+    ]);
+    let (stdout, stderr) = texts(&o);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{stderr}");
+    assert!(
+        stdout.contains("cheapest within 1e-7: contact.nodes = "),
+        "{stdout}"
+    );
+    assert!(stderr.contains("space  N =    25"), "{stderr}");
+    let text = std::fs::read_to_string(out.join("resolution.toml")).unwrap();
+    let table: toml::Table = toml::from_str(&text).unwrap();
+    let nodes = table["contact"]["nodes"].as_integer().unwrap();
+    let tolerance = table["time"]["tolerance"].as_float().unwrap();
+    assert_eq!(table["contact"]["grid"].as_str(), Some("graded"));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("target.json")).unwrap()).unwrap();
+    assert_eq!(report["choice"]["nodes"], nodes);
+    let sets = |n: i64, tol: f64| {
+        vec![
+            "contact.grid=graded".to_string(),
+            format!("contact.nodes={n}"),
+            format!("time.tolerance={tol:e}"),
+        ]
+    };
+    let (onset, force) = first_event(tmp.path(), "chosen", &sets(nodes, tolerance));
+    let (onset_ref, force_ref) = first_event(tmp.path(), "fine", &sets(1600, 5e-9));
+    assert!(
+        (onset - onset_ref).abs() <= target * onset_ref,
+        "onset {onset} vs {onset_ref}"
+    );
+    assert!(
+        (force - force_ref).abs() <= target * force_ref,
+        "peak force {force} vs {force_ref}"
+    );
+    // The search was not trivial: the coarsest level alone is outside the target.
+    let (onset_25, _) = first_event(tmp.path(), "coarse", &sets(25, tolerance));
+    assert!((onset_25 - onset_ref).abs() > target * onset_ref);
+}
+
+#[test]
+fn verify_target_refuses_what_it_cannot_search() {
+    let fig2 = scene("fig2").display().to_string();
+    for (extra, needle) in [
+        (vec!["--target", "0"], "--target = 0"),
+        (vec!["--target", "2"], "--target = 2"),
+        (vec!["--target", "nan"], "--target = nan"),
+        (
+            vec!["--target", "1e-3", "--set", "time.stepping=fixed"],
+            "time.stepping = \"adaptive\"",
+        ),
+    ] {
+        let mut args = vec!["verify", fig2.as_str()];
+        args.extend(extra);
+        let o = run(&args);
+        let (stdout, stderr) = texts(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stdout}{stderr}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!stderr.contains("runs to the first event"), "{stderr}");
+    }
+}

@@ -10,6 +10,7 @@
 
 mod answers;
 mod findings;
+mod grid;
 mod noise;
 mod operators;
 mod steppers;
@@ -78,6 +79,9 @@ fn figures(r: &Results) -> Result<Vec<(String, String)>, String> {
     }
     if let Some(n) = &r.noise {
         out.push(("convergence_noise.svg".into(), noise::figure(n)?));
+    }
+    if let Some(g) = &r.grid {
+        out.push(("convergence_grid.svg".into(), grid::figure(g)?));
     }
     Ok(out)
 }
@@ -423,6 +427,9 @@ fn markdown(r: &Results) -> String {
     tolerance::section(&mut md, r);
     noise::section(&mut md, r);
     findings::section(&mut md, r, &paper);
+    if let Some(g) = &r.grid {
+        grid::section(&mut md, g);
+    }
     let _ = writeln!(md, "## Reproduce\n");
     let _ = writeln!(
         md,

@@ -265,6 +265,12 @@ pub const G_EFF: Bound = bound(
 );
 /// `contact.nodes`.
 pub const NODES: Bound = bound("contact.nodes", "–", Range::Integers(1, MAX_NODES as i64));
+/// `contact.grading`: the edge grading's exponent p of r_i = a0·(1 − (1 − i/N)^p).
+pub const GRADING: Bound = bound(
+    "contact.grading",
+    "–",
+    Range::Closed(1.0, crate::grid::Grading::MAX_POWER),
+);
 /// `drive.stiffness`.
 pub const STIFFNESS: Bound = bound("drive.stiffness", "N/m", Range::Positive);
 /// `drive.mass`.

@@ -13,8 +13,19 @@ use super::{OperatorEntries, Triangle, TriangularOperator};
 use crate::grid::Grid;
 use std::f64::consts::PI;
 
+/// The paper's sums weigh every node by the uniform spacing: on another grid they would be
+/// a different (wrong) quadrature, so the configuration refuses that pairing before here.
+#[track_caller]
+fn assert_uniform(grid: &Grid) {
+    assert!(
+        grid.grading().is_uniform(),
+        "the literal sums are defined on the uniform grid only"
+    );
+}
+
 /// Forward transform q = W τ with the paper's sum.
 pub fn forward(grid: &Grid) -> TriangularOperator {
+    assert_uniform(grid);
     let n = grid.nodes();
     let h = grid.spacing_m();
     let mut w = TriangularOperator::zeros(n, Triangle::Upper);
@@ -30,6 +41,7 @@ pub fn forward(grid: &Grid) -> TriangularOperator {
 
 /// Back transform u3D = B u1D with the paper's sum.
 pub fn back(grid: &Grid) -> TriangularOperator {
+    assert_uniform(grid);
     let n = grid.nodes();
     let h = grid.spacing_m();
     let mut b = TriangularOperator::zeros(n, Triangle::Lower);
@@ -52,6 +64,7 @@ pub struct ForwardEntries {
 impl ForwardEntries {
     /// The forward operator of `grid`, stored nowhere.
     pub fn new(grid: Grid) -> Self {
+        assert_uniform(&grid);
         Self { grid }
     }
 }
@@ -86,6 +99,7 @@ pub struct BackEntries {
 impl BackEntries {
     /// The back operator of `grid`, stored nowhere.
     pub fn new(grid: Grid) -> Self {
+        assert_uniform(&grid);
         Self { grid }
     }
 }
@@ -113,6 +127,7 @@ impl OperatorEntries for BackEntries {
 
 /// F = 2π h Σ τ_k r_k: weights 2π h r_k (m²).
 pub fn force_3d_weights(grid: &Grid) -> Vec<f64> {
+    assert_uniform(grid);
     let h = grid.spacing_m();
     (0..grid.nodes())
         .map(|k| 2.0 * PI * h * grid.node_radius_m(k))
@@ -121,5 +136,6 @@ pub fn force_3d_weights(grid: &Grid) -> Vec<f64> {
 
 /// F = 2h Σ q_k: weights 2h (m).
 pub fn force_1d_weights(grid: &Grid) -> Vec<f64> {
+    assert_uniform(grid);
     vec![2.0 * grid.spacing_m(); grid.nodes()]
 }

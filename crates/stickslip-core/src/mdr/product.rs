@@ -1,6 +1,8 @@
 //! Product integration of Eq. 13, 15, 16: the kernel integrated exactly on each cell.
 //!
-//! Data are piecewise linear between nodes. The grid has no node at the contact edge
+//! Data are piecewise linear between nodes, on cells of any width (the uniform grid's or
+//! the edge-graded one's, [`crate::grid::Grading`]; h below is the cell's own width). The
+//! grid has no node at the contact edge
 //! r = a0, so the last cell [r_{N−1}, a0] needs a rule; we hold the data **constant**
 //! there (τ(r) = τ_{N−1}). Linear extrapolation from the last two nodes would be one
 //! order better in that cell, but it gives the node N−2 a negative weight, and then a
@@ -237,13 +239,16 @@ fn back_gauss<const P: usize>(
 /// Forward transform q = W τ by product integration.
 pub fn forward(grid: &Grid) -> TriangularOperator {
     let n = grid.nodes();
-    let h = grid.spacing_m();
+    if !grid.grading().is_uniform() {
+        return from_rows(&ForwardEntries::new(*grid));
+    }
     let mut w = TriangularOperator::zeros(n, Triangle::Upper);
     for j in 0..n {
         let x = grid.node_radius_m(j);
         for k in j..n {
             let a = grid.node_radius_m(k);
             let b = grid.node_radius_m(k + 1);
+            let h = grid.cell_width_m(k);
             let (i0, i1) = forward_moments(a, b, x);
             if k + 1 < n {
                 w.add(j, k, 2.0 * (b * i0 - i1) / h);
@@ -259,7 +264,9 @@ pub fn forward(grid: &Grid) -> TriangularOperator {
 /// Back transform u3D = B u1D by product integration.
 pub fn back(grid: &Grid) -> TriangularOperator {
     let n = grid.nodes();
-    let h = grid.spacing_m();
+    if !grid.grading().is_uniform() {
+        return from_rows(&BackEntries::new(*grid));
+    }
     let mut b_op = TriangularOperator::zeros(n, Triangle::Lower);
     b_op.add(0, 0, 1.0);
     for i in 1..n {
@@ -267,12 +274,39 @@ pub fn back(grid: &Grid) -> TriangularOperator {
         for k in 0..i {
             let a = grid.node_radius_m(k);
             let b = grid.node_radius_m(k + 1);
+            let h = grid.cell_width_m(k);
             let (j0, j1) = back_moments(a, b, r);
             b_op.add(i, k, 2.0 / PI * (b * j0 - j1) / h);
             b_op.add(i, k + 1, 2.0 / PI * (j1 - a * j0) / h);
         }
     }
     b_op
+}
+
+/// The packed operator of a graded grid, row by row from the cancellation-free cell weights.
+///
+/// On a graded grid the closed-form moments cancel: a cell's hat weights are differences of
+/// moments equal to a relative (r/h)², and the edge cells are a0·N^(−p) wide, so the closed
+/// form would lose up to 2p·log10(N) digits (all of them at p = 3, N = 2000). The uniform
+/// grid keeps its closed form (at most N² relative, the paper grid's bits unchanged).
+fn from_rows(entries: &impl OperatorEntries) -> TriangularOperator {
+    let n = entries.size();
+    let triangle = entries.triangle();
+    let mut op = TriangularOperator::zeros(n, triangle);
+    let mut cols = Vec::with_capacity(n);
+    let mut row = vec![0.0; n];
+    for i in 0..n {
+        cols.clear();
+        match triangle {
+            Triangle::Upper => cols.extend(i..n),
+            Triangle::Lower => cols.extend(0..=i),
+        }
+        entries.row_into_accurate(i, &cols, &mut row);
+        for (&k, &v) in cols.iter().zip(&row) {
+            op.add(i, k, v);
+        }
+    }
+    op
 }
 
 /// One entry (j, m) of [`forward`], computed on demand: bit-identical to the dense builder,
@@ -323,8 +357,10 @@ impl OperatorEntries for ForwardEntries {
     /// the dense builder's order; consecutive columns share a cell's moments.
     fn row_into(&self, j: usize, cols: &[usize], out: &mut [f64]) {
         let grid = &self.grid;
+        if !grid.grading().is_uniform() {
+            return self.row_into_accurate(j, cols, out);
+        }
         let n = grid.nodes();
-        let h = grid.spacing_m();
         let x = grid.node_radius_m(j);
         let mut cached: CellMoments = None;
         let mut moments = |k: usize| -> (f64, f64) {
@@ -347,12 +383,12 @@ impl OperatorEntries for ForwardEntries {
             if m > j {
                 let (i0, i1) = moments(m - 1);
                 let a = grid.node_radius_m(m - 1);
-                w += 2.0 * (i1 - a * i0) / h;
+                w += 2.0 * (i1 - a * i0) / grid.cell_width_m(m - 1);
             }
             let (i0, i1) = moments(m);
             if m + 1 < n {
                 let b = grid.node_radius_m(m + 1);
-                w += 2.0 * (b * i0 - i1) / h;
+                w += 2.0 * (b * i0 - i1) / grid.cell_width_m(m);
             } else {
                 w += 2.0 * i0;
             }
@@ -365,7 +401,6 @@ impl OperatorEntries for ForwardEntries {
     fn row_into_accurate(&self, j: usize, cols: &[usize], out: &mut [f64]) {
         let grid = &self.grid;
         let n = grid.nodes();
-        let h = grid.spacing_m();
         let x = grid.node_radius_m(j);
         let mut cached: CellMoments = None;
         // √(r_k² − x²) at the right end of the last cell, the next one's left end.
@@ -382,7 +417,7 @@ impl OperatorEntries for ForwardEntries {
                     let sb = sqrt_diff_sq(b, x);
                     end = Some((k + 1, sb));
                     let (left, right) = if k + 1 < n {
-                        forward_cell_weights(a, b, sa, sb, x, h)
+                        forward_cell_weights(a, b, sa, sb, x, grid.cell_width_m(k))
                     } else {
                         // Constant data on the last cell: 2·I0, free of cancellation.
                         (2.0 * forward_moments(a, b, x).0, 0.0)
@@ -447,7 +482,9 @@ impl OperatorEntries for BackEntries {
     /// the dense builder's order; consecutive columns share a cell's moments.
     fn row_into(&self, i: usize, cols: &[usize], out: &mut [f64]) {
         let grid = &self.grid;
-        let h = grid.spacing_m();
+        if !grid.grading().is_uniform() {
+            return self.row_into_accurate(i, cols, out);
+        }
         let r = grid.node_radius_m(i);
         let mut cached: CellMoments = None;
         let mut moments = |k: usize| -> (f64, f64) {
@@ -476,12 +513,12 @@ impl OperatorEntries for BackEntries {
             if m >= 1 {
                 let (j0, j1) = moments(m - 1);
                 let a = grid.node_radius_m(m - 1);
-                w += 2.0 / PI * (j1 - a * j0) / h;
+                w += 2.0 / PI * (j1 - a * j0) / grid.cell_width_m(m - 1);
             }
             if m < i {
                 let (j0, j1) = moments(m);
                 let b = grid.node_radius_m(m + 1);
-                w += 2.0 / PI * (b * j0 - j1) / h;
+                w += 2.0 / PI * (b * j0 - j1) / grid.cell_width_m(m);
             }
             *o = w;
         }
@@ -491,7 +528,6 @@ impl OperatorEntries for BackEntries {
     /// 1e-15 relative, without the closed form's rounding noise.
     fn row_into_accurate(&self, i: usize, cols: &[usize], out: &mut [f64]) {
         let grid = &self.grid;
-        let h = grid.spacing_m();
         let r = grid.node_radius_m(i);
         let mut cached: CellMoments = None;
         // √(r² − x_k²) at the right end of the last cell, the next one's left end.
@@ -507,7 +543,7 @@ impl OperatorEntries for BackEntries {
                     };
                     let cb = sqrt_diff_sq(r, b);
                     end = Some((k + 1, cb));
-                    let (left, right) = back_cell_weights(a, b, ca, cb, r, h);
+                    let (left, right) = back_cell_weights(a, b, ca, cb, r, grid.cell_width_m(k));
                     cached = Some((k, left, right));
                     (left, right)
                 }
@@ -541,10 +577,10 @@ impl OperatorEntries for BackEntries {
 /// Weights of F = 2π∫_0^{a0} τ r dr for piecewise-linear τ, constant on the last cell (m²).
 pub fn force_3d_weights(grid: &Grid) -> Vec<f64> {
     let n = grid.nodes();
-    let h = grid.spacing_m();
     let mut w = vec![0.0; n];
     for k in 0..n {
         let a = grid.node_radius_m(k);
+        let h = grid.cell_width_m(k);
         if k + 1 < n {
             w[k] += 2.0 * PI * h * (a / 2.0 + h / 6.0);
             w[k + 1] += 2.0 * PI * h * (a / 2.0 + h / 3.0);
@@ -558,8 +594,10 @@ pub fn force_3d_weights(grid: &Grid) -> Vec<f64> {
 
 /// Weights of F = 2∫_0^{a0} q dx with q = √(a0² − x²)·g, g piecewise linear (m).
 pub fn force_1d_weights(grid: &Grid) -> Vec<f64> {
+    if !grid.grading().is_uniform() {
+        return force_1d_weights_graded(grid);
+    }
     let n = grid.nodes();
-    let h = grid.spacing_m();
     let a0 = grid.radius_m();
     let edge = |x: f64| sqrt_diff_sq(a0, x);
     // Antiderivatives of √(a0² − x²) and x·√(a0² − x²).
@@ -571,11 +609,57 @@ pub fn force_1d_weights(grid: &Grid) -> Vec<f64> {
         let b = grid.node_radius_m(k + 1);
         let m0 = p0(b) - p0(a);
         let m1 = p1(b) - p1(a);
+        let h = grid.cell_width_m(k);
         if k + 1 < n {
             c[k] += 2.0 * (b * m0 - m1) / h / edge(a);
             c[k + 1] += 2.0 * (m1 - a * m0) / h / edge(b);
         } else {
             c[k] += 2.0 * m0 / edge(a);
+        }
+    }
+    c
+}
+
+/// [`force_1d_weights`] on a graded grid: the hat moments ∫(b − x)·√(a0² − x²) dx and
+/// ∫(x − a)·√(a0² − x²) dx of each cell by an 8-point Gauss rule in w = √(a0 − x).
+///
+/// The closed form's antiderivatives are a0²·asin(x/a0)/2 plus terms of the same size that
+/// cancel near the edge, and its hat weights are differences of moments equal to (a0/h)²;
+/// with edge cells a0·N^(−p) wide nothing would be left. In w the integrand is
+/// 2w²·(w² − (a0 − b))·√(2a0 − w²) (and its mirror), a polynomial times a square root whose
+/// branch point w = √(2a0) lies at least 0.4·√a0 from any cell: the rule is exact to
+/// rounding on every cell.
+fn force_1d_weights_graded(grid: &Grid) -> Vec<f64> {
+    let n = grid.nodes();
+    let a0 = grid.radius_m();
+    let edge = |x: f64| sqrt_diff_sq(a0, x);
+    let mut c = vec![0.0; n];
+    for k in 0..n {
+        let a = grid.node_radius_m(k);
+        let b = grid.node_radius_m(k + 1);
+        let h = grid.cell_width_m(k);
+        // w from √(a0 − b) (0 on the last cell) to √(a0 − a); a0 − x = w².
+        let (da, db) = (a0 - a, a0 - b);
+        let (wa, wb) = (da.sqrt(), db.max(0.0).sqrt());
+        let (mid, half) = (0.5 * (wa + wb), 0.5 * (wa - wb));
+        let (mut to_b, mut from_a) = (0.0, 0.0);
+        for &(t, w_minus, w_plus) in &GAUSS_8 {
+            // The rule's hat factors are not needed: recover its plain weight.
+            let weight = 0.5 * (w_minus + w_plus);
+            let w = mid + half * t;
+            let w2 = w * w;
+            let root = 2.0 * w * w.mul_add(-w, 2.0 * a0).sqrt() * w * weight;
+            // b − x = w² − (a0 − b), x − a = (a0 − a) − w².
+            to_b += (w2 - db) * root;
+            from_a += (da - w2) * root;
+        }
+        let (to_b, from_a) = (to_b * half, from_a * half);
+        if k + 1 < n {
+            c[k] += 2.0 * to_b / h / edge(a);
+            c[k + 1] += 2.0 * from_a / h / edge(b);
+        } else {
+            // Constant g on the last cell: 2∫√(a0² − x²) dx = 2(to_b + from_a)/h.
+            c[k] += 2.0 * (to_b + from_a) / h / edge(a);
         }
     }
     c

@@ -183,8 +183,17 @@ impl Simulation {
         config.validate()?;
         let n = config.simulated_nodes();
         let c = config.contact;
-        let grid = Grid::new(c.radius_m, n)
-            .map_err(|e| crate::config::ConfigError::new("contact.nodes", n, &e.to_string()))?;
+        let grading = match c.model {
+            ContactModel::Radial => c.grid,
+            ContactModel::Homogeneous => crate::grid::Grading::Uniform,
+        };
+        let grid = Grid::graded(c.radius_m, n, grading).map_err(|e| match e {
+            crate::grid::GridError::OutOfRange {
+                field,
+                value,
+                allowed,
+            } => crate::config::ConfigError::new(field, value, allowed),
+        })?;
         let elastic = c.substrate == Substrate::Elastic;
         let contact = match c.model {
             ContactModel::Radial => {

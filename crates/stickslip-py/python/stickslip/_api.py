@@ -296,7 +296,9 @@ def load_sweep(dir: PathLike) -> MapTable:
     )
 
 
-def verify(scene: SceneLike, rtol: float = 1e-3, *, jobs: int = 2) -> Dict[str, Any]:
+def verify(
+    scene: SceneLike, rtol: float = 1e-3, *, jobs: int = 2, target: Optional[float] = None
+) -> Dict[str, Any]:
     """The error of every summary number of ``scene``, as ``stickslip verify`` gives it: the
     scene runs at its own settings and refined in space (N, 2N, 4N) and in time (tolerance
     /10, /100, or Δt /2, /4) apart, ``jobs`` runs at a time.
@@ -310,9 +312,24 @@ def verify(scene: SceneLike, rtol: float = 1e-3, *, jobs: int = 2) -> Dict[str, 
     (``"within"`` rtol, ``"outside"``, ``"not_converged"`` or ``"changed"``); ``levels`` (the
     runs: axis, nodes, tolerance or dt_s, steps, wall_s, status); ``rtol``; ``scene``.
 
-    Raises ``ValueError`` for an rtol outside (0, 1), ``SceneError`` when a refined scene is
-    invalid (e.g. 4N above the node limit), ``TypeError`` for arguments of the wrong type.
+    With ``target`` (a relative error in (0, 1)) it searches instead, as ``stickslip verify
+    --target``: the cheapest ``contact.nodes`` and ``time.tolerance`` whose estimated error of
+    the first onset and of its peak force is within ``target``, from runs to the first event
+    (N doubling from 25, then the tolerance falling tenfold). Returns target.json's content:
+    ``choice`` (``nodes``, ``tolerance``, ``grid``, ``space_error`` and ``time_error`` as
+    [onset, peak force] relative, ``estimated_wall_s``, ``wall_s``, ``t_first_onset``,
+    ``f_peak_first``; None when the node limit or the smallest tolerance came first, with
+    ``note`` saying which), ``probes`` (every run), ``target``, ``scene``. Apply the choice with
+    ``scene.with_overrides({"contact.nodes": c["nodes"], "time.tolerance": c["tolerance"]})``.
+
+    Raises ``ValueError`` for an rtol or target outside (0, 1) or a target with fixed steps or
+    a homogeneous contact, ``SceneError`` when a refined scene is invalid (e.g. 4N above the
+    node limit), ``TypeError`` for arguments of the wrong type.
     """
+    if target is not None:
+        if isinstance(target, bool) or not isinstance(target, (int, float)):
+            raise TypeError(f"target: expected a number, got {type(target).__name__}")
+        return dict(_native.verify_target(_scene(scene), float(target)))
     for name, value in (("rtol", rtol), ("jobs", jobs)):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise TypeError(f"{name}: expected a number, got {type(value).__name__}")

@@ -87,6 +87,17 @@ pub enum OperatorChoice {
 }
 words!(OperatorChoice: Auto = "auto", Fast = "fast", Dense = "dense");
 
+/// `contact.grid`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GridChoice {
+    /// r_i = i·a0/N, the paper's grid.
+    Uniform,
+    /// r_i = a0·(1 − (1 − i/N)^p), p = `contact.grading`: nodes clustered toward the edge.
+    Graded,
+}
+words!(GridChoice: Uniform = "uniform", Graded = "graded");
+
 words!(ContactModel: Radial = "radial", Homogeneous = "homogeneous");
 words!(Substrate: Elastic = "elastic", Rigid = "rigid");
 words!(Scheme: Accurate = "accurate", Literal = "literal");
@@ -114,6 +125,7 @@ mod tests {
         check::<Stepping>();
         check::<Until>();
         check::<OperatorChoice>();
+        check::<GridChoice>();
         check::<ContactModel>();
         check::<Substrate>();
         check::<Scheme>();

@@ -15,6 +15,6 @@ pub use crate::keys::registry::{
     Scene, TemperatureSection, TimeSection,
 };
 pub use crate::keys::words::{
-    ContactModel, DriveKind, FilmStep, Integrator, NoiseKindName, OperatorChoice, Scheme, Stepping,
-    Substrate, TemperatureLaw, Until,
+    ContactModel, DriveKind, FilmStep, GridChoice, Integrator, NoiseKindName, OperatorChoice,
+    Scheme, Stepping, Substrate, TemperatureLaw, Until,
 };

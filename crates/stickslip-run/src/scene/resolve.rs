@@ -7,7 +7,9 @@
 //! temperature, the time before the numerics and the output).
 
 use super::error::{self, SceneError};
-use super::file::{DriveKind, NoiseKindName, OperatorChoice, Stepping, TemperatureLaw};
+use super::file::{
+    DriveKind, GridChoice, NoiseKindName, OperatorChoice, Scheme, Stepping, TemperatureLaw,
+};
 use super::{
     ContactSection, DriveSection, LubricantSection, MAX_STEPS, NoiseSection, NumericsSection,
     OutputSection, OutputSettings, ResolvedScene, Scene, TemperatureSection, TimeSection,
@@ -18,6 +20,7 @@ use stickslip_core::config::{
     AdaptiveConfig, ContactConfig, Derived, EventConfig, NumericsConfig, SimConfig, TimeConfig,
 };
 use stickslip_core::drive::{Drive, Integrator, RigidDrive, SpringDrive};
+use stickslip_core::grid::Grading;
 use stickslip_core::landau::{LandauParams, Temperature};
 use stickslip_core::mdr::OperatorForm;
 use stickslip_core::noise::NoiseKind;
@@ -385,6 +388,42 @@ fn resolve_time(
     Ok((config, (max_events, max_open_event, steady), section))
 }
 
+/// `contact.grid` and `contact.grading`, resolved once the scheme is known (the literal
+/// scheme's sums are the uniform grid's): the grading for the core, and the two keys as the
+/// resolved scene states them (no grading with the uniform grid).
+fn resolve_grid(
+    c: &ContactSection,
+    scheme: Scheme,
+    so_far: &Scene,
+) -> Result<(Grading, GridChoice, Option<f64>), SceneError> {
+    let grid = contact::GRID.value(c.grid, &nothing())?;
+    match grid {
+        GridChoice::Uniform => {
+            contradiction(
+                contact::GRADING.path,
+                c.grading,
+                "contact.grid = \"uniform\"",
+                "only with contact.grid = \"graded\"",
+            )?;
+            Ok((Grading::Uniform, grid, None))
+        }
+        GridChoice::Graded => {
+            if scheme == Scheme::Literal {
+                return Err(SceneError::Contradictory {
+                    key: contact::GRID.path.to_string(),
+                    value: word(grid),
+                    other: "time.scheme = \"literal\"".to_string(),
+                    allowed: "\"uniform\" with time.scheme = \"literal\" (the paper's sums are \
+                              defined on its uniform grid r_i = i·a0/N)"
+                        .to_string(),
+                });
+            }
+            let power = contact::GRADING.value(c.grading, so_far)?;
+            Ok((Grading::Edge { power }, grid, Some(power)))
+        }
+    }
+}
+
 /// `so_far`: the scene as resolved up to the numerics (with the time, from which the coupling
 /// solve's default tolerance derives).
 fn resolve_numerics(
@@ -579,6 +618,8 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
         g2: c.g2,
         nu2: c.nu2,
         nodes: Some(nodes),
+        grid: None,
+        grading: None,
         model: Some(model),
         substrate: Some(substrate),
     });
@@ -589,6 +630,11 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
     let (time, (max_events, max_open_event_s, steady), time_section) =
         resolve_time(&scene.time.clone().unwrap_or_default(), &so_far)?;
     so_far.time = Some(time_section);
+    let (grading, grid_word, grading_value) = resolve_grid(&c, time.scheme, &so_far)?;
+    if let Some(section) = so_far.contact.as_mut() {
+        section.grid = Some(grid_word);
+        section.grading = grading_value;
+    }
     let (numerics, numerics_section) =
         resolve_numerics(&scene.numerics.clone().unwrap_or_default(), &so_far)?;
     so_far.numerics = Some(numerics_section);
@@ -611,6 +657,7 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
             film_thickness_m: film_thickness,
             g_eff_pa: g_eff,
             nodes: nodes.unsigned_abs() as usize,
+            grid: grading,
             model,
             substrate,
         },
