@@ -596,3 +596,48 @@ fn targets(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(nodes: usize, v: f64) -> GridRun {
+        GridRun {
+            scene: "s".into(),
+            grid: GridKind::Uniform,
+            nodes,
+            tolerance: 1e-6,
+            t_onset_s: Some(v),
+            f_peak_n: None,
+            r_first_m: None,
+            steps: 0,
+            wall_s: 0.0,
+            cost_point: false,
+        }
+    }
+
+    #[test]
+    fn a_second_order_sequence_gives_order_two_and_its_limit() {
+        let runs: Vec<GridRun> = [50, 100, 200, 400]
+            .into_iter()
+            .map(|n| run(n, 1.0 + 3.0 / (n * n) as f64))
+            .collect();
+        let refs: Vec<&GridRun> = runs.iter().collect();
+        let q = sequence("s", GridKind::Uniform, "t_onset", &refs, onset);
+        assert_eq!(q.orders.len(), 2);
+        for o in &q.orders {
+            assert!((o.unwrap() - 2.0).abs() < 1e-9, "{o:?}");
+        }
+        assert!((q.extrapolated.unwrap() - 1.0).abs() < 1e-12);
+        assert!((q.order.unwrap() - 2.0).abs() < 1e-9);
+        // A level without the observable is left out, not read as zero.
+        let peak = sequence("s", GridKind::Uniform, "f_peak", &refs, f_peak);
+        assert!(peak.values.is_empty() && peak.extrapolated.is_none());
+    }
+
+    #[test]
+    fn oscillating_differences_give_no_order() {
+        assert_eq!(triple_orders(&[1.0, 2.0, 1.5]), vec![None]);
+        assert_eq!(triple_orders(&[1.0, 1.0, 1.5]), vec![None]);
+    }
+}

@@ -11,7 +11,7 @@ use crate::grid_study::{
 use std::fmt::Write as _;
 use stickslip_report::fmt::sig;
 use stickslip_report::palette::PALETTE;
-use stickslip_report::plot::{LegendAt, Marker, Panel, Series, render_svg};
+use stickslip_report::plot::{Marker, Panel, Series, render_svg};
 
 /// The graded grid with the default exponent.
 const DEFAULT: GridKind = GridKind::Graded {
@@ -284,7 +284,7 @@ pub(super) fn figure(g: &GridStudy) -> Result<String, String> {
                 ylabel,
             )
             .log_log()
-            .legend(LegendAt::LowerLeft);
+            .legend_outside();
             let grids = [GridKind::Uniform, DEFAULT];
             let mut colour = 0;
             for (gi, grid) in grids.iter().enumerate() {
@@ -328,5 +328,5 @@ pub(super) fn figure(g: &GridStudy) -> Result<String, String> {
             panels.push(p);
         }
     }
-    render_svg(&panels, 2, 560, 430)
+    render_svg(&panels, 2, 720, 430)
 }

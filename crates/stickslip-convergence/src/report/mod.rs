@@ -436,6 +436,7 @@ fn markdown(r: &Results) -> String {
         "```sh\ncargo xtask convergence                  # the full study (about {} min here)\n\
          cargo xtask convergence --max-nodes 500  # cap the N refinement\n\
          cargo xtask convergence --quick          # a one-minute smoke study\n\
+         cargo xtask convergence --grid-only      # section 8 alone, merged into the JSON\n\
          cargo test -p stickslip-convergence      # the fast subset with asserted order bands\n```",
         (r.total_wall_s / 60.0).ceil()
     );
