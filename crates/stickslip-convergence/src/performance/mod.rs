@@ -39,6 +39,7 @@
 pub mod effects;
 pub mod experiment;
 pub mod film_steps;
+pub mod grid_cost;
 pub mod refine;
 pub mod report;
 pub mod step_trace;
@@ -547,6 +548,8 @@ pub struct Performance {
     pub sfa: experiment::SfaBench,
     /// V3: the viscous film and the dashpot on the h0 = 1 nm contact against neither.
     pub effects: effects::EffectsBench,
+    /// G1: the h0 = 1 nm contact at N = 200 on the graded grid against the uniform one.
+    pub grid_cost: grid_cost::GridCostBench,
     /// Total time of the benchmark, s.
     pub total_s: f64,
     /// Machine note.
@@ -829,6 +832,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let verify_cost = verify_cost::measure(s)?;
     let sfa = experiment::measure(s, &progress)?;
     let effects = effects::measure(s, &progress)?;
+    let grid_cost = grid_cost::measure(s, &progress)?;
     let film_steps = film_steps::measure(s, r4, &sfa, &progress)?;
     let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
@@ -851,6 +855,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         verify_cost,
         sfa,
         effects,
+        grid_cost,
         film_steps,
         paper_nodes,
         paper_dt_s,

@@ -146,6 +146,7 @@ fn markdown(p: &Performance) -> String {
     super::targets::targets_table(&mut m, p);
     super::experiment::targets_rows(&mut m, &p.sfa);
     super::effects::targets_row(&mut m, &p.effects);
+    super::grid_cost::targets_row(&mut m, &p.grid_cost);
     let cheapest = |method: &str| {
         p.work_precision
             .iter()
@@ -569,6 +570,7 @@ mod tests {
             },
             sfa: sfa(),
             effects: super::super::effects::EffectsBench::default(),
+            grid_cost: super::super::grid_cost::GridCostBench::default(),
             total_s: 97.0,
             machine: "2 logical CPUs".into(),
         };
