@@ -54,6 +54,8 @@ fn to_py<'py>(
         }
         Err(e @ VerifyError::Option { .. }) => Err(PyValueError::new_err(e.to_string())),
         Err(VerifyError::Scene { error, .. }) => Err(crate::errors::scene(&error)),
-        Err(e @ VerifyError::Start { .. }) => Err(PyRuntimeError::new_err(e.to_string())),
+        Err(e @ (VerifyError::Start { .. } | VerifyError::Failed { .. })) => {
+            Err(PyRuntimeError::new_err(e.to_string()))
+        }
     }
 }

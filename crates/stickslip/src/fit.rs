@@ -5,7 +5,7 @@
 //! of the optimiser succeeded, 130 when interrupted (the best fit so far written, status
 //! `interrupted`).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 use stickslip_run::exit::Exit;
@@ -40,6 +40,8 @@ pub struct Args<'a> {
     pub profile: Option<&'a str>,
     /// Output directory (default: a fresh `fit-NAME[-k]`).
     pub out: Option<&'a Path>,
+    /// Write over an earlier result in `out`.
+    pub force: bool,
     /// No progress lines.
     pub quiet: bool,
 }
@@ -136,6 +138,12 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         Ok(x) => x,
         Err(e) => return crate::fail(&e, e.exit()),
     };
+    // The output directory before any run: nothing computed is lost to it.
+    let out = match crate::out_dir::prepare(a.out, "fit", &scene.name, a.force) {
+        Ok(d) => d,
+        Err((msg, exit)) => return crate::fail(msg, exit),
+    };
+    let dir = out.path.clone();
     let flag = match crate::interrupt_flag() {
         Ok(f) => f,
         Err(e) => return crate::fail(format!("cannot install signal handlers: {e}"), Exit::Io),
@@ -174,14 +182,13 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     };
     let outcome = match stickslip_run::fit::fit(&scene, trace, a.params, options) {
         Ok(o) => o,
-        Err(e) => return crate::fail(&e, e.exit()),
+        Err(e) => {
+            out.discard_if_unused();
+            return crate::fail(&e, e.exit());
+        }
     };
     let r = &outcome.report;
     say_raw!("{}", table(r));
-    let dir: PathBuf = a.out.map_or_else(
-        || crate::verify::fresh_dir("fit", &scene.name),
-        Path::to_path_buf,
-    );
     if let Err(e) = stickslip_report::fit::write_outputs(&dir, &outcome) {
         return crate::fail(e, Exit::Io);
     }

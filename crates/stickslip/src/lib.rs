@@ -35,6 +35,7 @@ macro_rules! say_raw {
 mod boundary;
 mod check;
 mod fit;
+mod out_dir;
 mod progress;
 mod reference;
 mod spot;
@@ -166,9 +167,13 @@ enum Command {
         /// when a pair is found, 4 when the node limit or the smallest tolerance comes first.
         #[arg(long, value_name = "REL")]
         target: Option<f64>,
-        /// Directory of verify.json [default: a fresh verify-NAME].
+        /// Directory of verify.json [default: a fresh verify-NAME]; checked before any run,
+        /// refused when it holds files unless --force.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Write over the files of an earlier result in --out.
+        #[arg(long)]
+        force: bool,
         /// Runs at a time.
         #[arg(long, default_value_t = 2)]
         jobs: usize,
@@ -216,9 +221,13 @@ enum Command {
         /// Also compute the profile likelihood of this parameter (one of --param's keys).
         #[arg(long, value_name = "KEY")]
         profile: Option<String>,
-        /// Output directory [default: a fresh fit-NAME].
+        /// Output directory [default: a fresh fit-NAME]; checked before any run, refused when
+        /// it holds files unless --force.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Write over the files of an earlier result in --out.
+        #[arg(long)]
+        force: bool,
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
         set: Vec<String>,
@@ -555,6 +564,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             rtol,
             target,
             out,
+            force,
             jobs,
             set,
             unset,
@@ -565,6 +575,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             rtol,
             target,
             out: out.as_deref(),
+            force,
             jobs,
         }),
         Command::Fit {
@@ -577,6 +588,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             jobs,
             profile,
             out,
+            force,
             set,
             unset,
             quiet,
@@ -592,6 +604,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             jobs,
             profile: profile.as_deref(),
             out: out.as_deref(),
+            force,
             quiet,
         }),
         Command::Resume {

@@ -3,7 +3,7 @@
 //! `DIR/verify.json` and a figure per quantity (the reporting kit's `verify`). Exit 0 when every quantity is within --rtol, 4 when one is not, 2 for
 //! bad input.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 use stickslip_run::exit::Exit;
 use stickslip_run::scene::Scene;
@@ -23,33 +23,10 @@ pub struct Args<'a> {
     pub target: Option<f64>,
     /// Output directory (default: a fresh `verify-NAME[-k]`).
     pub out: Option<&'a Path>,
+    /// Write over an earlier result in `out`.
+    pub force: bool,
     /// Runs at a time.
     pub jobs: usize,
-}
-
-/// A fresh directory `PREFIX-NAME`, `PREFIX-NAME-2`, … that does not exist yet (`verify`'s
-/// and `fit`'s default output directory).
-pub fn fresh_dir(prefix: &str, name: &str) -> PathBuf {
-    let safe: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    (1..)
-        .map(|k| {
-            PathBuf::from(if k == 1 {
-                format!("{prefix}-{safe}")
-            } else {
-                format!("{prefix}-{safe}-{k}")
-            })
-        })
-        .find(|p| !p.exists())
-        .unwrap_or_else(|| PathBuf::from(prefix))
 }
 
 fn verdict_word(v: Verdict) -> &'static str {
@@ -140,12 +117,21 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             Exit::BadInput,
         );
     }
+    // The output directory before any run: nothing computed is lost to it.
+    let out = match crate::out_dir::prepare(a.out, "verify", &scene.name, a.force) {
+        Ok(d) => d,
+        Err((msg, exit)) => return crate::fail(msg, exit),
+    };
+    let dir = out.path.clone();
     if let Some(target) = a.target {
-        return search(&scene, target, a.out);
+        return search(&scene, target, &out);
     }
     let levels = match verify::level_scenes(&scene) {
         Ok(l) => l,
-        Err(e) => return crate::fail(e, Exit::BadInput),
+        Err(e) => {
+            out.discard_if_unused();
+            return crate::fail(e, Exit::BadInput);
+        }
     };
     // The cost, from check's estimate of each level's run.
     let seconds: Option<f64> = levels
@@ -172,12 +158,36 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     }
     let report = match verify::verify_levels(&scene, &levels, a.rtol, a.jobs) {
         Ok(r) => r,
-        Err(e) => return crate::fail(e, Exit::BadInput),
+        Err(e) => {
+            out.discard_if_unused();
+            let exit = if matches!(e, verify::VerifyError::Failed { .. }) {
+                Exit::Numerical
+            } else {
+                Exit::BadInput
+            };
+            return crate::fail(e, exit);
+        }
     };
+    for (level, (axis, s)) in report.levels.iter().zip(&levels).skip(1) {
+        if level.status != "ok" {
+            eprintln!(
+                "verify: the {} level N = {}{} {}: its quantities are missing (changed)",
+                match axis {
+                    verify::Axis::Space => "space",
+                    verify::Axis::Time => "time",
+                },
+                s.config.contact.nodes,
+                level.tolerance.map_or_else(
+                    || level
+                        .dt_s
+                        .map_or(String::new(), |dt| format!(", time.dt = {dt:e}")),
+                    |t| format!(", time.tolerance = {t:e}")
+                ),
+                level.status
+            );
+        }
+    }
     say_raw!("{}", table(&report));
-    let dir = a
-        .out
-        .map_or_else(|| fresh_dir("verify", &scene.name), Path::to_path_buf);
     let json = match serde_json::to_vec_pretty(&report) {
         Ok(j) => j,
         Err(e) => return crate::fail(format!("cannot encode verify.json: {e}"), Exit::Io),
@@ -227,7 +237,12 @@ pub fn main(a: &Args<'_>) -> ExitCode {
 }
 
 /// `verify --target`: the cheapest N and tolerance within `target`.
-fn search(scene: &stickslip_run::ResolvedScene, target: f64, out: Option<&Path>) -> ExitCode {
+fn search(
+    scene: &stickslip_run::ResolvedScene,
+    target: f64,
+    out: &crate::out_dir::OutDir,
+) -> ExitCode {
+    let dir = &out.path;
     // The plan is said with the first run, once the options are known to be good.
     let mut started = false;
     let mut line = |p: &verify::target::Probe| {
@@ -255,9 +270,11 @@ fn search(scene: &stickslip_run::ResolvedScene, target: f64, out: Option<&Path>)
     };
     let report = match verify::target::search(scene, target, &mut line) {
         Ok(r) => r,
-        Err(e) => return crate::fail(e, Exit::BadInput),
+        Err(e) => {
+            out.discard_if_unused();
+            return crate::fail(e, Exit::BadInput);
+        }
     };
-    let dir = out.map_or_else(|| fresh_dir("verify", &scene.name), Path::to_path_buf);
     let json = match serde_json::to_vec_pretty(&report) {
         Ok(j) => j,
         Err(e) => return crate::fail(format!("cannot encode target.json: {e}"), Exit::Io),
@@ -270,8 +287,8 @@ fn search(scene: &stickslip_run::ResolvedScene, target: f64, out: Option<&Path>)
         ));
     }
     for (name, bytes) in &files {
-        if let Err(e) = std::fs::create_dir_all(&dir)
-            .and_then(|()| stickslip_run::atomic::write_atomic(&dir, name, bytes))
+        if let Err(e) = std::fs::create_dir_all(dir)
+            .and_then(|()| stickslip_run::atomic::write_atomic(dir, name, bytes))
         {
             return crate::fail(
                 format!("cannot write {}: {e}", dir.join(name).display()),

@@ -336,3 +336,63 @@ fn ctrl_c_keeps_the_best_fit_so_far() {
     assert!(report.misfit.is_finite() && report.parameters.len() == 3);
     assert!(out.join("fitted.toml").is_file() && out.join("fit.svg").is_file());
 }
+
+#[test]
+fn fit_and_verify_check_their_output_directory_before_any_run() {
+    // An --out holding an earlier result is refused at once (exit 2) unless --force; a file
+    // in its place too; bad input after the check leaves no empty directory behind.
+    let tmp = tempfile::tempdir().unwrap();
+    let used = tmp.path().join("used");
+    std::fs::create_dir(&used).unwrap();
+    std::fs::write(used.join("fit.json"), b"{}").unwrap();
+    let saw: String = (0..40)
+        .map(|i| format!("{}e-6,{}e-4\n", i, i % 10))
+        .collect();
+    let trace = tmp.path().join("saw.csv");
+    std::fs::write(&trace, format!("t,F\n{saw}")).unwrap();
+    let o = run_strings(&fit_args(&trace, &used, &["--param", "lubricant.tau_max"]));
+    let (stdout, stderr) = texts(&o);
+    assert_eq!(o.status.code(), Some(2), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("already holds files") && stderr.contains("--force"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("evaluations"), "it ran: {stderr}");
+    assert_eq!(std::fs::read(used.join("fit.json")).unwrap(), b"{}");
+    let o = run(&[
+        "verify",
+        scene("fig2").to_str().unwrap(),
+        "--out",
+        used.to_str().unwrap(),
+    ]);
+    let (_, stderr) = texts(&o);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--force") && !stderr.contains("runs ("),
+        "{stderr}"
+    );
+    // A file where the directory should be.
+    let file = tmp.path().join("file");
+    std::fs::write(&file, b"").unwrap();
+    let o = run(&[
+        "verify",
+        scene("fig2").to_str().unwrap(),
+        "--force",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(texts(&o).1.contains("is a file"));
+    // Bad input found after the check: the directory it made is gone again.
+    let fresh = tmp.path().join("fresh");
+    let o = run(&[
+        "verify",
+        scene("fig2").to_str().unwrap(),
+        "--target",
+        "2",
+        "--out",
+        fresh.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!fresh.exists());
+}

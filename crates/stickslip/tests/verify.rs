@@ -27,6 +27,8 @@ fn verify_writes_each_quantity_with_its_error_and_exits_by_the_verdicts() {
             rtol.to_string(),
             "--out".to_string(),
             out.display().to_string(),
+            // The second call writes over the first's result.
+            "--force".to_string(),
         ]
     };
     let loose = run_strings(&args("0.5"));
@@ -231,4 +233,38 @@ fn verify_target_refuses_what_it_cannot_search() {
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
         assert!(!stderr.contains("runs to the first event"), "{stderr}");
     }
+}
+
+#[test]
+fn verify_of_a_scene_that_fails_numerically_is_a_numerical_failure_not_within() {
+    // The paper's scheme at 100 times its Δt: explicit Euler blows up in every level. verify
+    // used to print "within" for the failed runs' "no melting" and exit 0.
+    let o = run(&[
+        "verify",
+        scene("fig2").to_str().unwrap(),
+        "--set",
+        "time.scheme=literal",
+        "--set",
+        "time.dt=1e-6",
+        "--set",
+        "contact.nodes=50",
+        "--set",
+        "time.end=1e-4",
+        "--set",
+        "output.profile_times=[]",
+        "--out",
+        tempfile::tempdir()
+            .unwrap()
+            .path()
+            .join("v")
+            .to_str()
+            .unwrap(),
+    ]);
+    let (stdout, stderr) = texts(&o);
+    assert_eq!(o.status.code(), Some(3), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("the scene's own run failed numerically (N = 50)"),
+        "{stderr}"
+    );
+    assert!(!stdout.contains("within"), "{stdout}");
 }

@@ -120,7 +120,7 @@ pub struct Quantity {
     /// The verdict against `rtol`.
     pub verdict: Verdict,
     /// Its value at each level, in the order of [`VerifyReport::levels`] (none where that run
-    /// did not have it, and for discrete quantities).
+    /// did not have it or failed, and for the regime; the event count as a number).
     pub values: Vec<Option<f64>>,
 }
 
@@ -172,6 +172,17 @@ pub enum VerifyError {
         what: String,
         /// Why.
         error: Box<SceneError>,
+    },
+    /// The scene's own run failed numerically: there is nothing to verify.
+    #[error(
+        "the scene's own run failed numerically ({what}): {reason}; verify needs a run that \
+         finishes (`stickslip run` shows where it fails)"
+    )]
+    Failed {
+        /// Which run.
+        what: String,
+        /// The failure, as the run reports it.
+        reason: String,
     },
     /// A run that could not start.
     #[error("a run could not start ({what}): {error}")]
@@ -345,9 +356,30 @@ pub fn verify_levels(
 ) -> Result<VerifyReport, VerifyError> {
     check_rtol(rtol)?;
     let outcomes = run_all(scenes, jobs.max(1))?;
+    report_of(scene, scenes, &outcomes, rtol)
+}
+
+/// The report from the levels' outcomes. A refined level that failed numerically has none of
+/// the quantities (each is then "changed", its uncertainty infinite): a failed run's "no
+/// events" is no value.
+///
+/// # Errors
+/// [`VerifyError::Failed`] when the scene's own run failed.
+fn report_of(
+    scene: &ResolvedScene,
+    scenes: &[(Axis, ResolvedScene)],
+    outcomes: &[RunOutcome],
+    rtol: f64,
+) -> Result<VerifyReport, VerifyError> {
+    if let Some(f) = outcomes.first().and_then(|o| o.failure.as_ref()) {
+        return Err(VerifyError::Failed {
+            what: format!("N = {}", scene.config.contact.nodes),
+            reason: f.to_string(),
+        });
+    }
     let levels = scenes
         .iter()
-        .zip(&outcomes)
+        .zip(outcomes)
         .map(|((axis, s), o)| Level {
             axis: *axis,
             nodes: s.config.contact.nodes,
@@ -377,7 +409,16 @@ pub fn verify_levels(
     let time: Vec<usize> = std::iter::once(0)
         .chain((0..scenes.len()).filter(|&i| scenes[i].0 == Axis::Time))
         .collect();
-    let per_run: Vec<_> = outcomes.iter().map(quantities).collect();
+    let per_run: Vec<_> = outcomes
+        .iter()
+        .map(|o| {
+            if o.failure.is_some() {
+                Vec::new()
+            } else {
+                quantities(o)
+            }
+        })
+        .collect();
     let mut out = Vec::new();
     for (name, unit, base) in &per_run[0] {
         let Some(base) = base else { continue };
@@ -388,11 +429,13 @@ pub fn verify_levels(
                 .and_then(|(_, _, v)| v.clone())
         };
         let all: Vec<Option<Value>> = (0..scenes.len()).map(find).collect();
+        // Per level: a number, or a count (the event count; the regime has no number).
         let values: Vec<Option<f64>> = all
             .iter()
             .map(|v| match v {
                 Some(Value::Number(x)) => Some(*x),
-                _ => None,
+                Some(Value::Text(t)) => t.parse().ok(),
+                None => None,
             })
             .collect();
         let q = match base {
@@ -532,6 +575,10 @@ mod tests {
         assert!(onset.uncertainty >= 0.0 && onset.uncertainty.is_finite());
         assert!(t.order_theoretical > 0.0);
         let n = r.quantities.iter().find(|q| q.name == "n_events").unwrap();
+        // verify.json gives the event count of every level.
+        assert!(n.values.iter().all(Option::is_some), "{:?}", n.values);
+        let regime = r.quantities.iter().find(|q| q.name == "regime").unwrap();
+        assert!(regime.values.iter().all(Option::is_none));
         assert_eq!(
             n.verdict,
             if n.changed {
@@ -570,6 +617,35 @@ mod tests {
             let q = r.quantities.iter().find(|q| q.name == name);
             assert_eq!(q.map(|q| q.value), v, "{name}");
         }
+    }
+
+    #[test]
+    fn a_failed_level_is_no_value_and_a_failed_scene_is_no_report() {
+        let scene = homogeneous();
+        let scenes = level_scenes(&scene).unwrap();
+        let mut outcomes = run_all(&scenes, 2).unwrap();
+        let failure = stickslip_core::sim::NumericalFailure {
+            t_s: 1e-4,
+            step: 7,
+            node: 0,
+            r_m: 0.0,
+            quantity: "phi",
+            value: f64::NAN,
+            diagnosis: "made up for the test".into(),
+        };
+        // A refined level that failed: every quantity misses it and is "changed".
+        outcomes[1].failure = Some(failure.clone());
+        let r = report_of(&scene, &scenes, &outcomes, 0.5).unwrap();
+        assert!(!r.all_within());
+        for q in &r.quantities {
+            assert_eq!(q.verdict, Verdict::Changed, "{}", q.name);
+            assert!(q.values[1].is_none(), "{}", q.name);
+        }
+        // The scene's own run failed: nothing to verify, said as such.
+        outcomes[0].failure = Some(failure);
+        let e = report_of(&scene, &scenes, &outcomes, 0.5).unwrap_err();
+        assert!(matches!(e, VerifyError::Failed { .. }), "{e}");
+        assert!(e.to_string().contains("made up for the test"), "{e}");
     }
 
     #[test]
