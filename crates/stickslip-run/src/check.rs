@@ -255,6 +255,9 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
         });
     }
     let cost = cost_of(scene, &mut driver)?;
+    if let Some(w) = long_run_warning(scene, &preflight, &cost) {
+        warnings.push(w);
+    }
     let output = crate::output_size::estimate(scene, cost.steps);
     if let Some(interval) = output.interval_for_limit_s {
         warnings.push(Finding {
@@ -365,6 +368,88 @@ fn cost_of(scene: &ResolvedScene, driver: &mut Driver) -> Result<CostEstimate, S
         probe_pace_seconds: pace * seconds_per_step,
         basis,
     })
+}
+
+/// Wall seconds above which `check` warns loudly about a run's cost.
+pub const LONG_RUN_S: f64 = 3600.0;
+/// Melting cycles above which a long run's cost is laid on the drive's travel.
+const MANY_CYCLES: f64 = 1e5;
+
+/// A loud warning when the run would take more than [`LONG_RUN_S`], naming the key most
+/// likely mistyped: the drive's speed (or `time.end`) when the stamp's travel holds very many
+/// melting cycles (a speed typed in m/s for µm/s), else the film's viscosity when it has one,
+/// else `time.end`.
+fn long_run_warning(scene: &ResolvedScene, p: &Preflight, cost: &CostEstimate) -> Option<Finding> {
+    let seconds = cost.seconds.unwrap_or(cost.probe_pace_seconds);
+    if seconds.is_nan() || seconds <= LONG_RUN_S {
+        return None;
+    }
+    let cycles = if p.critical_displacement_m > 0.0 {
+        p.stamp_travel_m.abs() / p.critical_displacement_m
+    } else {
+        0.0
+    };
+    let c = &scene.config;
+    let eta = c.lubricant.viscosity_pa_s;
+    let (key, why) = if cycles > MANY_CYCLES {
+        (
+            crate::keys::drive::VELOCITY.path,
+            format!(
+                "the stamp travels {:.3e} m by time.end = {} s, about {cycles:.2e} melting cycles \
+                 of eps_c·h0 = {:.3e} m each: is drive.velocity in m/s (1 µm/s = 1e-6)? Or \
+                 shorten time.end",
+                p.stamp_travel_m,
+                crate::keys::human(c.time.end_s),
+                p.critical_displacement_m
+            ),
+        )
+    } else if eta > 0.0 {
+        (
+            crate::keys::lubricant::VISCOSITY.path,
+            format!(
+                "lubricant.viscosity = {} Pa·s sets the film's viscous time η·a0/(h0·G*) = \
+                 {:.3e} s, which the steps must resolve: is it in Pa·s?",
+                crate::keys::human(eta),
+                eta * c.contact.radius_m / (c.contact.film_thickness_m * c.contact.g_eff_pa)
+            ),
+        )
+    } else {
+        (
+            crate::keys::time::END.path,
+            format!(
+                "time.end = {} s at this resolution",
+                crate::keys::human(c.time.end_s)
+            ),
+        )
+    };
+    Some(Finding {
+        severity: stickslip_core::preflight::Severity::Warning,
+        key: key.to_string(),
+        message: format!(
+            "THIS RUN WOULD TAKE ABOUT {}: {why}",
+            duration_words(seconds)
+        ),
+    })
+}
+
+/// Seconds in the largest unit that keeps the number above 1 (s, min, h, days, years).
+fn duration_words(s: f64) -> String {
+    if s.is_infinite() {
+        return "FOREVER (its first steps covered nothing of time.end)".to_string();
+    }
+    const UNITS: [(f64, &str); 5] = [
+        (365.25 * 86400.0, "years"),
+        (86400.0, "days"),
+        (3600.0, "hours"),
+        (60.0, "minutes"),
+        (1.0, "seconds"),
+    ];
+    let (size, name) = UNITS
+        .iter()
+        .find(|(size, _)| s >= *size)
+        .copied()
+        .unwrap_or((1.0, "seconds"));
+    format!("{:.3} {name}", s / size)
 }
 
 /// A probe's number as printed: seven digits, or `none`.

@@ -134,3 +134,33 @@ fn check_warns_when_the_outermost_node_misses_the_edge_layer() {
     assert!(stdout.contains("# edge layer"), "{stdout}");
     assert!(!stdout.contains("leaves the outermost node"), "{stdout}");
 }
+
+#[test]
+fn check_warns_loudly_about_a_run_of_years_naming_the_mistyped_key() {
+    // A speed of 3 µm/s typed as 3 (m/s): the stamp travels 3 m in a second.
+    let scene = common::scene("sfa");
+    let speed = run(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        "drive.velocity=3",
+        "--set",
+        "time.end=1",
+    ]);
+    let (stdout, _) = texts(&speed);
+    assert!(
+        stdout.contains("warning: THIS RUN WOULD TAKE ABOUT")
+            && stdout.contains("(drive.velocity)"),
+        "{stdout}"
+    );
+    let viscous = run(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        "lubricant.viscosity=1e30",
+    ]);
+    let (stdout, _) = texts(&viscous);
+    assert!(stdout.contains("(lubricant.viscosity)"), "{stdout}");
+    let shipped = run(&["check", scene.to_str().unwrap()]);
+    assert!(!texts(&shipped).0.contains("THIS RUN WOULD TAKE"));
+}
