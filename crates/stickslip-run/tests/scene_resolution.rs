@@ -211,3 +211,54 @@ fn unset_keys_turn_a_spring_scene_rigid_without_editing_the_file() {
         "{e}"
     );
 }
+
+#[test]
+fn every_missing_required_key_is_named_at_once() {
+    // A scene without [contact]: one error names all three of its required keys, so one edit
+    // fixes it (it used to take three edit–rerun rounds).
+    let without_contact = MINIMAL.replace(
+        "[contact]\nradius = 2e-5\nfilm_thickness = 1e-7\ng_eff = 1e9\n",
+        "",
+    );
+    assert_ne!(without_contact, MINIMAL);
+    let e = Scene::from_toml_str(&without_contact, NONE)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing required key `contact.radius`"), "{e}");
+    assert!(
+        e.contains("also missing: contact.film_thickness, contact.g_eff"),
+        "{e}"
+    );
+    // Only the name: every required key, and the spring's two.
+    let e = Scene::from_toml_str("name = \"x\"", NONE)
+        .unwrap_err()
+        .to_string();
+    for key in [
+        "lubricant.eps_max",
+        "lubricant.gamma",
+        "contact.radius",
+        "drive.velocity",
+        "drive.stiffness",
+        "drive.mass",
+        "time.end",
+    ] {
+        assert!(e.contains(key), "{key}: {e}");
+    }
+    // g_eff is not asked for when the four moduli of Eq. 9 stand for it.
+    let eq9 = without_contact.replace(
+        "[drive]",
+        "[contact]\nfilm_thickness = 1e-7\ng1 = 1e9\nnu1 = 0.3\ng2 = 1e9\nnu2 = 0.3\n[drive]",
+    );
+    let e = Scene::from_toml_str(&eq9, NONE).unwrap_err().to_string();
+    assert!(
+        e.contains("`contact.radius`") && !e.contains("g_eff"),
+        "{e}"
+    );
+    // One missing key: the message as before.
+    let one = MINIMAL.replace("gamma = 10\n", "");
+    let e = Scene::from_toml_str(&one, NONE).unwrap_err().to_string();
+    assert!(
+        e.contains("`lubricant.gamma`") && !e.contains("also missing"),
+        "{e}"
+    );
+}

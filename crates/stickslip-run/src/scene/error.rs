@@ -65,13 +65,18 @@ pub enum SceneError {
         /// The keys the section accepts.
         allowed: String,
     },
-    /// A required key is absent.
-    #[error("missing required key `{key}` (value: none); allowed: {allowed}")]
+    /// A required key is absent (and maybe others: all are named at once).
+    #[error(
+        "missing required key `{key}` (value: none); allowed: {allowed}{}",
+        also_missing(also)
+    )]
     MissingKey {
         /// Full key path.
         key: String,
         /// The allowed range of the key.
         allowed: String,
+        /// The other required keys the scene lacks too.
+        also: Vec<String>,
     },
     /// A key with a value of the wrong type.
     #[error("{key} = {value} has the wrong type; allowed: {allowed}")]
@@ -122,6 +127,45 @@ impl SceneError {
         Self::MissingKey {
             key: key.to_string(),
             allowed: allowed.into(),
+            also: Vec::new(),
+        }
+    }
+
+    /// A [`SceneError::MissingKey`] with every other required key `root` lacks named too, so
+    /// that one edit adds them all; other errors unchanged.
+    #[must_use]
+    pub fn with_all_missing(self, root: &toml::Table) -> Self {
+        match self {
+            Self::MissingKey { key, allowed, .. } => {
+                // g_eff is required unless the four moduli of Eq. 9 stand for it.
+                let eq9 = ["contact.g1", "contact.nu1", "contact.g2", "contact.nu2"]
+                    .iter()
+                    .any(|p| crate::keys::lookup(root, p).is_some());
+                let also: Vec<String> = crate::keys::all()
+                    .map(|k| k.info())
+                    .filter(|i| {
+                        i.default == crate::keys::DefaultValue::Required
+                            && i.path != key
+                            && !(eq9 && i.path == "contact.g_eff")
+                            && crate::keys::lookup(root, i.path).is_none()
+                    })
+                    .map(|i| i.path.to_string())
+                    .chain(
+                        // A spring drive (the default) needs its stiffness and mass.
+                        ["drive.stiffness", "drive.mass"]
+                            .into_iter()
+                            .filter(|p| {
+                                *p != key
+                                    && crate::keys::lookup(root, "drive.kind")
+                                        .is_none_or(|k| k.as_str() == Some("spring"))
+                                    && crate::keys::lookup(root, p).is_none()
+                            })
+                            .map(str::to_string),
+                    )
+                    .collect();
+                Self::MissingKey { key, allowed, also }
+            }
+            other => other,
         }
     }
 
@@ -138,6 +182,15 @@ impl SceneError {
             | Self::Override { .. }
             | Self::Unset { .. } => None,
         }
+    }
+}
+
+/// The other missing keys, as the message's tail.
+fn also_missing(also: &[String]) -> String {
+    if also.is_empty() {
+        String::new()
+    } else {
+        format!("; also missing: {}", also.join(", "))
     }
 }
 

@@ -159,7 +159,7 @@ impl Scene {
             .clone()
             .try_into()
             .map_err(|e| error::from_de_error(&root, &e))?;
-        let mut resolved = resolve(&scene)?;
+        let mut resolved = resolve(&scene).map_err(|e| e.with_all_missing(&root))?;
         toml_text::check_finite(&root, &mut Vec::new())?;
         resolved.source = root;
         Ok(resolved)
