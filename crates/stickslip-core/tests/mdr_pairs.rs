@@ -153,31 +153,42 @@ fn claim(pair: &str, quad: Quadrature, op: Op, interior: bool) -> Expect {
     }
 }
 
+/// Every operator, in table order.
+const OPS: [Op; 6] = [
+    Op::Forward,
+    Op::Back,
+    Op::Compliance,
+    Op::Force3d,
+    Op::Force1d,
+    Op::ForceAgreement,
+];
+
+/// The norms an operator is judged in: a force is one number; a transform has the max norm
+/// and the interior one.
+fn norms(op: Op) -> &'static [bool] {
+    if matches!(op, Op::Force3d | Op::Force1d | Op::ForceAgreement) {
+        &[false]
+    } else {
+        &[false, true]
+    }
+}
+
+/// Per level (max, interior) errors, the rows of one norm.
+fn of_norm(errs: &[(f64, f64)], interior: bool) -> Vec<f64> {
+    errs.iter()
+        .map(|&(m, i)| if interior { i } else { m })
+        .collect()
+}
+
 fn table() -> Vec<(String, Quadrature, Op, bool, Vec<f64>)> {
     let mut rows = Vec::new();
     for pair in pairs::ALL {
         for quad in [Quadrature::Literal, Quadrature::Product] {
-            for op in [
-                Op::Forward,
-                Op::Back,
-                Op::Compliance,
-                Op::Force3d,
-                Op::Force1d,
-                Op::ForceAgreement,
-            ] {
+            for op in OPS {
                 let errs: Vec<(f64, f64)> =
                     SIZES.iter().map(|&n| errors(&pair, quad, op, n)).collect();
-                let norms: &[bool] = if matches!(op, Op::Force3d | Op::Force1d | Op::ForceAgreement)
-                {
-                    &[false]
-                } else {
-                    &[false, true]
-                };
-                for &interior in norms {
-                    let e: Vec<f64> = errs
-                        .iter()
-                        .map(|&(m, i)| if interior { i } else { m })
-                        .collect();
+                for &interior in norms(op) {
+                    let e = of_norm(&errs, interior);
                     rows.push((pair.name.to_string(), quad, op, interior, e));
                 }
             }
@@ -265,14 +276,6 @@ fn claim_graded(pair: &str, op: Op, interior: bool, power: f64) -> Expect {
 
 #[test]
 fn every_operator_on_the_graded_grid_converges_at_its_claimed_order() {
-    const OPS: [Op; 6] = [
-        Op::Forward,
-        Op::Back,
-        Op::Compliance,
-        Op::Force3d,
-        Op::Force1d,
-        Op::ForceAgreement,
-    ];
     let mut failures = Vec::new();
     for power in [2.0, 3.0] {
         // errs[pair][op][size] = (max, interior)
@@ -289,17 +292,8 @@ fn every_operator_on_the_graded_grid_converges_at_its_claimed_order() {
         }
         for (p, pair) in pairs::ALL.iter().enumerate() {
             for (o, &op) in OPS.iter().enumerate() {
-                let norms: &[bool] = if matches!(op, Op::Force3d | Op::Force1d | Op::ForceAgreement)
-                {
-                    &[false]
-                } else {
-                    &[false, true]
-                };
-                for &interior in norms {
-                    let e: Vec<f64> = errs[p][o]
-                        .iter()
-                        .map(|&(m, i)| if interior { i } else { m })
-                        .collect();
+                for &interior in norms(op) {
+                    let e = of_norm(&errs[p][o], interior);
                     let norm = if interior { "interior" } else { "max" };
                     let label = format!("p={power} {} {op:?} {norm}", pair.name);
                     let expect = claim_graded(pair.name, op, interior, power);

@@ -146,28 +146,19 @@ pub(super) fn targets_row(m: &mut String, b: &EffectsBench) {
 mod tests {
     use super::*;
 
-    fn timed(wall_s: f64, steps: u64, events: usize) -> Timed {
-        Timed {
-            wall_s,
-            steps,
-            events,
-            ..Timed::default()
-        }
-    }
-
     #[test]
     fn the_row_gives_each_ratio_and_its_verdict() {
         let b = EffectsBench {
-            base: timed(0.2, 1000, 2),
-            base_approach: timed(0.1, 500, 0),
+            base: Timed::of(0.2, 1000, 2),
+            base_approach: Timed::of(0.1, 500, 0),
             viscous: EffectCost {
-                run: timed(1.0, 9000, 1),
-                approach: timed(0.11, 520, 0),
+                run: Timed::of(1.0, 9000, 1),
+                approach: Timed::of(0.11, 520, 0),
                 setting: "lubricant.viscosity=10".into(),
             },
             damped: EffectCost {
-                run: timed(0.25, 1200, 4),
-                approach: timed(0.09, 450, 0),
+                run: Timed::of(0.25, 1200, 4),
+                approach: Timed::of(0.09, 450, 0),
                 setting: "drive.damping=22.36".into(),
             },
         };

@@ -112,22 +112,13 @@ pub(super) fn targets_row(m: &mut String, b: &GridCostBench) {
 mod tests {
     use super::*;
 
-    fn timed(wall_s: f64, steps: u64, events: usize) -> Timed {
-        Timed {
-            wall_s,
-            steps,
-            events,
-            ..Timed::default()
-        }
-    }
-
     #[test]
     fn the_row_gives_both_windows_and_judges_the_first() {
         let b = GridCostBench {
-            uniform_first: timed(0.30, 4000, 1),
-            graded_first: timed(0.33, 4300, 1),
-            uniform_run: timed(0.40, 6000, 2),
-            graded_run: timed(1.10, 18000, 6),
+            uniform_first: Timed::of(0.30, 4000, 1),
+            graded_first: Timed::of(0.33, 4300, 1),
+            uniform_run: Timed::of(0.40, 6000, 2),
+            graded_run: Timed::of(1.10, 18000, 6),
         };
         let (first, whole) = b.ratios();
         assert!((first - 1.1).abs() < 1e-12 && (whole - 2.75).abs() < 1e-12);
@@ -141,7 +132,7 @@ mod tests {
         assert!(m.contains("6 meltings against 2"), "{m}");
         assert!(m.contains("**met**"), "{m}");
         let slow = GridCostBench {
-            graded_first: timed(0.5, 4300, 1),
+            graded_first: Timed::of(0.5, 4300, 1),
             ..b
         };
         assert!(!slow.met());

@@ -357,6 +357,17 @@ impl Timed {
         1e6 * self.loop_s / self.steps.max(1) as f64
     }
 
+    /// A measurement holding only a wall time, steps and events: the rows' tests.
+    #[cfg(test)]
+    pub(crate) fn of(wall_s: f64, steps: u64, events: usize) -> Self {
+        Self {
+            wall_s,
+            steps,
+            events,
+            ..Self::default()
+        }
+    }
+
     /// Evaluations of the step: steps kept, rejected attempts and onset retakes.
     #[must_use]
     pub fn evaluations(&self) -> u64 {
