@@ -209,7 +209,8 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     let edge = crate::edge_layer::EdgeLayer::of(scene);
     let nodes = scene.config.contact.nodes;
     if let Some(e) = edge.filter(|e| e.too_coarse(nodes)) {
-        let graded = scene.config.contact.grid.is_uniform();
+        // On the uniform grid the graded one is the cheaper way to the layer: say so.
+        let uniform = scene.config.contact.grid.is_uniform();
         warnings.push(Finding {
             severity: stickslip_core::preflight::Severity::Warning,
             key: crate::keys::contact::NODES.path.to_string(),
@@ -224,7 +225,7 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
                 e.width_m,
                 e.rho,
                 e.nodes_needed,
-                if graded {
+                if uniform {
                     format!(
                         ", contact.grid = \"graded\" N >= {:.0}",
                         e.nodes_needed_graded

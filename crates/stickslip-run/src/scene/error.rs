@@ -138,25 +138,31 @@ impl SceneError {
         match self {
             Self::MissingKey { key, allowed, .. } => {
                 // g_eff is required unless the four moduli of Eq. 9 stand for it.
-                let eq9 = ["contact.g1", "contact.nu1", "contact.g2", "contact.nu2"]
-                    .iter()
-                    .any(|p| crate::keys::lookup(root, p).is_some());
+                use crate::keys::{contact, drive};
+                let eq9 = [
+                    contact::G1.path,
+                    contact::NU1.path,
+                    contact::G2.path,
+                    contact::NU2.path,
+                ]
+                .iter()
+                .any(|p| crate::keys::lookup(root, p).is_some());
                 let also: Vec<String> = crate::keys::all()
                     .map(|k| k.info())
                     .filter(|i| {
                         i.default == crate::keys::DefaultValue::Required
                             && i.path != key
-                            && !(eq9 && i.path == "contact.g_eff")
+                            && !(eq9 && i.path == contact::G_EFF.path)
                             && crate::keys::lookup(root, i.path).is_none()
                     })
                     .map(|i| i.path.to_string())
                     .chain(
                         // A spring drive (the default) needs its stiffness and mass.
-                        ["drive.stiffness", "drive.mass"]
+                        [drive::STIFFNESS.path, drive::MASS.path]
                             .into_iter()
                             .filter(|p| {
                                 *p != key
-                                    && crate::keys::lookup(root, "drive.kind")
+                                    && crate::keys::lookup(root, drive::KIND.path)
                                         .is_none_or(|k| k.as_str() == Some("spring"))
                                     && crate::keys::lookup(root, p).is_none()
                             })

@@ -155,13 +155,13 @@ pub struct TargetReport {
 /// The relative error of the level at `i` of a ladder from it and the next two, for both
 /// quantities; none while the next two are missing or a level has no event.
 fn ladder_error(
-    probes: &[&Probe],
+    probes: &[Probe],
     i: usize,
     spacing: fn(&Probe) -> f64,
     orders: [f64; 2],
 ) -> Option<[Estimate; 2]> {
     let three = probes.get(i..i + 3)?;
-    let h = [spacing(three[0]), spacing(three[1]), spacing(three[2])];
+    let h = [spacing(&three[0]), spacing(&three[1]), spacing(&three[2])];
     let pick = |q: usize, p: &Probe| {
         if q == 0 {
             p.t_first_onset
@@ -171,7 +171,11 @@ fn ladder_error(
     };
     let mut out = Vec::new();
     for (q, &order) in orders.iter().enumerate() {
-        let phi = [pick(q, three[0])?, pick(q, three[1])?, pick(q, three[2])?];
+        let phi = [
+            pick(q, &three[0])?,
+            pick(q, &three[1])?,
+            pick(q, &three[2])?,
+        ];
         out.push(estimate::estimate(h, phi, order));
     }
     Some([out[0].clone(), out[1].clone()])
@@ -220,6 +224,49 @@ fn run_probe(
     })
 }
 
+/// One ladder's runs and, from the third on, the relative errors (onset, peak force) of the
+/// level two below each.
+struct Ladder {
+    runs: Vec<Probe>,
+    errors: Vec<[f64; 2]>,
+}
+
+/// Runs `levels` (N, tolerance) in order until a level's error, from it and the next two, is
+/// within `within` for both quantities; the ladder and that level's index (none: the levels
+/// ran out). Every run is logged and kept in `probes` too.
+#[allow(clippy::too_many_arguments)]
+fn climb(
+    scene: &ResolvedScene,
+    name: &str,
+    levels: impl Iterator<Item = (usize, f64)>,
+    spacing: fn(&Probe) -> f64,
+    orders: [f64; 2],
+    within: f64,
+    log: &mut dyn FnMut(&Probe),
+    probes: &mut Vec<Probe>,
+) -> Result<(Ladder, Option<usize>), VerifyError> {
+    let mut ladder = Ladder {
+        runs: Vec::new(),
+        errors: Vec::new(),
+    };
+    for (nodes, tolerance) in levels {
+        let p = run_probe(scene, name, nodes, tolerance)?;
+        log(&p);
+        probes.push(p.clone());
+        ladder.runs.push(p);
+        if ladder.runs.len() >= 3 {
+            let i = ladder.runs.len() - 3;
+            let e = ladder_error(&ladder.runs, i, spacing, orders)
+                .map_or([f64::INFINITY; 2], |e| [relative(&e[0]), relative(&e[1])]);
+            ladder.errors.push(e);
+            if e[0] <= within && e[1] <= within {
+                return Ok((ladder, Some(i)));
+            }
+        }
+    }
+    Ok((ladder, None))
+}
+
 /// Searches the cheapest N and tolerance of `scene` within `target`; `log` receives a line per
 /// run.
 ///
@@ -257,10 +304,6 @@ pub fn search(
     let orders_space = [space_order("t_first_onset", graded), SCHEME_ORDER];
     let orders_time = [ADAPTIVE_ORDER, ADAPTIVE_ORDER];
     let mut probes: Vec<Probe> = Vec::new();
-    let mut push = |p: Probe, probes: &mut Vec<Probe>| {
-        log(&p);
-        probes.push(p);
-    };
     let report = |probes: Vec<Probe>, choice, note: Option<String>| TargetReport {
         scene: scene.name.clone(),
         target,
@@ -271,75 +314,60 @@ pub fn search(
 
     // 1. Space.
     let tol_space = (adaptive.tolerance / 100.0).max(MIN_TOLERANCE * 100.0);
-    let mut space_errors: Vec<[f64; 2]> = Vec::new();
-    let mut nodes = FIRST_NODES;
-    let chosen_space = loop {
-        if nodes > MAX_NODES {
-            return Ok(report(
-                probes,
-                None,
-                Some(format!(
-                    "the spatial error stays above {} of the target up to the node limit \
-                     N = {MAX_NODES}",
-                    crate::keys::human(target / 2.0)
-                )),
-            ));
-        }
-        let p = run_probe(scene, "space", nodes, tol_space)?;
-        push(p, &mut probes);
-        let ladder: Vec<&Probe> = probes.iter().filter(|p| p.ladder == "space").collect();
-        let i = ladder.len().saturating_sub(3);
-        if ladder.len() >= 3 {
-            let e = ladder_error(&ladder, i, |p| 1.0 / p.nodes as f64, orders_space)
-                .map_or([f64::INFINITY; 2], |e| [relative(&e[0]), relative(&e[1])]);
-            space_errors.push(e);
-            if e[0] <= target / 2.0 && e[1] <= target / 2.0 {
-                break i;
-            }
-        }
-        nodes *= 2;
+    let nodes = std::iter::successors(Some(FIRST_NODES), |n| Some(n * 2))
+        .take_while(|&n| n <= MAX_NODES)
+        .map(|n| (n, tol_space));
+    let (space, chosen_space) = climb(
+        scene,
+        "space",
+        nodes,
+        |p| 1.0 / p.nodes as f64,
+        orders_space,
+        target / 2.0,
+        log,
+        &mut probes,
+    )?;
+    let Some(chosen_space) = chosen_space else {
+        return Ok(report(
+            probes,
+            None,
+            Some(format!(
+                "the spatial error stays above {} of the target up to the node limit \
+                 N = {MAX_NODES}",
+                crate::keys::human(target / 2.0)
+            )),
+        ));
     };
-    let space_ladder: Vec<Probe> = probes
-        .iter()
-        .filter(|p| p.ladder == "space")
-        .cloned()
-        .collect();
+    let (space_ladder, space_errors) = (space.runs, space.errors);
     let n_star = space_ladder[chosen_space].nodes;
 
     // 2. Time, at that N.
-    let mut tol = (adaptive.tolerance * 100.0).min(MAX_TOLERANCE);
-    let mut time_errors: Vec<[f64; 2]> = Vec::new();
-    let chosen_time = loop {
-        if tol < MIN_TOLERANCE {
-            return Ok(report(
-                probes,
-                None,
-                Some(format!(
-                    "the time error stays above {} of the target down to time.tolerance = \
-                     {MIN_TOLERANCE:e}",
-                    crate::keys::human(target / 2.0)
-                )),
-            ));
-        }
-        let p = run_probe(scene, "time", n_star, tol)?;
-        push(p, &mut probes);
-        let ladder: Vec<&Probe> = probes.iter().filter(|p| p.ladder == "time").collect();
-        if ladder.len() >= 3 {
-            let i = ladder.len() - 3;
-            let e = ladder_error(&ladder, i, |p| p.tolerance, orders_time)
-                .map_or([f64::INFINITY; 2], |e| [relative(&e[0]), relative(&e[1])]);
-            time_errors.push(e);
-            if e[0] <= target / 2.0 && e[1] <= target / 2.0 {
-                break i;
-            }
-        }
-        tol /= 10.0;
+    let first_tolerance = (adaptive.tolerance * 100.0).min(MAX_TOLERANCE);
+    let tolerances = std::iter::successors(Some(first_tolerance), |t| Some(t / 10.0))
+        .take_while(|&t| t >= MIN_TOLERANCE)
+        .map(|t| (n_star, t));
+    let (time, chosen_time) = climb(
+        scene,
+        "time",
+        tolerances,
+        |p| p.tolerance,
+        orders_time,
+        target / 2.0,
+        log,
+        &mut probes,
+    )?;
+    let Some(chosen_time) = chosen_time else {
+        return Ok(report(
+            probes,
+            None,
+            Some(format!(
+                "the time error stays above {} of the target down to time.tolerance = \
+                 {MIN_TOLERANCE:e}",
+                crate::keys::human(target / 2.0)
+            )),
+        ));
     };
-    let time_ladder: Vec<Probe> = probes
-        .iter()
-        .filter(|p| p.ladder == "time")
-        .cloned()
-        .collect();
+    let (time_ladder, time_errors) = (time.runs, time.errors);
 
     // 3. The cheapest pair of the two ladders within the target.
     // The cost of the time ladder's tolerance relative to the space ladder's, at N*: the
@@ -365,7 +393,8 @@ pub fn search(
         space_ladder[k].nodes,
         time_ladder[j].tolerance,
     )?;
-    push(confirm.clone(), &mut probes);
+    log(&confirm);
+    probes.push(confirm.clone());
     let choice = Choice {
         grid: c.contact.grid,
         nodes: space_ladder[k].nodes,
