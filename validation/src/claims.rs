@@ -11,6 +11,7 @@
 use crate::facts::Facts;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
+use stickslip_core::grid::Grading;
 use stickslip_report::fmt;
 use stickslip_report::stats::{cv, diffs, interp, max_ratio};
 use stickslip_run::RunOutput;
@@ -812,6 +813,17 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
     let nodes = runs
         .get("fig2")
         .map_or(crate::sizes::NODES, |r| r.info.nodes());
+    let edge_nodes = runs.get("fig2").map_or_else(
+        |_| "?".to_string(),
+        |r| r.info.nodes_in_outer(C4_EDGE_BAND).to_string(),
+    );
+    let grid = runs.get("fig2").map_or_else(
+        |_| "?".to_string(),
+        |r| match r.info.grading() {
+            Grading::Uniform => "uniform".to_string(),
+            Grading::Edge { power } => format!("edge-graded, p = {power}"),
+        },
+    );
     let rigid_v0 = runs.get("rigid").map_or_else(
         |_| "?".to_string(),
         |r| format!("{:e}", r.info.velocity_m_per_s()),
@@ -859,9 +871,9 @@ pub fn evaluate(runs: &Runs) -> Vec<Claim> {
                 1.0 - C4_EDGE_BAND
             ),
             format!(
-                "outer {:.0} % of the radius = {:.0} cells at N = {nodes}: the edge, not the interior",
+                "outer {:.0} % of the radius, which holds {edge_nodes} of the N = {nodes} nodes \
+                 ({grid} grid): the edge, not the interior",
                 100.0 * C4_EDGE_BAND,
-                C4_EDGE_BAND * nodes as f64
             ),
             vec![
                 ("fig2", on("fig2", c4_events_part)),

@@ -3,8 +3,10 @@
 //! and reports need, so that no number in them is typed in by hand.
 
 use serde::Serialize;
+use stickslip_core::grid::{Grading, Grid};
 use stickslip_core::mdr::OperatorForm;
 use stickslip_run::Scene;
+use stickslip_run::keys::words::GridChoice;
 use stickslip_run::scene::file::{Scheme, Stepping};
 use stickslip_run::schema::run_info::RunInfo;
 
@@ -30,6 +32,19 @@ pub trait Facts {
     fn omega_rad_per_s(&self) -> Option<f64>;
     /// Nodes simulated (1 for the homogeneous model).
     fn nodes(&self) -> usize;
+    /// How the radial nodes are spread (`contact.grid`, `contact.grading`).
+    fn grading(&self) -> Grading;
+    /// The nodes in the outer `band` fraction of the radius, r ≥ (1 − band)·a0, on the run's
+    /// grid.
+    fn nodes_in_outer(&self, band: f64) -> usize {
+        let a0 = self.radius_m();
+        Grid::graded(a0, self.nodes(), self.grading()).map_or(0, |g| {
+            g.radii_m()
+                .iter()
+                .filter(|&&r| r >= (1.0 - band) * a0)
+                .count()
+        })
+    }
     /// `time.dt`, s (the step with fixed stepping, the first step tried with adaptive steps).
     fn dt_s(&self) -> f64;
     /// Time scheme.
@@ -84,6 +99,13 @@ impl Facts for RunInfo {
     }
     fn nodes(&self) -> usize {
         self.derived.nodes
+    }
+    fn grading(&self) -> Grading {
+        let c = self.scene.contact.as_ref();
+        match (c.and_then(|c| c.grid), c.and_then(|c| c.grading)) {
+            (Some(GridChoice::Graded), Some(power)) => Grading::Edge { power },
+            _ => Grading::Uniform,
+        }
     }
     fn dt_s(&self) -> f64 {
         self.scene

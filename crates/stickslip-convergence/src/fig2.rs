@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use stickslip_core::config::{FilmStep, Scheme};
 use stickslip_run::driver::{Control, Driver, Limit, NullSink};
-use stickslip_run::keys::words::{NoiseKindName, Stepping};
+use stickslip_run::keys::words::{GridChoice, NoiseKindName, Stepping};
 use stickslip_run::keys::{contact, noise, numerics, output, time};
 use stickslip_run::{ResolvedScene, Scene, StopReason};
 
@@ -61,6 +61,9 @@ pub struct RunSpec {
     /// The second-order film's step (`numerics.film_step`; the default: the ramp-corrected
     /// one).
     pub film_step: FilmStep,
+    /// `contact.grid` when not the scheme's default (the accurate scheme's is the edge-graded
+    /// grid, the literal scheme's the uniform one).
+    pub grid: Option<GridChoice>,
 }
 
 impl RunSpec {
@@ -75,6 +78,7 @@ impl RunSpec {
             tolerance: None,
             noise: None,
             film_step: FilmStep::Ramp,
+            grid: None,
         }
     }
 
@@ -112,6 +116,9 @@ impl RunSpec {
             None => sets.push(time::STEPPING.set(Stepping::Fixed)),
         }
         sets.push(numerics::FILM_STEP.set(self.film_step));
+        if let Some(grid) = self.grid {
+            sets.push(contact::GRID.set(grid));
+        }
         if let Some((sigma, seed)) = self.noise {
             sets.push(noise::KIND.set(NoiseKindName::Gaussian));
             sets.push(noise::SIGMA.set(sigma));

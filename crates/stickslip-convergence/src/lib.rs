@@ -401,8 +401,10 @@ Options:
   --ref-nodes N    nodes of the work-precision reference (default 400)
   --quick          a smoke study of about a minute (small N, few levels)
   --render-only    re-render the .md and .svg files from the existing convergence.json
-  --grid-only      run only the spatial study at the user's scale (section 8; about 10 min,
+  --grid-only      run only the spatial study at the user's scale (section 8; about 20 min,
                    with --quick seconds) and merge it into the existing convergence.json
+  --keep-grid      run every section but 8, and keep section 8 from the existing
+                   convergence.json (its runs name their grid: no default moves them)
   --out DIR        output directory (default: the workspace's reports/)
   -h, --help       this text
 ";
@@ -417,6 +419,7 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
     let mut quick = false;
     let mut render_only = false;
     let mut grid_only = false;
+    let mut keep_grid = false;
     let mut out = default_reports_dir();
     let mut it = args.iter();
     let bad = |msg: String| {
@@ -459,6 +462,10 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
             }
             "--grid-only" => {
                 grid_only = true;
+                Ok(())
+            }
+            "--keep-grid" => {
+                keep_grid = true;
                 Ok(())
             }
             "--out" => value(a).map(|v| out = PathBuf::from(v)),
@@ -513,11 +520,40 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
         if let (Some(t), Some(r)) = (settings.tolerance.as_mut(), repeats) {
             t.repeats = r;
         }
+        // Section 8 from the existing JSON, read before the study so that a missing or
+        // unreadable one stops it at once.
+        let kept = if keep_grid {
+            settings.grid = None;
+            let old = std::fs::read_to_string(&json_path)
+                .ok()
+                .and_then(|t| serde_json::from_str::<Results>(&t).ok());
+            match old {
+                Some(Results {
+                    grid: Some(study),
+                    settings: Settings { grid: Some(g), .. },
+                    ..
+                }) => Some((g, study)),
+                _ => {
+                    eprintln!(
+                        "convergence: --keep-grid: {} holds no section 8 to keep",
+                        json_path.display()
+                    );
+                    return ExitCode::from(1);
+                }
+            }
+        } else {
+            None
+        };
         eprintln!(
             "convergence: N levels {:?}, dt levels {:?}, reference N = {}; this takes a while",
             settings.sim_nodes, settings.sim_dts_s, settings.ref_nodes
         );
-        run_all(&settings, &mut |line| eprintln!("{line}"))
+        let mut results = run_all(&settings, &mut |line| eprintln!("{line}"));
+        if let Some((g, study)) = kept {
+            results.settings.grid = Some(g);
+            results.grid = Some(study);
+        }
+        results
     };
     match report::write_all(&results, &out) {
         Ok(files) => {

@@ -68,13 +68,14 @@ pub fn force_error(run: &RunRecord, reference: &[f64], reference_onsets_s: &[f64
 pub fn theory(scheme: Scheme, refined: Refined, observable: &str) -> (Option<f64>, &'static str) {
     match (scheme, refined, observable) {
         (Scheme::Accurate, Refined::Nodes, "onset") => (
-            Some(1.0),
-            "1: first melting at the outermost node r = a0 - h, where u3D ~ (a0-r)ln(a0-r)",
+            Some(2.0),
+            "2: first melting at the outermost node, which the default edge-graded grid puts \
+             a0·N^-3 from the edge (on the uniform grid, a0/N: order 1, section 8)",
         ),
         (Scheme::Accurate, Refined::Nodes, _) => (
-            Some(1.5),
-            "3/2 to 2: product integration is 2 on smooth data, 3/2 with a square-root edge \
-             layer (smooth pair of section 1)",
+            Some(2.0),
+            "2: product integration on the edge-graded grid is second order up to the edge \
+             (on the uniform grid 3/2 with a square-root edge layer: smooth pair of section 1)",
         ),
         (Scheme::Literal, Refined::Nodes, "onset") => (
             None,

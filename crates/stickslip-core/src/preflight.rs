@@ -58,9 +58,10 @@ pub struct Preflight {
     pub lagged_sweep_contraction: f64,
     /// Stamp position at `time.end` if friction did not slow it, m.
     pub stamp_travel_m: f64,
-    /// Estimate of the first melting, s: with [`Preflight::contact_spring`] the linearised
-    /// problem's (the stamp on its drive against the contact as a linear spring, quasi-static
-    /// and inertial loading alike), else the first time the free stamp has advanced the
+    /// Estimate of the first melting, s: with [`Preflight::contact_spring`] the stamp on its
+    /// drive against the contact as a spring reaching the contact's melting displacement (the
+    /// static problem's fold, [`crate::sim::Simulation::onset_spring`]; quasi-static and
+    /// inertial loading alike), else the first time the free stamp has advanced the
     /// melting strain times h0; 0 when the film is liquid from the start; none when that does
     /// not happen before `time.end`. Real onsets come later at high speed (φ lags behind its
     /// equilibrium).
@@ -253,8 +254,8 @@ impl Preflight {
         Self::with_contact(config, lagged_sweep_contraction, None)
     }
 
-    /// As [`Preflight::of`], with the first-onset estimate of the linearised problem when the
-    /// contact's spring `contact` is known ([`crate::sim::Simulation::contact_spring`]).
+    /// As [`Preflight::of`], with the first-onset estimate of the stamp against the contact's
+    /// spring `contact` when it is known ([`crate::sim::Simulation::onset_spring`]).
     #[must_use]
     pub fn with_contact(
         config: &SimConfig,

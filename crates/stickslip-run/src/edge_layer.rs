@@ -92,13 +92,15 @@ mod tests {
     #[test]
     fn the_thin_film_needs_the_graded_grid_or_many_nodes_and_fig2_neither() {
         // SFA: ρ = π·2e-5·1e6·1.5/(2·1e9·1e-9) ≈ 47.1, w = a0/(8ρ²) ≈ 1.1 nm.
-        let sfa = EdgeLayer::of(&scene("sfa", &[])).unwrap();
+        let sfa = EdgeLayer::of(&scene("sfa", &["contact.grid=uniform"])).unwrap();
         assert!((sfa.rho - 47.12).abs() < 0.01, "{}", sfa.rho);
         assert!((sfa.width_m - 1.126e-9).abs() < 1e-11, "{}", sfa.width_m);
         assert!(sfa.too_coarse(200) && !sfa.too_coarse(1600));
         assert_eq!(sfa.nodes_needed, 1777.0);
         assert_eq!(sfa.nodes_needed_graded, 13.0);
-        let graded = EdgeLayer::of(&scene("sfa", &["contact.grid=graded"])).unwrap();
+        // The accurate scheme's default grid is the graded one: N = 200 resolves the layer.
+        let graded = EdgeLayer::of(&scene("sfa", &[])).unwrap();
+        assert_eq!(graded.nodes_needed, 13.0);
         assert!(!graded.too_coarse(200));
         assert!(graded.outermost_gap_m < 1e-11);
         // fig2: ρ ≈ 0.47, the layer is wider than the contact; no N is too coarse.

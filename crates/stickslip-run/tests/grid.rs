@@ -26,8 +26,10 @@ fn grid_keys_refuse_what_does_not_fit_naming_the_key() {
     // The paper's sums are the uniform grid's.
     let e = resolve("fig2", &["time.scheme=literal", "contact.grid=graded"]).unwrap_err();
     assert!(e.contains("contact.grid") && e.contains("literal"), "{e}");
-    // A grading without the graded grid.
-    let e = resolve("fig2", &["contact.grading=3"]).unwrap_err();
+    // A grading without the graded grid (the literal scheme's default is the uniform one).
+    let e = resolve("fig2", &["contact.grid=uniform", "contact.grading=3"]).unwrap_err();
+    assert!(e.contains("contact.grading") && e.contains("graded"), "{e}");
+    let e = resolve("fig2", &["time.scheme=literal", "contact.grading=3"]).unwrap_err();
     assert!(e.contains("contact.grading") && e.contains("graded"), "{e}");
     // Outside the exponent's range.
     for bad in ["0.5", "4.5", "nan"] {
@@ -60,10 +62,25 @@ fn the_resolved_scene_states_the_grid_and_reads_back() {
     );
     let back = Scene::from_toml_str(&text, &[] as &[&str]).unwrap();
     assert_eq!(back.config, s.config);
-    // The uniform grid states no grading.
-    let u = resolve("fig2", &[]).unwrap();
-    assert_eq!(u.config.contact.grid, Grading::Uniform);
-    assert!(!toml::to_string(&u.to_table()).unwrap().contains("grading"));
+    // The accurate scheme's default is the graded grid with p = 3; the literal scheme's and
+    // the homogeneous model's, the uniform grid, which states no grading.
+    let d = resolve("fig2", &["contact.nodes=100"]).unwrap();
+    assert_eq!(d.config, s.config);
+    let ten = resolve("fig2", &["contact.nodes=10"]).unwrap();
+    assert_eq!(ten.config.contact.grid, Grading::Edge { power: 3.0 });
+    for sets in [
+        &["time.scheme=literal"][..],
+        &["contact.nodes=9"][..],
+        &["contact.model=homogeneous", "contact.nodes=1"][..],
+    ] {
+        let u = resolve("fig2", sets).unwrap();
+        assert_eq!(u.config.contact.grid, Grading::Uniform, "{sets:?}");
+        let text = toml::to_string(&u.to_table()).unwrap();
+        assert!(
+            text.contains("grid = \"uniform\"") && !text.contains("grading"),
+            "{text}"
+        );
+    }
 }
 
 #[test]
@@ -135,7 +152,9 @@ fn at_fixed_n_the_graded_grid_is_far_closer_to_the_converged_onset() {
     };
     let (g200, f200, _) = graded(200);
     let (g800, f800, _) = graded(800);
-    let (u200, _, _) = first_event("sfa", &[]);
+    let (u200, _, _) = first_event("sfa", &["contact.grid=uniform"]);
+    // The default grid is the graded one.
+    assert_eq!(first_event("sfa", &[]).0, g200);
     assert!((g200 - g800).abs() < 1e-4, "graded {g200} vs {g800}");
     assert!(
         (f200 - f800).abs() < 2e-3 * f800,

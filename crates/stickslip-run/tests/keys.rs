@@ -183,6 +183,13 @@ fn variants() -> Vec<(&'static str, toml::Table)> {
         ),
         ("graded", with(&[("contact.grid", "graded".into())])),
         (
+            "homogeneous",
+            with(&[
+                ("contact.model", "homogeneous".into()),
+                ("contact.nodes", 1.into()),
+            ]),
+        ),
+        (
             "graded_fine",
             with(&[
                 ("contact.grid", "graded".into()),
@@ -278,6 +285,15 @@ fn derived_defaults_are_what_the_reference_says() {
                 ("minimal", toml::Value::Float(5e-5 / 100.0)),
                 ("capped", toml::Value::Float(1e-3 / 100.0)),
                 ("gaussian", toml::Value::Float(1e-10)),
+            ],
+        ),
+        (
+            "contact.grid",
+            "graded for the accurate scheme's radial contact of N >= 10 nodes (it verifies: reports/convergence.md, section 8); uniform for the literal scheme, the homogeneous model and fewer nodes, where a grading has nothing to spread",
+            vec![
+                ("minimal", toml::Value::String("graded".into())),
+                ("literal", toml::Value::String("uniform".into())),
+                ("homogeneous", toml::Value::String("uniform".into())),
             ],
         ),
         (

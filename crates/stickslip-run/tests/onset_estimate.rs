@@ -1,8 +1,11 @@
 //! The first-onset estimate of the linearised problem (the stamp on its drive against the
 //! contact as a linear spring) against the real first onset, for fig2 (inertial loading) and
 //! for surface-force-apparatus contacts (h0 = 1 nm, quasi-static loading) at several
-//! stiffnesses and speeds, with and without a dashpot. The goal is 30 %; measured here: at
-//! most about 6 %.
+//! stiffnesses and speeds, with and without a dashpot, and the thinner film of a user's
+//! contact (a0 = 10 µm, h0 = 0.7 nm, K = 1000 N/m, V0 = 3 µm/s, damping ratio 0.3). The goal is
+//! 30 %. The linear contact put the thin films' onsets 12–17 % early on the resolved grid; the
+//! quasi-static fold (`Simulation::onset_spring`) is measured here within 3.2 % (fig2 with a
+//! dashpot) and 0.6 % on the thin films.
 
 use crate::common;
 use stickslip_run::{Control, NullSink, Scene, driver};
@@ -20,7 +23,7 @@ fn estimate_and_onset(name: &str, sets: &[&str]) -> (f64, f64) {
 
 #[test]
 fn the_linearised_onset_lands_near_the_real_one_quasi_static_and_inertial() {
-    let cases: [(&str, &[&str]); 7] = [
+    let cases: [(&str, &[&str]); 8] = [
         ("fig2", &["contact.nodes=200"]),
         // A dashpot of damping ratio 0.71 on the inertial loading, and of 2.2 on an h0 = 1 nm
         // contact.
@@ -46,6 +49,18 @@ fn the_linearised_onset_lands_near_the_real_one_quasi_static_and_inertial() {
         (
             "sfa",
             &[
+                "contact.radius=1e-5",
+                "contact.film_thickness=0.7e-9",
+                "drive.stiffness=1000",
+                "drive.velocity=3e-6",
+                "drive.damping=6",
+                "time.end=0.2",
+                "output.profile_times=[0.2]",
+            ],
+        ),
+        (
+            "sfa",
+            &[
                 "drive.velocity=1e-7",
                 "time.end=2",
                 "output.profile_times=[2]",
@@ -62,5 +77,5 @@ fn the_linearised_onset_lands_near_the_real_one_quasi_static_and_inertial() {
         );
         worst = worst.max(off);
     }
-    assert!(worst < 0.1, "largest relative difference {worst}");
+    assert!(worst < 0.05, "largest relative difference {worst}");
 }

@@ -155,10 +155,10 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     );
     match (p.first_onset_estimate_s, p.contact_spring) {
         (Some(t), Some(k)) if t > 0.0 => say!(
-            "first_onset_estimate = {t:e} s (the linearised problem: the stamp on its drive \
-             against the contact as a spring of {:.4e} N/m, the film at its secant stiffness at \
-             melting in series with the substrate; the first node melts at X = {:.4e} m, F = \
-             {:.4e} N; later at high speed, where the film lags)",
+            "first_onset_estimate = {t:e} s (the stamp on its drive against the contact as a \
+             spring of {:.4e} N/m; the first node melts at X = {:.4e} m, F = {:.4e} N, where \
+             the contact's static problem, each node's film on its equilibrium branch in series \
+             with the substrate, loses its solution; later at high speed, where the film lags)",
             k.stiffness_n_per_m(),
             k.x_melt_m,
             k.f_melt_n

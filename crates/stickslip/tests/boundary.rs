@@ -263,7 +263,7 @@ fn the_stamp_scale_finds_where_the_stamp_stops_slipping() {
     let sfa = scene("sfa");
     let base = [
         "--set",
-        "contact.nodes=20",
+        "contact.nodes=50",
         "--set",
         "time.end=0.25",
         "--set",

@@ -111,9 +111,15 @@ fn check_reports_plausibility_and_warns_about_unit_slips() {
 #[test]
 fn check_warns_when_the_outermost_node_misses_the_edge_layer() {
     // The 1 nm SFA contact: on the uniform grid at N = 200 the outermost node is 100 nm from
-    // the edge, 89 widths of the 1.1 nm edge layer; the graded grid's is 2.5 pm away.
+    // the edge, 89 widths of the 1.1 nm edge layer; the graded grid's (the default) is
+    // 2.5 pm away.
     let scene = common::scene("sfa");
-    let uniform = run(&["check", scene.to_str().unwrap()]);
+    let uniform = run(&[
+        "check",
+        scene.to_str().unwrap(),
+        "--set",
+        "contact.grid=uniform",
+    ]);
     let (stdout, stderr) = texts(&uniform);
     assert!(uniform.status.success(), "{stderr}");
     assert!(stdout.contains("# edge layer"), "{stdout}");
@@ -124,12 +130,7 @@ fn check_warns_when_the_outermost_node_misses_the_edge_layer() {
         stdout.contains("contact.grid = \"graded\" N >= 13"),
         "{stdout}"
     );
-    let graded = run(&[
-        "check",
-        scene.to_str().unwrap(),
-        "--set",
-        "contact.grid=graded",
-    ]);
+    let graded = run(&["check", scene.to_str().unwrap()]);
     let (stdout, _) = texts(&graded);
     assert!(stdout.contains("# edge layer"), "{stdout}");
     assert!(!stdout.contains("leaves the outermost node"), "{stdout}");

@@ -64,9 +64,12 @@ pub fn measure(s: &BenchSettings, progress: &dyn Fn(&str)) -> Result<GridCostBen
             output::PROFILE_TIMES.set(Vec::<f64>::new()).to_string(),
             contact::NODES.set(200).to_string(),
         ];
-        if graded {
-            sets.push(format!("{}=graded", contact::GRID.path));
-        }
+        // Both grids named: the default is the graded one.
+        sets.push(format!(
+            "{}={}",
+            contact::GRID.path,
+            if graded { "graded" } else { "uniform" }
+        ));
         if first {
             sets.push(time::MAX_EVENTS.set(1).to_string());
         }

@@ -316,7 +316,27 @@ section! {
             { default: Value(&2000), rule: ">= 2 with time.scheme = \"literal\"" }
         GRID grid "grid": GridChoice =
             "how the N nodes are spread: uniform r_i = i·a0/N (the paper's grid), or graded toward the contact's edge, r_i = a0·(1 − (1 − i/N)^p) with p = contact.grading, which resolves the stress's edge layer where the first melting starts (docs/model.md, \"The radial grid\")"
-            { default: Value(&GridChoice::Uniform), range: Range::Word, rule: "\"uniform\" with time.scheme = \"literal\"", since: "0.2.0" }
+            {
+                default: Derived {
+                    doc: "graded for the accurate scheme's radial contact of N >= 10 nodes (it verifies: reports/convergence.md, section 8); uniform for the literal scheme, the homogeneous model and fewer nodes, where a grading has nothing to spread",
+                    of: |s| {
+                        let scheme = s.time.as_ref()?.scheme?;
+                        let contact = s.contact.as_ref()?;
+                        let (model, nodes) = (contact.model?, contact.nodes?);
+                        Some(if scheme == Scheme::Accurate
+                            && model == ContactModel::Radial
+                            && nodes >= GRADED_MIN_NODES
+                        {
+                            GridChoice::Graded
+                        } else {
+                            GridChoice::Uniform
+                        })
+                    },
+                },
+                range: Range::Word,
+                rule: "\"uniform\" with time.scheme = \"literal\"",
+                since: "0.2.0",
+            }
         GRADING grading "grading" @ bounds::GRADING: f64 =
             "p: the graded grid's exponent; the outermost node sits a0·N^(−p) from the edge and the widest cell, at the axis, is p·a0/N"
             {
@@ -523,7 +543,7 @@ section! {
                 },
             }
         RUNAWAY_STRESS_FACTOR runaway_stress_factor "runaway_stress_factor" @ bounds::RUNAWAY_STRESS_FACTOR: f64 =
-            "a step fails when |τ| exceeds this multiple of tau_max (for a first-order film: of its stationary curve's peak, when larger)"
+            "a step fails when |τ| exceeds this multiple of tau_max (for a first-order film: of its stationary curve's peak, when larger), times (φ/φ0)² at a node that noise ordered beyond the solid's φ0"
             { default: Value(&NumericsConfig::DEFAULT.runaway_stress_factor) }
         OPERATOR operator "operator": OperatorChoice =
             "MDR transforms: fast (hierarchical low-rank, O(N)), dense (O(N²)); auto = fast for accurate, dense for literal"
@@ -536,6 +556,11 @@ section! {
             { default: Value(&0.0), rule: "only with time.stepping = \"adaptive\"" }
     }
 }
+
+/// The accurate scheme's radial contact is graded by default from this many nodes on: below,
+/// the outermost cell would span much of the radius (r_1 = 0.875·a0 at N = 2) and the two
+/// forces F and F_1d part by 0.5 % (hard case 6), for no edge to resolve.
+pub const GRADED_MIN_NODES: i64 = 10;
 
 /// The graded grid's default exponent for N nodes: 3 (docs/model.md, "The radial grid": the
 /// thin films' first onsets are 2–2.5 times closer to converged at N = 200 than with 2, at

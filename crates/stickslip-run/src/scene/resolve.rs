@@ -396,7 +396,7 @@ fn resolve_grid(
     scheme: Scheme,
     so_far: &Scene,
 ) -> Result<(Grading, GridChoice, Option<f64>), SceneError> {
-    let grid = contact::GRID.value(c.grid, &nothing())?;
+    let grid = contact::GRID.value(c.grid, so_far)?;
     match grid {
         GridChoice::Uniform => {
             contradiction(
