@@ -299,8 +299,8 @@ fn unprinted_numbers(runs: &Runs) -> Option<String> {
     let d = &r.info.derived;
     Some(format!(
         "**Numbers the paper does not print.** fig2's first melting comes at t = {} (X = {} µm, \
-         F peak {} mN), with εc·h0 = {} µm; the estimate of `check` — the linearised problem, \
-         the stamp on its spring against the contact as a linear spring — is t ≈ {} (run.json's \
+         F peak {} mN), with εc·h0 = {} µm; the estimate of `check` — the stamp on its spring \
+         against the contact as a spring, to the contact's quasi-static fold — is t ≈ {} (run.json's \
          derived critical_displacement and first_onset_estimate); the paper's figures are not \
          in our copy of its text, so agreement is checked against its statements only.",
         fmt::time(e.t_onset_s, 4),
@@ -308,7 +308,7 @@ fn unprinted_numbers(runs: &Runs) -> Option<String> {
         fmt::sig(e.f_peak_n * 1e3, 4),
         fmt::sig(d.critical_displacement * 1e6, 3),
         d.first_onset_estimate.map_or_else(
-            || "– (none before time.end)".to_string(),
+            || "– (none: the drive never reaches the melting strain)".to_string(),
             |t| fmt::time(t, 4)
         )
     ))

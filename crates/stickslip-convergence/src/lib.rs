@@ -167,6 +167,9 @@ pub struct RunSummary {
 pub struct Results {
     /// Producer and command.
     pub generated_by: String,
+    /// The commit the study ran at (absent in studies made before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub commit: Option<stickslip_report::provenance::Commit>,
     /// Wall seconds of the whole study.
     pub total_wall_s: f64,
     /// Cargo profile the study ran in (`release`, or `dev` with the core at opt-level 3).
@@ -338,6 +341,7 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
         .as_ref()
         .map(|g| grid_study::study(g, &mut |line| log(line)));
     Results {
+        commit: stickslip_report::provenance::Commit::of_workspace(),
         generated_by: "cargo xtask convergence (stickslip-convergence)".into(),
         total_wall_s: start.elapsed().as_secs_f64(),
         build_profile: if cfg!(debug_assertions) {
@@ -497,6 +501,7 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
                     eprintln!("convergence: the spatial study took {:.0} s", study.wall_s);
                     r.settings.grid = Some(settings);
                     r.grid = Some(study);
+                    r.commit = stickslip_report::provenance::Commit::of_workspace();
                 }
                 r
             }

@@ -62,9 +62,9 @@ pub struct Preflight {
     /// drive against the contact as a spring reaching the contact's melting displacement (the
     /// static problem's fold, [`crate::sim::Simulation::onset_spring`]; quasi-static and
     /// inertial loading alike), else the first time the free stamp has advanced the
-    /// melting strain times h0; 0 when the film is liquid from the start; none when that does
-    /// not happen before `time.end`. Real onsets come later at high speed (φ lags behind its
-    /// equilibrium).
+    /// melting strain times h0; 0 when the film is liquid from the start; none when the drive
+    /// never gets there. It does not depend on `time.end` (a warning says when it lies beyond).
+    /// Real onsets come later at high speed (φ lags behind its equilibrium).
     pub first_onset_estimate_s: Option<f64>,
     /// The contact as a linear spring up to the first melting, when the simulation computed
     /// it (none in a preflight made from the configuration alone).
@@ -206,7 +206,7 @@ fn t_minus_sin(t: f64, omega: f64) -> f64 {
 /// The first onset of the linearised problem: the stamp on its drive against the contact as
 /// the spring `k` (rigid drive: X = V0·t; spring drive from rest: m·Ẍ = K(V0·t − X) − k·X,
 /// X = K·V0/(K + k)·(t − sin(Ω·t)/Ω) with Ω² = (K + k)/m), reaching the melting displacement
-/// (scaled with the melting strain when the temperature changes); none within time.end.
+/// (scaled with the melting strain when the temperature changes); none if it never does.
 fn linear_onset(config: &SimConfig, k: ContactSpring) -> Option<f64> {
     let end = config.time.end_s;
     let l = &config.lubricant;
@@ -347,27 +347,51 @@ impl Preflight {
                     ),
                 });
             }
-            let onset = first_crossing(config);
-            if onset.is_none() {
-                let a_end = config.temperature.a_coeff_pa(end);
-                findings.push(Finding {
+            // With the contact's spring the stamp is held back by it; without one (a preflight
+            // from the configuration alone) the free stamp's advance is all there is. Neither
+            // depends on time.end: the search runs on past it.
+            let onset = match contact {
+                Some(k) => linear_onset(config, k),
+                None => first_crossing(config),
+            };
+            match onset {
+                Some(t) if t <= end => {}
+                Some(t) => findings.push(Finding {
                     severity: Severity::Warning,
                     key: "time.end".into(),
                     message: format!(
-                        "nothing can melt within time.end = {end:e} s: the free stamp advances \
-                         {:e} m, the film melts after about {}*h0 = {:e} m. Lengthen \
-                         time.end or raise drive.velocity.",
-                        stamp_travel_m.abs(),
-                        if l.is_first_order() {
-                            "eps_melt"
+                        "nothing melts within time.end = {end:e} s: the first melting comes at about \
+                         {t:.3e} s (first_onset_estimate{}). Lengthen time.end to about {:.2e} s, \
+                         or raise drive.velocity.",
+                        if contact.is_some() {
+                            ", the stamp held back by the contact's stiffness"
                         } else {
-                            "eps_c"
+                            ""
                         },
-                        l.melting_strain(a_end) * c.film_thickness_m
+                        1.2 * t
                     ),
-                });
+                }),
+                None => {
+                    let a_end = config.temperature.a_coeff_pa(end);
+                    findings.push(Finding {
+                        severity: Severity::Warning,
+                        key: "time.end".into(),
+                        message: format!(
+                            "nothing can melt: the drive never advances the stamp the {}*h0 = {:e} m the \
+                             film needs (free stamp at time.end: {:e} m). Raise drive.velocity or \
+                             the temperature.",
+                            if l.is_first_order() {
+                                "eps_melt"
+                            } else {
+                                "eps_c"
+                            },
+                            l.melting_strain(a_end) * c.film_thickness_m,
+                            stamp_travel_m.abs(),
+                        ),
+                    });
+                }
             }
-            contact.and_then(|k| linear_onset(config, k)).or(onset)
+            onset
         };
         if let Some(period) = spring_period_s.filter(|&p| end > 0.25 * p) {
             findings.push(Finding {
@@ -441,29 +465,39 @@ fn first_crossing(config: &SimConfig) -> Option<f64> {
     })
 }
 
-/// The first t in [0, end] with gap(t) ≥ 0, located by a scan of 4096 intervals and
-/// bisection; none if there is none.
+/// The first t ≥ 0 with gap(t) ≥ 0: [0, end] scanned in 4096 intervals, then the windows
+/// [end·2^k, end·2^(k+1)] in 256 each up to end·2^[`CROSSING_DOUBLINGS`], and bisection; none
+/// if there is none. Past time.end the search only says when, so the estimate is the same
+/// whatever time.end (within the scan's resolution).
 fn crossing(end: f64, gap: impl Fn(f64) -> f64) -> Option<f64> {
-    const SCAN: usize = 4096;
-    let mut lo = 0.0;
-    for j in 1..=SCAN {
-        let t = end * j as f64 / SCAN as f64;
-        if gap(t) >= 0.0 {
-            let mut hi = t;
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if gap(mid) >= 0.0 {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
+    let bisect = |mut lo: f64, mut hi: f64| {
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if gap(mid) >= 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
             }
-            return Some(hi);
         }
-        lo = t;
+        hi
+    };
+    let windows = std::iter::once((0.0, end, 4096))
+        .chain((0..CROSSING_DOUBLINGS).map(|k| (end * 2f64.powi(k), end * 2f64.powi(k + 1), 256)));
+    for (from, to, scan) in windows {
+        let mut lo = from;
+        for j in 1..=scan {
+            let t = from + (to - from) * j as f64 / scan as f64;
+            if gap(t) >= 0.0 {
+                return Some(bisect(lo, t));
+            }
+            lo = t;
+        }
     }
     None
 }
+
+/// How many times past time.end the onset search doubles its horizon (to end·2^40 ≈ 1e12·end).
+const CROSSING_DOUBLINGS: i32 = 40;
 
 #[cfg(test)]
 mod tests {
@@ -488,11 +522,13 @@ mod tests {
         let mut config = SimConfig::fig2(Scheme::Literal);
         config.time.end_s = 1e-4;
         let p = Preflight::of(&config, 1.5);
-        assert!(p.first_onset_estimate_s.is_none());
-        assert!(
-            p.at_least(Severity::Warning)
-                .any(|f| f.key == "time.end" && f.message.contains("nothing can melt"))
-        );
+        // The estimate does not depend on time.end; the warning gives it.
+        let full = Preflight::of(&SimConfig::fig2(Scheme::Literal), 1.5);
+        let t = p.first_onset_estimate_s.unwrap();
+        assert!((t / full.first_onset_estimate_s.unwrap() - 1.0).abs() < 1e-9);
+        assert!(p.at_least(Severity::Warning).any(|f| f.key == "time.end"
+            && f.message.contains("nothing melts within time.end")
+            && f.message.contains(&format!("{t:.3e}"))));
         let refusal = p.refusal().unwrap();
         assert_eq!(refusal.value, 1.5);
         let euler = p.euler_number.unwrap();

@@ -193,6 +193,7 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
         f.curves = fits::thin_curves(&c.t_s, &c.data_f_n, &c.model_f_n, fits::CURVE_BUCKETS);
     }
     Ok(Study {
+        commit: stickslip_report::provenance::Commit::of_workspace(),
         sizes,
         host: Host {
             cores: std::thread::available_parallelism().map_or(1, std::num::NonZero::get),

@@ -299,6 +299,9 @@ pub struct SectionTime {
 /// The whole study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Study {
+    /// The commit the study ran at (absent in studies made before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub commit: Option<stickslip_report::provenance::Commit>,
     /// Its sizes.
     pub sizes: Sizes,
     /// The host.

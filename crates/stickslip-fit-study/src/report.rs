@@ -163,7 +163,10 @@ pub fn verdicts(st: &Study) -> Vec<(String, String)> {
 pub fn markdown(st: &Study) -> String {
     let (rows, body) = sections(st);
 
-    let mut out = String::from("# The fit's verification study\n\n");
+    let mut out = format!(
+        "# The fit's verification study\n\n{}\n\n",
+        stickslip_report::provenance::sentence(st.commit.as_ref())
+    );
     let cores: Vec<f64> = all_fits(st)
         .iter()
         .filter_map(|f| f.cpu_s.map(|c| c / f.wall_s))

@@ -124,6 +124,8 @@ pub fn run(e: &stickslip_run::RunError) -> PyErr {
              interrupted run"
         )),
         RunError::OutDir { source, .. } | RunError::Io { source, .. } => os(source.kind(), text()),
+        RunError::Busy { .. } => PyRuntimeError::new_err(text()),
+        RunError::Foreign { .. } => PyFileExistsError::new_err(text()),
         RunError::Checkpoint(CheckpointError::Missing { .. }) => {
             PyFileNotFoundError::new_err(text())
         }

@@ -10,6 +10,7 @@
 //!   reading what it wrote through the run library's schema;
 //! - [`build_timing`]: the schema of `reports/build-timing.json` (a fresh clone's build and
 //!   test times) and of the stage times `cargo xtask test` records;
+//! - [`provenance`]: the commit a report was generated at, and the sentence that says so;
 //! - [`write_atomic`]: the run library's atomic writer, re-exported (there is one).
 //!
 //! Invariant: no physics and no time loop here; reports are computed from data they are
@@ -22,6 +23,7 @@ pub mod fmt;
 pub mod map;
 pub mod palette;
 pub mod plot;
+pub mod provenance;
 pub mod stats;
 pub mod verify;
 

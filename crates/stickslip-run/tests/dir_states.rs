@@ -177,3 +177,96 @@ fn a_directory_without_a_run_is_named() {
     let e = read_run(tmp.path()).unwrap_err().to_string();
     assert!(e.contains("no run.json"), "{e}");
 }
+
+#[test]
+fn a_directory_another_process_writes_is_refused_and_left_as_it_was() {
+    // The lock is the kernel's (flock), held per open file: a second open in this process
+    // conflicts as a second process's would.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("busy");
+    let scene = scene();
+    let mut polls = 0;
+    let mut poll = |_: &Progress| {
+        polls += 1;
+        polls >= 150
+    };
+    let mut control = Control {
+        poll: Some(&mut poll),
+        ..Control::default()
+    };
+    let options = DirOptions {
+        force: false,
+        checkpoint_every_s: 1e-9,
+    };
+    let stopped = stickslip_run::run_to_dir(&scene, &dir, &options, &mut control).unwrap();
+    assert_eq!(stopped.stop, StopReason::Interrupted);
+    let before = read(&dir, "run.json");
+    let held = stickslip_run::sink::lock::DirLock::acquire(&dir).unwrap();
+    let resumed = stickslip_run::resume(
+        &dir,
+        &stickslip_run::ResumeOptions::default(),
+        &mut Control::default(),
+    );
+    let e = resumed.expect_err("a second writer is refused");
+    assert!(
+        matches!(e, stickslip_run::RunError::Busy { .. })
+            && e.to_string().contains("nothing was changed"),
+        "{e}"
+    );
+    let forced = stickslip_run::run_to_dir(
+        &scene,
+        &dir,
+        &DirOptions {
+            force: true,
+            checkpoint_every_s: 0.0,
+        },
+        &mut Control::default(),
+    );
+    assert!(matches!(forced, Err(stickslip_run::RunError::Busy { .. })));
+    assert_eq!(read(&dir, "run.json"), before);
+    // Released: the resume finishes the run.
+    drop(held);
+    let (_, done) = stickslip_run::resume(
+        &dir,
+        &stickslip_run::ResumeOptions::default(),
+        &mut Control::default(),
+    )
+    .unwrap();
+    assert_eq!(done.stop, StopReason::End);
+}
+
+#[test]
+fn a_directory_of_another_commands_results_is_refused_even_with_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (file, what) in [
+        ("verify.json", "stickslip verify"),
+        ("fit.json", "stickslip fit"),
+        ("sweep.json", "a sweep"),
+    ] {
+        let dir = tmp.path().join(file);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join(file), b"{}").unwrap();
+        for force in [false, true] {
+            let e = stickslip_run::run_to_dir(
+                &scene(),
+                &dir,
+                &DirOptions {
+                    force,
+                    checkpoint_every_s: 0.0,
+                },
+                &mut Control::default(),
+            )
+            .expect_err("refused");
+            let text = e.to_string();
+            assert!(
+                matches!(e, stickslip_run::RunError::Foreign { .. })
+                    && text.contains(what)
+                    && text.contains(file),
+                "{text}"
+            );
+        }
+        // Nothing was written beside the other results.
+        let names: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert_eq!(names.len(), 1, "{file}");
+    }
+}

@@ -220,3 +220,46 @@ fn the_jacobian_agrees_with_central_differences_at_two_step_sizes() {
         }
     }
 }
+
+#[test]
+fn a_scene_that_cuts_the_model_short_is_refused_before_any_run() {
+    for (set, key) in [
+        ("time.max_events=1", "time.max_events"),
+        ("time.max_open_event=1e-4", "time.max_open_event"),
+        ("time.until=periodic", "time.until"),
+    ] {
+        let scene = scene().with_overrides(&[set.to_string()]).unwrap();
+        let e = stickslip_run::fit::refuse_cut_short(&scene).unwrap_err();
+        assert!(e.to_string().contains(key), "{set}: {e}");
+    }
+    assert!(stickslip_run::fit::refuse_cut_short(&scene()).is_ok());
+}
+
+#[test]
+fn an_interrupted_fit_keeps_provisional_intervals_from_its_last_jacobian() {
+    // Stopped as the final Jacobian at the optimum begins: the local stage's last Jacobian
+    // gives the intervals, marked provisional; they are finite and bracket the value.
+    let scene = scene();
+    let trace = synthetic(&scene);
+    let mut stop = |p: &stickslip_run::fit::Progress| p.stage == "uncertainty";
+    let out = stickslip_run::fit::fit(
+        &scene,
+        trace,
+        &params(),
+        FitOptions {
+            jobs: 2,
+            progress: Some(&mut stop),
+            ..FitOptions::default()
+        },
+    )
+    .unwrap();
+    let r = &out.report;
+    assert_eq!(r.status, "interrupted");
+    assert!(r.provisional_intervals);
+    for p in &r.parameters {
+        let (lo, hi) = (p.lo95.unwrap(), p.hi95.unwrap());
+        assert!(lo < p.value && p.value < hi, "{p:?}");
+    }
+    let back = stickslip_run::schema::fit::FitReport::parse(&r.to_json()).unwrap();
+    assert_eq!(&back, r);
+}

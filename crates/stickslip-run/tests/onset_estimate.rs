@@ -79,3 +79,50 @@ fn the_linearised_onset_lands_near_the_real_one_quasi_static_and_inertial() {
     }
     assert!(worst < 0.05, "largest relative difference {worst}");
 }
+
+#[test]
+fn the_estimate_does_not_depend_on_time_end_and_says_when_it_lies_beyond() {
+    // The SFA contact on a soft spring melts first at about 0.92 s: a run of 0.1 s or 0.5 s
+    // gets the same estimate, and a warning that gives it.
+    let preflight = |end: f64| {
+        let scene = Scene::from_path(
+            &common::scene("sfa"),
+            &[
+                "drive.stiffness=500".to_string(),
+                format!("time.end={end}"),
+                format!("output.profile_times=[{end}]"),
+            ],
+        )
+        .unwrap();
+        driver::Driver::start(&scene, &mut NullSink)
+            .unwrap()
+            .preflight()
+            .clone()
+    };
+    let whole = preflight(2.0).first_onset_estimate_s.unwrap();
+    assert!((whole - 0.92).abs() < 0.01, "{whole}");
+    for end in [0.1, 0.5] {
+        let p = preflight(end);
+        let t = p.first_onset_estimate_s.unwrap();
+        assert!(
+            (t / whole - 1.0).abs() < 1e-6,
+            "time.end = {end}: {t} against {whole}"
+        );
+        let warning = p
+            .findings
+            .iter()
+            .find(|f| f.key == "time.end" && f.message.contains("nothing melts within"))
+            .unwrap_or_else(|| panic!("time.end = {end}: {:?}", p.findings));
+        assert!(
+            warning.message.contains(&format!("{t:.3e}")),
+            "{}",
+            warning.message
+        );
+    }
+    assert!(
+        !preflight(2.0)
+            .findings
+            .iter()
+            .any(|f| f.message.contains("nothing melts"))
+    );
+}

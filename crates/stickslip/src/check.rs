@@ -172,7 +172,9 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
                 "eps_c"
             }
         ),
-        (None, _) => say!("first_onset_estimate = none before time.end"),
+        (None, _) => {
+            say!("first_onset_estimate = none (the drive never reaches the melting strain)")
+        }
     }
     let r = &report.resolution;
     say!();

@@ -67,6 +67,12 @@ fn table(r: &FitReport) -> String {
             p.unit
         ));
     }
+    if r.provisional_intervals {
+        out.push_str(
+            "PROVISIONAL intervals: the fit was interrupted before its final Jacobian at the \
+             optimum; these are the last local step's (fit.json: provisional_intervals)\n",
+        );
+    }
     if r.parameters.len() > 1 && !r.correlation.is_empty() {
         out.push_str("correlations:");
         for (a, row) in r.correlation.iter().enumerate() {
@@ -199,8 +205,13 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     );
     if r.status == "interrupted" {
         eprintln!(
-            "interrupted: the best fit so far is in {} (status \"interrupted\", no uncertainty)",
-            dir.display()
+            "interrupted: the best fit so far is in {} (status \"interrupted\", {})",
+            dir.display(),
+            if r.provisional_intervals {
+                "provisional intervals from the last local step's Jacobian"
+            } else {
+                "no uncertainty: no Jacobian was made before the interrupt"
+            }
         );
         return crate::code(Exit::Interrupted);
     }

@@ -466,7 +466,7 @@ fn literal_scheme_beyond_eulers_limit_is_warned_about() {
     assert!(!stderr.contains("2*gamma*A*b/a"), "{stderr}");
     // 1 µs of fig2 cannot reach the first melting (≈ 0.6 ms): the preflight says so.
     assert!(
-        stderr.contains("warning: nothing can melt within time.end"),
+        stderr.contains("warning: nothing melts within time.end"),
         "{stderr}"
     );
 }

@@ -464,6 +464,9 @@ pub struct WpPoint {
 /// Everything `cargo xtask bench` writes to `reports/performance.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Performance {
+    /// The commit the bench ran at.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub commit: Option<stickslip_report::provenance::Commit>,
     /// The scene's (the paper's) N.
     pub paper_nodes: usize,
     /// The scene's (the paper's) Δt, s.
@@ -850,6 +853,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let shipped_speedup = fig2_literal_extrapolated_s / shipped.wall_s;
     let shipped_speedup_capped = fig2_literal_capped_s / shipped.wall_s;
     Ok(Performance {
+        commit: stickslip_report::provenance::Commit::of_workspace(),
         shipped,
         shipped_reference_settings,
         shipped_speedup,

@@ -121,6 +121,34 @@ pub fn parameters(
     Ok(out)
 }
 
+/// The scene settings that would stop the fit's model before the trace ends: the model must
+/// run over the whole trace to be compared with it.
+///
+/// # Errors
+/// [`FitError`] (bad input) naming the first such key.
+pub fn refuse_cut_short(scene: &ResolvedScene) -> Result<(), FitError> {
+    let allowed = "unset: the fit runs its model over the whole trace (a model cut short \
+                   would be fitted to fewer events than the data hold)";
+    if let Some(n) = scene.max_events {
+        return Err(FitError::input("time.max_events", n.to_string(), allowed));
+    }
+    if let Some(t) = scene.max_open_event_s {
+        return Err(FitError::input(
+            "time.max_open_event",
+            crate::keys::human(t),
+            allowed,
+        ));
+    }
+    if scene.steady.stop {
+        return Err(FitError::input(
+            "time.until",
+            "\"periodic\"",
+            "\"end\": the fit runs its model over the whole trace",
+        ));
+    }
+    Ok(())
+}
+
 /// Fits `params` (`KEY[=LO:HI]`) of `scene` to `trace`.
 ///
 /// # Errors
@@ -132,6 +160,7 @@ pub fn fit(
     options: FitOptions<'_>,
 ) -> Result<FitOutcome, FitError> {
     let started = Instant::now();
+    refuse_cut_short(scene)?;
     let target = Target::new(trace, options.misfit, options.noise_n)?;
     let params = parameters(scene, params, options.misfit, &target.trace)?;
     let profiled = match &options.profile {
@@ -290,6 +319,8 @@ pub fn fit(
         }
         noise = Some(n);
         let nu = n.value;
+        // `settle` reports its runs as the noise stage; the Jacobian's are the uncertainty's.
+        problem.stage = "uncertainty";
         if !problem.interrupted()
             && let Some(j) = optimise::jacobian(&mut problem, &best, &free, &mut steps, nu, true)
             && let Some(d) = linalg::svd(&j)
@@ -310,6 +341,18 @@ pub fn fit(
         profile_out = profile::profile(&mut problem, &best, k, sz, s2, &mut steps, &mut n);
     }
     let interrupted = problem.interrupted();
+    // Interrupted before the final Jacobian: the last one made (the local stage's, near the
+    // best point) gives provisional intervals, marked so, rather than none.
+    let mut provisional_intervals = false;
+    if unc.is_none()
+        && interrupted
+        && let Some(last) = &problem.last_jacobian
+        && last.free == free
+        && let Some(d) = linalg::svd(&last.columns)
+    {
+        unc = Some(uncertainty::uncertainty(&params, &best.z, &d, best.chi2, m));
+        provisional_intervals = true;
+    }
     // The fitted model's curves (the interrupt no longer applies: one more run).
     problem.interrupt = None;
     let compared = problem.compare(&best.z).unwrap_or_default();
@@ -341,6 +384,7 @@ pub fn fit(
     let report = FitReport {
         scene: scene.name.clone(),
         status: if interrupted { "interrupted" } else { "ok" }.into(),
+        provisional_intervals,
         misfit_kind: options.misfit.name().into(),
         parameters,
         correlation: unc.as_ref().map_or_else(Vec::new, |u| {

@@ -398,6 +398,11 @@ pub fn jacobian(
     if linear {
         settle_scale(problem, at, free, steps, &mut columns)?;
     }
+    problem.last_jacobian = Some(super::problem::LastJacobian {
+        z: at.z.clone(),
+        free: free.to_vec(),
+        columns: columns.clone(),
+    });
     Some(columns)
 }
 

@@ -88,6 +88,19 @@ pub fn parse(text: &str, current: Option<f64>) -> Result<Param, FitError> {
             "a scene key that takes a number (stickslip keys), as KEY or KEY=LO:HI".into(),
         )
     })?;
+    if let Some(section) = ["time.", "output.", "numerics."]
+        .iter()
+        .find(|s| key.starts_with(**s))
+    {
+        return Err(bad(
+            key.to_string(),
+            format!(
+                "a physical parameter; the {}* keys are the fit's numerics (it sets time.end \
+                 from the trace and tightens time.tolerance itself)",
+                section
+            ),
+        ));
+    }
     if info.value != ValueType::Real {
         return Err(bad(
             key.to_string(),
@@ -141,15 +154,41 @@ pub fn parse(text: &str, current: Option<f64>) -> Result<Param, FitError> {
             ));
         }
     }
+    // The box maps z ∈ [0, 1] to lo·(hi/lo)^z (or lo + (hi − lo)·z): both must be finite
+    // numbers with room between them.
+    let log = lo > 0.0;
+    let spread = if log { hi / lo } else { hi - lo };
+    if !spread.is_finite() {
+        return Err(bad(
+            format!("{key}={}:{}", human(lo), human(hi)),
+            format!(
+                "a range whose {} is a finite number",
+                if log {
+                    "ratio HI/LO"
+                } else {
+                    "width HI − LO"
+                }
+            ),
+        ));
+    }
+    if hi - lo <= MIN_RELATIVE_WIDTH * lo.abs().max(hi.abs()) {
+        return Err(bad(
+            format!("{key}={}:{}", human(lo), human(hi)),
+            format!("HI − LO above {MIN_RELATIVE_WIDTH:e} of the bounds (a range to search)"),
+        ));
+    }
     Ok(Param {
         key: key.to_string(),
         unit: info.unit,
         lo,
         hi,
-        log: lo > 0.0,
+        log,
         scene_key: true,
     })
 }
+
+/// The narrowest box, relative to its bounds, that the fit searches.
+pub const MIN_RELATIVE_WIDTH: f64 = 1e-9;
 
 /// The trace misfit's time shift, within ±`max_s`: the model's F at t + shift is compared with
 /// the data's at t.
@@ -197,6 +236,27 @@ mod tests {
             ),
             ("lubricant.tau_max=1:x", "finite numbers"),
             ("lubricant.tau_max=1e6", "KEY=LO:HI"),
+            (
+                "time.tolerance=1e-6:1e-4",
+                "the time.* keys are the fit's numerics",
+            ),
+            (
+                "time.end=1e-4:1e-2",
+                "the time.* keys are the fit's numerics",
+            ),
+            ("numerics.coupling_tol=1e-9:1e-6", "numerics.* keys"),
+            (
+                "lubricant.gamma=1e-300:1e300",
+                "ratio HI/LO is a finite number",
+            ),
+            (
+                "temperature.A0=-1.5e308:1.5e308",
+                "width HI − LO is a finite number",
+            ),
+            (
+                "lubricant.tau_max=1e6:1.0000000000000002e6",
+                "HI − LO above",
+            ),
         ] {
             let e = parse(text, None).unwrap_err().to_string();
             assert!(e.starts_with("--param = "), "{e}");

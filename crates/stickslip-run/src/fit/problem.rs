@@ -73,7 +73,21 @@ pub struct Problem<'a, 'p> {
     /// The runs' tolerance level ([`Forward::run_at`]); raised by the optimiser when the
     /// solver's noise is too large for the data ([`super::optimise::settle`]).
     pub level: u32,
+    /// The last Jacobian made (by the local stage or for the intervals): an interrupted fit
+    /// takes its provisional intervals from it.
+    pub last_jacobian: Option<LastJacobian>,
     stopped: bool,
+}
+
+/// A Jacobian of the residuals in box coordinates, and where it was made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LastJacobian {
+    /// The point, box coordinates.
+    pub z: Vec<f64>,
+    /// The parameters it differentiates (indices).
+    pub free: Vec<usize>,
+    /// Its columns, one per free parameter.
+    pub columns: Vec<Vec<f64>>,
 }
 
 impl<'a, 'p> Problem<'a, 'p> {
@@ -87,6 +101,7 @@ impl<'a, 'p> Problem<'a, 'p> {
             interrupt: None,
             progress: None,
             stage: "global",
+            last_jacobian: None,
             evaluations: 0,
             failed_runs: 0,
             first_failure: None,

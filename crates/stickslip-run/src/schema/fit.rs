@@ -68,8 +68,13 @@ pub struct FitProfile {
 pub struct FitReport {
     /// The scene's name.
     pub scene: String,
-    /// `ok`, or `interrupted` (the best model found so far; no uncertainty).
+    /// `ok`, or `interrupted` (the best model found so far; its intervals, if any, are
+    /// provisional: see `provisional_intervals`).
     pub status: String,
+    /// The intervals are the local stage's last Jacobian's, not the final one at the optimum
+    /// (an interrupted fit): an estimate, marked so wherever they are printed.
+    #[serde(default)]
+    pub provisional_intervals: bool,
     /// `events` or `trace`.
     pub misfit_kind: String,
     /// The fitted parameters.

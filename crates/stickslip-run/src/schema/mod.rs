@@ -144,7 +144,11 @@ pub fn markdown() -> String {
          (the checkpoint carries the build identity): `stickslip resume` refuses another \
          build's checkpoint (exit 2, naming both builds), since its numbers would differ, \
          unless `--allow-other-build` is given, and then run.json records the crossing in \
-         `resumed_across_builds`.\n",
+         `resumed_across_builds`. One process writes a run directory at a time: `run` and \
+         `resume` hold a lock on its `.stickslip.lock` (released when the process ends, \
+         however it ends), and a second writer is refused with exit 2 before it touches \
+         anything. `run` refuses a directory that holds another command's results (verify, \
+         fit, sweep), even with `--force`.\n",
     );
     let probe = [probes::TIME, probes::PHI, probes::T_MELT];
     for (file, cols) in [

@@ -101,7 +101,8 @@ pub struct DerivedReport {
     pub spring_period: Option<f64>,
     /// Δt·2γAb/a, literal scheme only (stable below 2).
     pub euler_number: Option<f64>,
-    /// Quasi-static estimate of the first onset, s (null: none before time.end).
+    /// Estimate of the first onset, s, whatever time.end (null: the drive never reaches the
+    /// melting strain).
     pub first_onset_estimate: Option<f64>,
     /// First-order film only (absent for b₃ = 0): b₃, Pa.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -99,6 +99,32 @@ pub enum RunError {
         /// The files found.
         files: String,
     },
+    /// The directory holds another command's results (exit 2), which a run's files would mix
+    /// with; `--force` replaces only an earlier run's.
+    #[error(
+        "{dir} holds the results of {what} ({files}): a run's files would mix with them; \
+         allowed: an empty or new directory, or one of an earlier run (--force replaces only \
+         a run's files)"
+    )]
+    Foreign {
+        /// The directory.
+        dir: String,
+        /// The command whose files they are.
+        what: String,
+        /// The files found.
+        files: String,
+    },
+    /// Another process is writing the directory (exit 2): it holds the directory's lock
+    /// ([`super::lock`]).
+    #[error(
+        "another stickslip process is writing {dir} (it holds {dir}/{lock}); nothing was \
+         changed. Allowed: wait for it to finish (or stop it), then run or resume again",
+        lock = super::lock::FILE
+    )]
+    Busy {
+        /// The directory.
+        dir: String,
+    },
     /// The output directory cannot be created or written to (exit 2).
     #[error("cannot write to output directory {path}: {source}; allowed: a writable directory")]
     OutDir {
@@ -126,13 +152,47 @@ impl RunError {
     #[must_use]
     pub fn exit(&self) -> crate::exit::Exit {
         match self {
-            Self::Config(_) | Self::OutDir { .. } | Self::Existing { .. } => {
-                crate::exit::Exit::BadInput
-            }
+            Self::Config(_)
+            | Self::OutDir { .. }
+            | Self::Existing { .. }
+            | Self::Busy { .. }
+            | Self::Foreign { .. } => crate::exit::Exit::BadInput,
             Self::Io { .. } => crate::exit::Exit::Io,
             Self::Checkpoint(e) => e.exit(),
         }
     }
+}
+
+/// The result files of the other commands that write a directory, by command.
+const OTHER_RESULTS: &[(&str, &[&str])] = &[
+    (
+        "`stickslip verify`",
+        &["verify.json", "target.json", "resolution.toml"],
+    ),
+    (
+        "`stickslip fit`",
+        &[crate::schema::fit::FILE, "fitted.toml"],
+    ),
+    (
+        "a sweep",
+        &[
+            crate::sweep::lock::SWEEP_FILE,
+            crate::sweep::map::CSV_FILE,
+            crate::sweep::map::JSON_FILE,
+        ],
+    ),
+];
+
+/// The first other command whose results `dir` holds, with the files found.
+fn other_results(dir: &Path) -> Option<(&'static str, Vec<&'static str>)> {
+    OTHER_RESULTS.iter().find_map(|(what, files)| {
+        let found: Vec<&str> = files
+            .iter()
+            .copied()
+            .filter(|f| dir.join(f).exists())
+            .collect();
+        (!found.is_empty()).then_some((*what, found))
+    })
 }
 
 /// The files of an earlier run in `dir` (final or temporary names).
@@ -227,6 +287,13 @@ impl DirSink {
     /// # Errors
     /// [`RunError::Existing`] or [`RunError::OutDir`].
     pub fn create(dir: &Path, options: &DirOptions) -> Result<Self, RunError> {
+        if let Some((what, files)) = other_results(dir) {
+            return Err(RunError::Foreign {
+                dir: dir.display().to_string(),
+                what: what.to_string(),
+                files: files.join(", "),
+            });
+        }
         let earlier = earlier_run_files(dir);
         if !earlier.is_empty() && !options.force {
             return Err(RunError::Existing {
@@ -443,6 +510,19 @@ fn start_error(dir: &Path, e: StartError) -> RunError {
     }
 }
 
+/// Locks `dir` for this process's writing ([`super::lock`]).
+fn lock_dir(dir: &Path) -> Result<super::lock::DirLock, RunError> {
+    super::lock::DirLock::acquire(dir).map_err(|e| match e {
+        super::lock::LockError::Busy => RunError::Busy {
+            dir: dir.display().to_string(),
+        },
+        super::lock::LockError::Io(source) => RunError::OutDir {
+            path: dir.to_path_buf(),
+            source,
+        },
+    })
+}
+
 /// Runs `scene` into `dir` (see the module docs).
 ///
 /// # Errors
@@ -454,10 +534,12 @@ pub fn run_to_dir(
     control: &mut Control<'_>,
 ) -> Result<RunOutcome, RunError> {
     let mut sink = DirSink::create(dir, options)?;
+    let mut lock = lock_dir(dir)?;
     let driver = Driver::start(scene, &mut sink).map_err(|e| start_error(dir, e))?;
     if let Some(on_start) = control.on_start.as_mut() {
         on_start(driver.warnings());
     }
+    lock.finished();
     driver.run_to_end(&mut sink, control).map_err(|source| {
         sink.record_io_failure(&source);
         RunError::Io {
@@ -480,6 +562,13 @@ pub fn resume(
     options: &ResumeOptions,
     control: &mut Control<'_>,
 ) -> Result<(ResolvedScene, RunOutcome), RunError> {
+    // Before the checkpoint is read: a second resume of the same directory waits for nothing
+    // and changes nothing.
+    let mut lock = if dir.is_dir() {
+        Some(lock_dir(dir)?)
+    } else {
+        None
+    };
     let c = checkpoint::load(dir)?;
     let crossing = checkpoint::check_build(dir, &c, options.allow_other_build)?;
     let mut crossings = c.resumed_across_builds.into_owned();
@@ -526,6 +615,10 @@ pub fn resume(
         path: dir.to_path_buf(),
         source,
     };
+    // From here on the directory is this resume's: the lock file goes with the lock.
+    if let Some(l) = lock.as_mut() {
+        l.finished();
+    }
     reserve(dir).map_err(io_err)?;
     info.write(dir).map_err(io_err)?;
     sink.info = Some(info);

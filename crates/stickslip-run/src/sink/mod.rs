@@ -4,6 +4,7 @@
 //! nothing. [`read`] reads an output directory back in any state (ended, interrupted, killed).
 
 pub mod dir;
+pub mod lock;
 pub mod memory;
 pub mod read;
 
