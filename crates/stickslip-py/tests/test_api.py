@@ -238,9 +238,10 @@ def test_check_reports_what_the_cli_prints(fig2_path: Path) -> None:
     assert c["output"]["probes"] == 9 and c["output"]["profile_rows"] == 200
     assert 0 < c["output"]["series_rows"] <= 13001 and c["output"]["interval_for_limit_s"] is None
     # The contact spring behind the first-onset estimate: it melts at X about εc·h0 (a
-    # compliant 100 nm film), F below τmax·πa0².
+    # compliant 100 nm film; the static contact folds just before the edge reaches εc, since
+    # the film's stress peaks below it), F below τmax·πa0².
     spring = c["contact_spring"]
-    assert spring["x_melt_m"] >= c["derived"]["critical_displacement"]
+    assert abs(spring["x_melt_m"] / c["derived"]["critical_displacement"] - 1) < 0.05
     assert 0 < spring["f_melt_n"] <= c["derived"]["melting_force"]
     assert c["resolution"]["relative_change"] < 0.01
     assert c["name"] == "fig2" and c["verdict"] == "run"
@@ -331,7 +332,8 @@ def test_verify_gives_every_quantity_with_its_error() -> None:
     q = {x["name"]: x for x in v["quantities"]}
     onset = q["t_first_onset"]
     assert onset["verdict"] == "within" and onset["uncertainty"] >= 0
-    assert onset["space"]["order_theoretical"] == 1.0
+    # The default, edge-graded grid: the onset converges at second order in N.
+    assert onset["space"]["order_theoretical"] == 2.0
     assert q["regime"]["text"] == "stick_slip"
     with pytest.raises(ValueError, match="rtol = 0 is invalid"):
         stickslip.verify(scene, rtol=0.0)

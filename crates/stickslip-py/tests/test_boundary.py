@@ -76,7 +76,7 @@ def test_the_stamp_scale_follows_the_stamp_regime() -> None:
     # The h0 = 1 nm contact: a weak film lets the stamp slide steadily, a strong one makes it
     # slip; scale="stamp" finds the change of the stamp-scale regime.
     sfa = stickslip.Scene.load(ROOT / "validation" / "scenes" / "sfa.toml").with_overrides(
-        {"contact.nodes": 20, "time.end": 0.25, "output.profile_times": []}
+        {"contact.nodes": 50, "time.end": 0.25, "output.profile_times": []}
     )
     b = stickslip.boundary(sfa, "temperature.A0", -2e5, 1e6, rtol=0.2, scan=3, scale="stamp")
     assert b["below"] == "steady_sliding" and b["above"] in ("stick_slip", "transient")
