@@ -35,6 +35,24 @@ fn no_checkpoints() -> DirOptions {
     }
 }
 
+/// `scene` run into `dir`, interrupted after 150 adaptive steps.
+fn interrupted_after_150_steps(
+    scene: &ResolvedScene,
+    dir: &Path,
+    options: &DirOptions,
+) -> stickslip_run::RunOutcome {
+    let mut polls = 0;
+    let mut poll = |_: &Progress| {
+        polls += 1;
+        polls >= 150
+    };
+    let mut control = Control {
+        poll: Some(&mut poll),
+        ..Control::default()
+    };
+    stickslip_run::run_to_dir(scene, dir, options, &mut control).unwrap()
+}
+
 fn read(dir: &Path, f: &str) -> Vec<u8> {
     std::fs::read(dir.join(f)).unwrap_or_else(|e| panic!("{}: {e}", dir.join(f).display()))
 }
@@ -64,16 +82,7 @@ fn interrupted_data_are_readable_and_the_resumed_run_is_bit_identical() {
     assert_eq!(whole.stop, StopReason::End);
 
     // Interrupted after 150 adaptive steps, about half the run, inside the first event.
-    let mut polls = 0;
-    let mut poll = |_: &Progress| {
-        polls += 1;
-        polls >= 150
-    };
-    let mut control = Control {
-        poll: Some(&mut poll),
-        ..Control::default()
-    };
-    let stopped = stickslip_run::run_to_dir(&scene, &dir, &no_checkpoints(), &mut control).unwrap();
+    let stopped = interrupted_after_150_steps(&scene, &dir, &no_checkpoints());
     assert_eq!(stopped.stop, StopReason::Interrupted);
     assert!(stopped.t_final_s < whole.t_final_s);
 
@@ -185,20 +194,11 @@ fn a_directory_another_process_writes_is_refused_and_left_as_it_was() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("busy");
     let scene = scene();
-    let mut polls = 0;
-    let mut poll = |_: &Progress| {
-        polls += 1;
-        polls >= 150
-    };
-    let mut control = Control {
-        poll: Some(&mut poll),
-        ..Control::default()
-    };
     let options = DirOptions {
         force: false,
         checkpoint_every_s: 1e-9,
     };
-    let stopped = stickslip_run::run_to_dir(&scene, &dir, &options, &mut control).unwrap();
+    let stopped = interrupted_after_150_steps(&scene, &dir, &options);
     assert_eq!(stopped.stop, StopReason::Interrupted);
     let before = read(&dir, "run.json");
     let held = stickslip_run::sink::lock::DirLock::acquire(&dir).unwrap();
