@@ -116,6 +116,7 @@ fn critical_speeds(map: &Map, jobs: usize) -> Result<Vec<Critical>, String> {
                 points: 7,
                 jobs,
                 scale: Scale::Stamp,
+                cache: None,
             },
             RegimeThresholds::default(),
             None,

@@ -93,6 +93,7 @@ pub fn boundary<'py>(
                 points: scan,
                 jobs,
                 scale,
+                cache: None,
             },
             RegimeThresholds::default(),
             Some(&stop),
@@ -124,6 +125,18 @@ pub fn boundary<'py>(
                 .map(|p| probe_dict(py, p))
                 .collect::<PyResult<Vec<_>>>()?;
             d.set_item("scan", points)?;
+            let undecided = s
+                .undecided
+                .iter()
+                .map(|u| {
+                    let e = PyDict::new(py);
+                    e.set_item("below", probe_dict(py, &u.below)?)?;
+                    e.set_item("above", probe_dict(py, &u.above)?)?;
+                    e.set_item("undecided", &u.undecided)?;
+                    Ok(e)
+                })
+                .collect::<PyResult<Vec<_>>>()?;
+            d.set_item("undecided", undecided)?;
             d.set_item("warnings", &s.warnings)?;
             Ok(d)
         }
@@ -131,9 +144,16 @@ pub fn boundary<'py>(
             .error
             .take()
             .unwrap_or_else(|| PyKeyboardInterrupt::new_err(""))),
-        Err(BoundaryError::Interrupted { runs, lo, hi }) => Err(PyKeyboardInterrupt::new_err(
-            format!("interrupted after {runs} runs; the boundary lies between {lo} and {hi}"),
-        )),
+        Err(e @ BoundaryError::ScanInterrupted { .. }) => {
+            Err(PyKeyboardInterrupt::new_err(e.to_string()))
+        }
+        Err(BoundaryError::Interrupted { runs, lo, hi }) => {
+            Err(PyKeyboardInterrupt::new_err(format!(
+                "interrupted after {runs} runs; the boundary lies between {} and {}",
+                stickslip_run::keys::human(lo),
+                stickslip_run::keys::human(hi)
+            )))
+        }
         Err(BoundaryError::Scene(e)) => Err(errors::scene(&e)),
         Err(BoundaryError::Start(e)) => Err(errors::start(&e)),
         Err(e @ BoundaryError::Failed { .. }) => {

@@ -65,6 +65,7 @@ pub fn fit<'py>(
                 failed: p.failed_runs,
                 best_chi2: p.best_chi2,
                 tolerance: p.tolerance,
+                batch: (p.batch_left, p.batch_eta_s),
                 stop: None,
             });
             false
@@ -80,6 +81,7 @@ pub fn fit<'py>(
                 profile,
                 interrupt: Some(&stop),
                 progress: Some(&mut on_progress),
+                start: None,
             },
         )
     });

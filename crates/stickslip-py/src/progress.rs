@@ -56,6 +56,8 @@ pub enum Report<'a> {
         /// The runs' `time.tolerance` (tightened as the fit nears its optimum; none with
         /// fixed steps).
         tolerance: Option<f64>,
+        /// Runs of the present batch not ended yet, and their remaining wall time, s.
+        batch: (usize, Option<f64>),
         /// Why the fit stopped, once it has.
         stop: Option<&'a str>,
     },
@@ -164,6 +166,7 @@ impl Bridge {
                 failed,
                 best_chi2,
                 tolerance,
+                batch,
                 stop,
             } => {
                 d.set_item("stage", stage)?;
@@ -171,6 +174,8 @@ impl Bridge {
                 d.set_item("failed_runs", failed)?;
                 d.set_item("best_chi2", best_chi2)?;
                 d.set_item("tolerance", tolerance)?;
+                d.set_item("batch_left", batch.0)?;
+                d.set_item("batch_eta_s", batch.1)?;
                 // A fit's length is not known ahead: no fraction until it ends.
                 (if stop.is_some() { 1.0 } else { 0.0 }, stop)
             }

@@ -57,5 +57,8 @@ fn to_py<'py>(
         Err(e @ (VerifyError::Start { .. } | VerifyError::Failed { .. })) => {
             Err(PyRuntimeError::new_err(e.to_string()))
         }
+        Err(e @ VerifyError::Interrupted { .. }) => Err(
+            pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
+        ),
     }
 }

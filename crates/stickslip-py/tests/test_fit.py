@@ -91,7 +91,7 @@ def test_bad_input_raises_value_error_naming_the_field(trace) -> None:
         stickslip.fit(scene(), trace, ["lubricant.tau_max=2e6:1e6"], columns=cols)
     bad = {"time": trace["time"].copy(), "force": trace["force"].copy()}
     bad["force"][3] = np.nan
-    with pytest.raises(ValueError, match="trace F at sample 4 = NaN"):
+    with pytest.raises(ValueError, match="trace F at sample 4 = nan"):
         stickslip.fit(scene(), bad, PARAMS, columns=cols)
     back = {"time": trace["time"][::-1].copy(), "force": trace["force"]}
     with pytest.raises(ValueError, match="trace t at sample 2"):

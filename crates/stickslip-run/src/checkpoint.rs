@@ -334,6 +334,11 @@ pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
         (&mut f)
             .take((MAGIC.len() + 16) as u64)
             .read_to_end(&mut head)?;
+        // The header decides before the payload is read: a large file that is not a
+        // checkpoint of this format costs its first bytes, not its size in memory.
+        if !head.starts_with(MAGIC) {
+            return Ok(head);
+        }
         if let Some(len) = head
             .strip_prefix(MAGIC)
             .and_then(|r| r.get(..8))

@@ -113,6 +113,7 @@ velocity = 1.0
 integrator = "verlet"
 [time]
 end = 1.0
+travel = 1.0
 dt = 1.0
 scheme = "accurate"
 stepping = "fixed"
@@ -182,6 +183,14 @@ fn variants() -> Vec<(&'static str, toml::Table)> {
             ]),
         ),
         ("graded", with(&[("contact.grid", "graded".into())])),
+        ("travel", {
+            // The window as the drive's travel: time.end derived from it.
+            let mut t = with(&[("time.travel", 2e-3.into())]);
+            if let Some(toml::Value::Table(time)) = t.get_mut("time") {
+                time.remove("end");
+            }
+            t
+        }),
         (
             "homogeneous",
             with(&[
@@ -300,10 +309,16 @@ fn derived_defaults_are_what_the_reference_says() {
             "contact.grading",
             "3, or 11.5/log10(N) where that is smaller (N > 6800, so that N^(−p) >= 3e-12)",
             vec![
-                // N = 2000 (the default).
+                // N = 200 (the default).
                 ("graded", toml::Value::Float(3.0)),
                 ("graded_fine", toml::Value::Float(11.5 / 20_000f64.log10())),
             ],
+        ),
+        (
+            "time.end",
+            "time.travel / |drive.velocity| when time.travel is given; else required",
+            // V0 = 1 m/s.
+            vec![("travel", toml::Value::Float(2e-3))],
         ),
         (
             "output.profile_times",

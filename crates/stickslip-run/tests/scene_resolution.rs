@@ -35,7 +35,7 @@ fn defaults_are_filled_in() {
     assert_eq!(c.melt_threshold, 0.01);
     assert_eq!(c.noise, NoiseKind::Floor { floor: 1e-6 });
     assert_eq!(c.temperature, Temperature::Constant { a_coeff_pa: 1.5e6 });
-    assert_eq!(c.contact.nodes, 2000);
+    assert_eq!(c.contact.nodes, 200);
     assert_eq!(c.contact.model, ContactModel::Radial);
     assert_eq!(c.contact.substrate, Substrate::Elastic);
     assert!(matches!(c.drive, Drive::Spring(_)));
@@ -261,4 +261,37 @@ fn every_missing_required_key_is_named_at_once() {
         e.contains("`lubricant.gamma`") && !e.contains("also missing"),
         "{e}"
     );
+}
+
+#[test]
+fn time_travel_ends_the_run_when_the_drive_has_advanced_that_far() {
+    let travel = MINIMAL.replace("end = 1e-3", "travel = 2e-4");
+    let r = Scene::from_toml_str(&travel, NONE).unwrap();
+    // V0 = 1 m/s: 2e-4 m takes 2e-4 s; the derived end follows the velocity.
+    assert!((r.config.time.end_s / 2e-4 - 1.0).abs() < 1e-15);
+    let slow = r.with_overrides(&["drive.velocity=1e-2"]).unwrap();
+    assert!((slow.config.time.end_s / 2e-2 - 1.0).abs() < 1e-15);
+    // Its derived defaults follow the end, and the printed scene reads back the same.
+    assert_eq!(slow.output.profile_times_s, vec![slow.config.time.end_s]);
+    let back = Scene::from_toml_str(&slow.resolved.to_toml_string(), NONE).unwrap();
+    assert_eq!(back.config, slow.config);
+    // With time.end too, the earlier ends the run.
+    let both = MINIMAL.replace("end = 1e-3", "end = 1e-3\ntravel = 2e-4");
+    let r = Scene::from_toml_str(&both, NONE).unwrap();
+    assert!((r.config.time.end_s / 2e-4 - 1.0).abs() < 1e-15);
+    let r = r.with_overrides(&["time.travel=1"]).unwrap();
+    assert_eq!(r.config.time.end_s, 1e-3);
+    // A drive that does not advance, or an end beyond the doubles, names time.travel with the
+    // value the user gave, not a derived time.end = inf.
+    let e = Scene::from_toml_str(&travel, &["drive.velocity=0"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("time.travel = 2e-4"), "{e}");
+    assert!(!e.contains("time.end = inf"), "{e}");
+    // Neither given: time.end is missing, and the message offers time.travel.
+    let neither = MINIMAL.replace("end = 1e-3", "");
+    let e = Scene::from_toml_str(&neither, NONE)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`time.end`") && e.contains("time.travel"), "{e}");
 }

@@ -33,6 +33,8 @@ pub struct Args<'a> {
     pub scale: stickslip_run::boundary::Scale,
     /// No line per run.
     pub quiet: bool,
+    /// Where the runs are kept for a rerun after an interrupt.
+    pub out: Option<&'a Path>,
 }
 
 /// Digits enough to tell a bracket of relative width `rtol` apart.
@@ -69,33 +71,34 @@ fn change_line(c: &Change, unit: &str, d: usize) -> String {
 fn print(s: &Scan, unit: &str) {
     let d = digits(s.rtol);
     // The first change in the form `boundary` has always printed.
-    let first = &s.changes[0];
-    say!(
-        "{} = {:.d$e} ± {:.2e} (bracket {:.d$e} … {:.d$e}, rtol {})",
-        s.key,
-        first.value,
-        first.error,
-        first.below.value,
-        first.above.value,
-        s.rtol
-    );
-    say!(
-        "below: {} (at {:.d$e}); above: {} (at {:.d$e}); {} runs, {} midpoints",
-        first.below.regime.name(),
-        first.below.value,
-        first.above.regime.name(),
-        first.above.value,
-        s.runs,
-        if s.geometric {
-            "geometric"
-        } else {
-            "arithmetic"
-        }
-    );
+    if let Some(first) = s.changes.first() {
+        say!(
+            "{} = {:.d$e} ± {:.2e} (bracket {:.d$e} … {:.d$e}, rtol {})",
+            s.key,
+            first.value,
+            first.error,
+            first.below.value,
+            first.above.value,
+            s.rtol
+        );
+        say!(
+            "below: {} (at {:.d$e}); above: {} (at {:.d$e}); {} runs, {} midpoints",
+            first.below.regime.name(),
+            first.below.value,
+            first.above.regime.name(),
+            first.above.value,
+            s.runs,
+            if s.geometric {
+                "geometric"
+            } else {
+                "arithmetic"
+            }
+        );
+    }
     let scanned: Vec<String> = s
         .points
         .iter()
-        .map(|p| format!("{:.3e} {}", p.value, p.regime.name()))
+        .map(|p| format!("{:.3e} {}", p.value, p.regime.said()))
         .collect();
     say!(
         "scan of {} points ({} {}): {}",
@@ -114,7 +117,37 @@ fn print(s: &Scan, unit: &str) {
         if s.changes.len() == 1 { "" } else { "s" }
     );
     for (i, c) in s.changes.iter().enumerate() {
-        say!("  {}. {}", i + 1, change_line(c, unit, d));
+        say!(
+            "  {}. {}{}",
+            i + 1,
+            change_line(c, unit, d),
+            if c.complete {
+                ""
+            } else {
+                " (interrupted: the bracket so far)"
+            }
+        );
+    }
+    if !s.undecided.is_empty() {
+        say!(
+            "{} undecided stretch{} (a change may lie inside; not located):",
+            s.undecided.len(),
+            if s.undecided.len() == 1 { "" } else { "es" }
+        );
+        for u in &s.undecided {
+            say!(
+                "  {:.d$e} {} … {:.d$e} {}: undecided at {}",
+                u.below.value,
+                u.below.regime.said(),
+                u.above.value,
+                u.above.regime.said(),
+                u.undecided
+                    .iter()
+                    .map(|v| format!("{v:.3e}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
     }
     for w in &s.warnings {
         eprintln!("warning: {w}");
@@ -135,6 +168,21 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             Exit::BadInput,
         );
     }
+    let cache = match a.out.map(stickslip_run::boundary::cache::ProbeCache::open) {
+        None => None,
+        Some(Ok(c)) => Some(c),
+        Some(Err(e)) => return crate::fail(format!("--out: cannot keep the runs: {e}"), Exit::Io),
+    };
+    if let (Some(c), Some(dir)) = (&cache, a.out)
+        && !c.is_empty()
+    {
+        eprintln!(
+            "boundary: {} runs kept in {} (an earlier, interrupted search): runs already made \
+             are not made again",
+            c.len(),
+            dir.join(stickslip_run::boundary::cache::FILE).display()
+        );
+    }
     let flag = match crate::interrupt_flag() {
         Ok(f) => f,
         Err(e) => return crate::fail(format!("cannot install the signal handler: {e}"), Exit::Io),
@@ -146,7 +194,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             eprintln!(
                 "boundary: {key} = {:e}: {} ({})",
                 p.value,
-                p.regime.name(),
+                p.regime.said(),
                 p.stage.name()
             );
         }
@@ -160,6 +208,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             points: a.scan,
             jobs: a.jobs,
             scale: a.scale,
+            cache: cache.as_ref(),
         },
         RegimeThresholds::default(),
         Some(&flag),
@@ -174,6 +223,24 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         }
         Err(e @ BoundaryError::Failed { .. }) => crate::fail(e, Exit::Numerical),
         Err(e @ BoundaryError::Interrupted { .. }) => crate::fail(e, Exit::Interrupted),
+        Err(BoundaryError::ScanInterrupted { runs, partial }) => {
+            // What the scan had found is printed as its answer would be, marked as cut short.
+            let unit = stickslip_run::keys::find(a.key).map_or("", |k| k.unit);
+            print(&partial, unit);
+            crate::fail(
+                format!(
+                    "interrupted after {runs} runs; the changes above are as far as the scan got{}",
+                    match a.out {
+                        Some(d) => format!(
+                            " (its runs are kept: the same command with --out {} finishes it)",
+                            d.display()
+                        ),
+                        None => " (with --out DIR a rerun would not repeat the runs made)".into(),
+                    }
+                ),
+                Exit::Interrupted,
+            )
+        }
         Err(BoundaryError::Start(e)) => crate::fail(e, Exit::BadInput),
         Err(e) => crate::fail(e, Exit::BadInput),
     }

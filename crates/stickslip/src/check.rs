@@ -149,10 +149,25 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
             c.time.end_s / period
         );
     }
-    say!(
-        "stamp_travel = {:e} m (free stamp at time.end, no friction)",
-        p.stamp_travel_m
-    );
+    if p.stamp_travel_m.is_finite() {
+        say!(
+            "stamp_travel = {:e} m (free stamp at time.end, no friction)",
+            p.stamp_travel_m
+        );
+    } else {
+        // Only a damping or speed at the edge of the doubles gets here (a dashpot of 1e308
+        // N·s/m overflows the free motion's exponentials): say which input, not NaN.
+        say!(
+            "stamp_travel: not computable (the free stamp's motion overflows with drive.damping \
+             = {} N·s/m and drive.velocity = {} m/s; a dashpot far beyond a critical damping \
+             of 2*sqrt(K*m) is a likely slip)",
+            stickslip_run::keys::human(match &c.drive {
+                stickslip_core::drive::Drive::Spring(s) => s.damping_n_s_per_m,
+                stickslip_core::drive::Drive::Rigid(_) => 0.0,
+            }),
+            stickslip_run::keys::human(c.drive.velocity_m_per_s())
+        );
+    }
     match (p.first_onset_estimate_s, p.contact_spring) {
         (Some(t), Some(k)) if t > 0.0 => say!(
             "first_onset_estimate = {t:e} s (the stamp on its drive against the contact as a \

@@ -54,18 +54,29 @@ fn num(x: Option<f64>) -> String {
 /// The table of fitted values, the misfit and what the data cannot determine.
 fn table(r: &FitReport) -> String {
     let mut out = format!(
-        "{:<28} {:>12} {:>11} {:>25} {:<9}\n",
-        "parameter", "value", "± (1σ)", "95 % interval", "unit"
+        "{:<28} {:>12} {:>11} {:>25} {:>11} {:<9}\n",
+        "parameter", "value", "± (1σ)", "95 % interval", "± (discr.)", "unit"
     );
     for p in &r.parameters {
         out.push_str(&format!(
-            "{:<28} {:>12.5e} {:>11} {:>25} {:<9}\n",
+            "{:<28} {:>12.5e} {:>11} {:>25} {:>11} {:<9}\n",
             p.key,
             p.value,
             num(p.stderr),
             format!("[{}, {}]", num(p.lo95), num(p.hi95)),
+            num(p.discretisation),
             p.unit
         ));
+    }
+    if !r.discretisation_settings.is_empty() {
+        out.push_str(&format!(
+            "discretisation error: each value's move when the model at the optimum is refined \
+             ({})\n",
+            r.discretisation_settings.join(", ")
+        ));
+    }
+    for w in &r.warnings {
+        out.push_str(&format!("WARNING: {w}\n"));
     }
     if r.provisional_intervals {
         out.push_str(
@@ -144,8 +155,25 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         Ok(x) => x,
         Err(e) => return crate::fail(&e, e.exit()),
     };
+    // An interrupted fit of the same inputs in --out is resumed from its best point (its
+    // global sample was made): the same command finishes it.
+    let inputs = stickslip_run::fit::inputs_fingerprint(&scene, a.params, kind, a.noise, &trace);
+    let resume = a
+        .out
+        .and_then(|d| stickslip_run::schema::fit::FitReport::read(d).ok())
+        .filter(|r| r.status == "interrupted" && r.inputs == inputs);
+    if let (Some(r), Some(d)) = (&resume, a.out) {
+        eprintln!(
+            "fit: resuming the interrupted fit in {} from its best point (χ² {:.4} after {} \
+             runs; the global sample is not made again)",
+            d.display(),
+            r.misfit,
+            r.evaluations
+        );
+    }
     // The output directory before any run: nothing computed is lost to it.
-    let out = match crate::out_dir::prepare(a.out, "fit", &scene.name, a.force) {
+    let out = match crate::out_dir::prepare(a.out, "fit", &scene.name, a.force || resume.is_some())
+    {
         Ok(d) => d,
         Err((msg, exit)) => return crate::fail(msg, exit),
     };
@@ -159,7 +187,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     let mut progress = |p: &Progress| {
         if !quiet && (p.stage != stage || last.elapsed() >= PROGRESS_EVERY) {
             eprintln!(
-                "fit: {} stage, {} runs so far ({} failed), best χ² {}{}",
+                "fit: {} stage, {} runs so far ({} failed), best χ² {}{}{}",
                 p.stage,
                 p.evaluations,
                 p.failed_runs,
@@ -171,7 +199,16 @@ pub fn main(a: &Args<'_>) -> ExitCode {
                 // The runs' tolerance: a fit that tightens it has its runs grow costlier.
                 p.tolerance
                     .map(|t| format!(", runs at time.tolerance {t:e}"))
-                    .unwrap_or_default()
+                    .unwrap_or_default(),
+                // What is left of the present batch of runs, and how long it should take.
+                match (p.batch_left, p.batch_eta_s) {
+                    (0, _) => String::new(),
+                    (n, Some(eta)) => format!(
+                        "; {n} runs left in this batch, about {}",
+                        crate::progress::duration_text(eta)
+                    ),
+                    (n, None) => format!("; {n} runs left in this batch"),
+                }
             );
             stage = p.stage;
             last = Instant::now();
@@ -185,6 +222,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         profile: a.profile.map(str::to_string),
         interrupt: Some(&flag),
         progress: Some(&mut progress),
+        start: resume.map(|r| r.parameters.iter().map(|p| p.value).collect()),
     };
     let outcome = match stickslip_run::fit::fit(&scene, trace, a.params, options) {
         Ok(o) => o,
@@ -205,13 +243,15 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     );
     if r.status == "interrupted" {
         eprintln!(
-            "interrupted: the best fit so far is in {} (status \"interrupted\", {})",
+            "interrupted: the best fit so far is in {} (status \"interrupted\", {}); the same \
+             command with --out {} resumes it from there",
             dir.display(),
             if r.provisional_intervals {
                 "provisional intervals from the last local step's Jacobian"
             } else {
                 "no uncertainty: no Jacobian was made before the interrupt"
-            }
+            },
+            dir.display()
         );
         return crate::code(Exit::Interrupted);
     }

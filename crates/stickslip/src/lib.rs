@@ -146,6 +146,10 @@ enum Command {
         /// No line per run on stderr.
         #[arg(long)]
         quiet: bool,
+        /// Keep every run's regime in DIR/probes.jsonl as it ends: the same command with the
+        /// same --out after an interrupt makes only the runs not kept yet.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
     },
     /// The error of every summary number of a scene: it runs at its own settings and refined
     /// in space (N, 2N, 4N) and in time (tolerance /10, /100; or Δt /2, /4) apart, and prints
@@ -546,7 +550,9 @@ fn dispatch(cli: Cli) -> ExitCode {
             set,
             unset,
             quiet,
+            out,
         } => boundary::main(&boundary::Args {
+            out: out.as_deref(),
             scale: stickslip_run::boundary::Scale::from_name(&scale).unwrap_or_default(),
             scene: &scene,
             set: &set,

@@ -63,6 +63,21 @@ pub fn prepare(
     name: &str,
     force: bool,
 ) -> Result<OutDir, (String, Exit)> {
+    prepare_resumable(out, prefix, name, force, &[])
+}
+
+/// As [`prepare`], a directory holding only the entries `kept` (an interrupted command's
+/// finished work, which it reuses) accepted without `force`.
+///
+/// # Errors
+/// As [`prepare`].
+pub fn prepare_resumable(
+    out: Option<&Path>,
+    prefix: &str,
+    name: &str,
+    force: bool,
+    kept: &[&str],
+) -> Result<OutDir, (String, Exit)> {
     let dir = out.map_or_else(|| fresh_dir(prefix, name), Path::to_path_buf);
     let created = !dir.exists();
     if !created {
@@ -73,7 +88,13 @@ pub fn prepare(
             ));
         }
         let used = std::fs::read_dir(&dir)
-            .map(|mut entries| entries.next().is_some())
+            .map(|mut entries| {
+                entries.any(|e| {
+                    e.ok()
+                        .and_then(|e| e.file_name().to_str().map(str::to_string))
+                        .is_none_or(|n| !kept.contains(&n.as_str()))
+                })
+            })
             .unwrap_or(false);
         if used && !force {
             return Err((

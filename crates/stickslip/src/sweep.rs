@@ -160,6 +160,13 @@ fn report_prepared(dir: &Path, prepared: &Prepared) {
             stickslip_run::build_id::BUILD_ID
         );
     }
+    if let Some(why) = &prepared.repaired {
+        say!(
+            "{}: its sweep.json could not be read ({why}); rewritten for this sweep (each point \
+             record is still checked against it)",
+            dir.display()
+        );
+    }
     if prepared.started_afresh {
         say!("--force: earlier results in {} removed", dir.display());
     }

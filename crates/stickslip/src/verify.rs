@@ -118,7 +118,14 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         );
     }
     // The output directory before any run: nothing computed is lost to it.
-    let out = match crate::out_dir::prepare(a.out, "verify", &scene.name, a.force) {
+    // A directory holding only an interrupted verify's kept levels is this verify's to finish.
+    let out = match crate::out_dir::prepare_resumable(
+        a.out,
+        "verify",
+        &scene.name,
+        a.force,
+        &[verify::levels::DIR],
+    ) {
         Ok(d) => d,
         Err((msg, exit)) => return crate::fail(msg, exit),
     };
@@ -156,14 +163,31 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             a.jobs
         ),
     }
-    let report = match verify::verify_levels(&scene, &levels, a.rtol, a.jobs) {
+    let flag = match crate::interrupt_flag() {
+        Ok(f) => f,
+        Err(e) => return crate::fail(format!("cannot install the signal handler: {e}"), Exit::Io),
+    };
+    let kept_before = verify::levels::count(&dir);
+    let on_level = |k: usize, reused: bool| {
+        if reused {
+            eprintln!("verify: level {k} reused from an interrupted verify (kept in levels/)");
+        }
+    };
+    let keep = verify::Keep {
+        dir: Some(&dir),
+        interrupt: Some(&flag),
+        on_level: Some(&on_level),
+    };
+    let report = match verify::verify_kept(&scene, &levels, a.rtol, a.jobs, keep) {
         Ok(r) => r,
         Err(e) => {
-            out.discard_if_unused();
-            let exit = if matches!(e, verify::VerifyError::Failed { .. }) {
-                Exit::Numerical
-            } else {
-                Exit::BadInput
+            if kept_before == 0 && verify::levels::count(&dir) == 0 {
+                out.discard_if_unused();
+            }
+            let exit = match e {
+                verify::VerifyError::Failed { .. } => Exit::Numerical,
+                verify::VerifyError::Interrupted { .. } => Exit::Interrupted,
+                _ => Exit::BadInput,
             };
             return crate::fail(e, exit);
         }

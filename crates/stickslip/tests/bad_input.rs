@@ -352,3 +352,25 @@ fn a_full_disk_ends_the_run_as_failed_with_an_io_reason() {
         read.output.series.len()
     );
 }
+
+#[test]
+fn a_large_checkpoint_with_a_wrong_header_is_refused_from_its_header() {
+    // A 1 GiB file (sparse) named like a checkpoint but not one: resume must refuse it from
+    // its first bytes, not read it whole first.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("run");
+    std::fs::create_dir(&dir).unwrap();
+    let mut f = std::fs::File::create(dir.join("checkpoint.cbor")).unwrap();
+    std::io::Write::write_all(&mut f, b"not a checkpoint at all\n").unwrap();
+    f.set_len(1 << 30).unwrap();
+    let child = common::bin()
+        .args(["resume", dir.to_str().unwrap(), "--quiet"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    let e = watch(child);
+    assert_eq!(e.code, Some(2), "{}", e.stderr);
+    assert!(e.stderr.contains("wrong header"), "{}", e.stderr);
+    assert!(e.peak_kb < 64 << 10, "{} kB", e.peak_kb);
+}

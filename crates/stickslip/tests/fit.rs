@@ -240,6 +240,65 @@ fn bad_input_exits_2_naming_the_field() {
             "--misfit",
         ),
         (good.clone(), vec![], "--param"),
+        // The second campaign's classes: ambiguous columns, a constant trace, absurd units,
+        // a noise larger than the signal, a key the scene does not take, a huge cell echoed.
+        (
+            write(
+                "twice.csv",
+                &format!("t,F,F\n{}", saw.replace('\n', ",0\n")),
+            ),
+            vec!["--param", "lubricant.tau_max"],
+            "appears 2 times",
+        ),
+        (
+            good.clone(),
+            vec!["--param", "lubricant.tau_max", "--columns", "F=t"],
+            "a different column for each of t, F and X",
+        ),
+        (
+            good.clone(),
+            vec!["--param", "lubricant.tau_max", "--columns", "X=pos"],
+            "--columns X = pos",
+        ),
+        (
+            write(
+                "flat.csv",
+                &format!(
+                    "t,F\n{}",
+                    (0..40)
+                        .map(|i| format!("{i}e-6,1e-4\n"))
+                        .collect::<String>()
+                ),
+            ),
+            vec!["--param", "lubricant.tau_max"],
+            "trace F = 1e-4 N at every sample",
+        ),
+        (
+            write(
+                "huge.csv",
+                &format!("t,F\n{}", saw.replace("e-4\n", "e302\n")),
+            ),
+            vec!["--param", "lubricant.tau_max"],
+            "trace F = up to 9e302 N",
+        ),
+        (
+            good.clone(),
+            vec!["--param", "lubricant.tau_max", "--noise", "1e308"],
+            "--noise = 1e308",
+        ),
+        (
+            good.clone(),
+            vec!["--param", "lubricant.noise.sigma=1e-3:1"],
+            "a key this scene takes over the whole box",
+        ),
+        (
+            write(
+                "long.csv",
+                &format!("t,F\n{}{}\n", saw, "x".repeat(1 << 20)),
+            ),
+            vec!["--param", "lubricant.tau_max"],
+            "bytes in all",
+        ),
     ];
     for (trace, extra, expected) in cases {
         let args = fit_args(&trace, &dir.join("out"), &extra);
@@ -247,6 +306,8 @@ fn bad_input_exits_2_naming_the_field() {
         let (_, stderr) = texts(&done);
         assert_eq!(done.status.code(), Some(2), "{extra:?}: {stderr}");
         assert!(stderr.contains(expected), "{extra:?}: {stderr}");
+        // Short messages: no echo of a long line, no 300-digit number.
+        assert!(stderr.len() < 2000, "{extra:?}: {} bytes", stderr.len());
         assert!(!dir.join("out").join("fit.json").exists(), "{extra:?}");
     }
 }
@@ -263,15 +324,23 @@ fn a_fit_whose_runs_all_fail_exits_3() {
         format!("time,force,position\n{}", saw.replace('\n', ",0\n")),
     )
     .unwrap();
-    // Every value of the floor is above the melting threshold: no scene resolves.
+    // A runaway limit just above τmax: every run fails at its first stress peak, within the
+    // trace's 1 ms. (A key the scene refuses over the box is bad input, refused before any
+    // run: the battery above.)
+    let long: String = (0..40)
+        .map(|i| format!("{}e-6,{}e-4,0\n", 25 * i, i % 10))
+        .collect();
+    std::fs::write(&trace, format!("time,force,position\n{long}")).unwrap();
     let done = run_strings(&fit_args(
         &trace,
         &tmp.path().join("out"),
         &[
             "--columns",
             "t=time,F=force,X=position",
+            "--set",
+            "numerics.runaway_stress_factor=1.0001",
             "--param",
-            "lubricant.noise.floor=0.5:0.9",
+            "lubricant.gamma=3:30",
             "--quiet",
         ],
     ));

@@ -293,6 +293,32 @@ fn force_starts_the_same_sweep_afresh() {
     }
 }
 
+#[test]
+fn a_damaged_sweep_json_is_rewritten_and_its_points_kept() {
+    let tmp = tempfile::tempdir().unwrap();
+    let file = write(
+        tmp.path(),
+        "s.toml",
+        &small(&common::scene("rigid"), "s", 0.01),
+    );
+    let dir = tmp.path().join("d");
+    let args = ["sweep", "run", s(&file), "--out", s(&dir), "--quiet"];
+    assert!(run(&args).status.success());
+    let lock = dir.join("sweep.json");
+    let text = std::fs::read_to_string(&lock).unwrap();
+    std::fs::write(&lock, &text[..text.len() / 2]).unwrap();
+    let out = run(&args);
+    let (o, e) = texts(&out);
+    assert!(out.status.success(), "{e}");
+    assert!(
+        o.contains("0 points run (0 failed, 0 refused), 8 already done"),
+        "{o}"
+    );
+    assert!(o.contains("could not be read"), "{o}");
+    assert!(!format!("{o}{e}").contains("another sweep"), "{o}{e}");
+    assert_eq!(std::fs::read_to_string(&lock).unwrap(), text);
+}
+
 /// Rewrites every file of `dir` (sweep.json, records, shard tables and their names) as if
 /// build `old` had written them.
 fn as_if_built_by(dir: &Path, old: &str) {

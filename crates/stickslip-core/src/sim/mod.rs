@@ -507,8 +507,10 @@ impl Simulation {
                         value: report.rel_residual,
                         diagnosis: format!(
                             "the elastic coupling solve did not reach numerics.coupling_tol = {:e} \
-                             in {} iterations",
-                            self.config.numerics.coupling_tol, report.iterations
+                             in {} iterations{}",
+                            self.config.numerics.coupling_tol,
+                            report.iterations,
+                            non_finite_inputs(&self.config, report.rel_residual)
                         ),
                     });
                 }
@@ -599,8 +601,10 @@ impl Simulation {
                         value: report.rel_residual,
                         diagnosis: format!(
                             "the elastic coupling solve with the viscous stress did not reach \
-                             numerics.coupling_tol = {:e} in {} iterations",
-                            self.config.numerics.coupling_tol, report.iterations
+                             numerics.coupling_tol = {:e} in {} iterations{}",
+                            self.config.numerics.coupling_tol,
+                            report.iterations,
+                            non_finite_inputs(&self.config, report.rel_residual)
                         ),
                     });
                 }
@@ -952,6 +956,28 @@ fn runaway_advice(config: &SimConfig) -> String {
          physics you want, raise numerics.runaway_stress_factor (now {}); otherwise check the \
          scene's parameters.",
         config.numerics.runaway_stress_factor
+    )
+}
+
+/// For a coupling residual that is not a number: the state entering the solve had already
+/// overflowed, and the inputs that can do that are named with their values (empty for a
+/// finite residual, which is a slow solve, not an overflow).
+fn non_finite_inputs(config: &SimConfig, residual: f64) -> String {
+    if residual.is_finite() {
+        return String::new();
+    }
+    let damping = match &config.drive {
+        crate::drive::Drive::Spring(s) => s.damping_n_s_per_m,
+        crate::drive::Drive::Rigid(_) => 0.0,
+    };
+    format!(
+        ": the residual is {} because the state entering the solve had overflowed; the inputs \
+         that can do that: drive.damping = {} N·s/m, lubricant.viscosity = {} Pa·s, \
+         drive.velocity = {} m/s (check their units)",
+        crate::config::bounds::human(residual),
+        crate::config::bounds::human(damping),
+        crate::config::bounds::human(config.lubricant.viscosity_pa_s),
+        crate::config::bounds::human(config.drive.velocity_m_per_s())
     )
 }
 

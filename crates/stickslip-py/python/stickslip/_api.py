@@ -363,13 +363,17 @@ def boundary(
     ``inf`` when it is not found there), and ``changes``: every change as such a dict (also
     with ``bracket``, ``moves`` per refinement, ``third``: a regime met inside, and ``runs``).
     Also ``runs`` (all of them), ``probes`` (every run as ``{"value", "regime", "stage"}``),
-    ``scan`` (the scan's points), ``warnings`` (changes closer than the scan's spacing, a
-    third regime, a change lost at the finer resolution), ``key`` and ``rtol``.
+    ``scan`` (the scan's points), ``undecided`` (stretches where the stamp-scale regime
+    stayed ``transient``, i.e. undecided, even over 8 times the scene's window: each
+    ``{"below", "above", "undecided"}``, a change there not located and never counted as one),
+    ``warnings`` (changes closer than the scan's spacing, a third regime, a change lost at the
+    finer resolution, an undecided stretch), ``key`` and ``rtol``.
 
-    Raises ``ValueError`` when every scan point has the same regime, for a key that is not a
-    number and for a bad bracket, tolerance, scan or jobs; ``SceneError`` for a value the
-    scene refuses; ``RuntimeError`` when a run fails numerically; ``Interrupted`` on Ctrl-C
-    (``.result`` is None).
+    Raises ``ValueError`` when every scan point has the same regime or every change found is
+    undecided, for a key that is not a number and for a bad bracket, tolerance, scan or jobs;
+    ``SceneError`` for a value the scene refuses; ``RuntimeError`` when a run fails
+    numerically; ``Interrupted`` on Ctrl-C (``.result`` is None; its message lists the
+    changes bracketed so far).
     """
     if isinstance(key, bool) or not isinstance(key, str):
         raise TypeError(f"key: expected a scene key as a str, got {type(key).__name__}")

@@ -9,9 +9,17 @@
 //! regime in between) counts as the upper side, and the answer says which regime lies above.
 //! Every run is the driver's, as in a sweep: the scene with `KEY=value` and nothing written.
 //!
+//! **Undecided runs.** On the stamp's scale `transient` means the window was too short to
+//! decide (a longer run decides). Such a run is repeated over a doubled window (`time.end`,
+//! and `time.travel` when the scene gives it), up to [`UNDECIDED_DOUBLINGS`] times; a value
+//! still undecided then is no regime: it is never a side of a change. A search whose end or
+//! midpoint stays undecided stops with [`BoundaryError::Undecided`], naming the bracket that
+//! holds the change; a scan lists such stretches apart from its changes.
+//!
 //! [`scan`] scans the bracket first and finds every change between its points, each bisected
 //! and given an error (the bracket and the change's move at a refined resolution).
 
+pub mod cache;
 pub mod scan;
 
 use crate::cycles::StampRegime;
@@ -25,6 +33,11 @@ use std::sync::atomic::AtomicBool;
 /// Most runs a search may take (the ends included): 60 halvings shrink any bracket of finite
 /// doubles below a relative 1e-15.
 pub const MAX_RUNS: usize = 64;
+
+/// Times a run whose stamp-scale regime is undecided (`transient`: the window too short to
+/// tell) is run again over a doubled window (`time.end`, and `time.travel` when given) before
+/// its value counts as undecided: up to 2^3 = 8 times the scene's window.
+pub const UNDECIDED_DOUBLINGS: u32 = 3;
 
 /// One run of the search.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -84,6 +97,24 @@ impl Label {
         match self {
             Self::Film(r) => r.name(),
             Self::Stamp(r) => r.name(),
+        }
+    }
+
+    /// Whether the run decided a regime: the stamp's `transient` says the window was too short
+    /// to tell (a longer run decides), so a search treats it as no regime, never as a side of
+    /// a change.
+    #[must_use]
+    pub fn decided(self) -> bool {
+        self != Self::Stamp(StampRegime::Transient)
+    }
+
+    /// The regime's name, with "(undecided)" after one that is not decided.
+    #[must_use]
+    pub fn said(self) -> String {
+        if self.decided() {
+            self.name().to_string()
+        } else {
+            format!("{} (undecided)", self.name())
         }
     }
 }
@@ -171,8 +202,10 @@ pub enum BoundaryError {
     Start(#[from] StartError),
     /// Both ends have the same regime: nothing to bracket.
     #[error(
-        "{key} = {lo} and {hi} both give the regime {regime}{}: no change to bracket; \
+        "{key} = {} and {} both give the regime {regime}{}: no change to bracket; \
          allowed: ends with different regimes (widen the range, or map it with a sweep first)",
+        crate::keys::human(*lo),
+        crate::keys::human(*hi),
         between(*scanned)
     )]
     SameRegime {
@@ -188,7 +221,10 @@ pub enum BoundaryError {
         scanned: usize,
     },
     /// A run failed numerically: its regime is unknown.
-    #[error("{key} = {value}: the run failed ({message}); the search stops there")]
+    #[error(
+        "{key} = {}: the run failed ({message}); the search stops there",
+        crate::keys::human(*value)
+    )]
     Failed {
         /// The key.
         key: String,
@@ -197,8 +233,44 @@ pub enum BoundaryError {
         /// The failure.
         message: String,
     },
+    /// A run of the search stayed undecided (the stamp's `transient`) over
+    /// [`UNDECIDED_DOUBLINGS`] doublings of its window: the change is bracketed, not located.
+    #[error(
+        "{key} = {}: the stamp-scale regime is undecided (transient) even over {factor}× the \
+         scene's window; the change lies between {} and {} but cannot be narrowed there; \
+         allowed: a longer time.end or time.travel, or --scan to list the decided changes",
+        crate::keys::human(*at),
+        crate::keys::human(*lo),
+        crate::keys::human(*hi)
+    )]
+    Undecided {
+        /// The key.
+        key: String,
+        /// Where the regime stayed undecided.
+        at: f64,
+        /// Lower side of the bracket.
+        lo: f64,
+        /// Upper side.
+        hi: f64,
+        /// The longest window tried, as a multiple of the scene's.
+        factor: u32,
+    },
+    /// A scan interrupted (Ctrl-C, SIGTERM): what it had found by then — the scan's points
+    /// that ended, every change bisected so far and the bracket each cut-short bisection had
+    /// reached (marked incomplete).
+    #[error("interrupted after {runs} runs{}", found_so_far(partial))]
+    ScanInterrupted {
+        /// Runs that ended.
+        runs: usize,
+        /// The scan as far as it got.
+        partial: Box<scan::Scan>,
+    },
     /// Interrupted (Ctrl-C); the bracket so far.
-    #[error("interrupted after {runs} runs; the boundary lies between {lo} and {hi}")]
+    #[error(
+        "interrupted after {runs} runs; the boundary lies between {} and {}",
+        crate::keys::human(*lo),
+        crate::keys::human(*hi)
+    )]
     Interrupted {
         /// Runs taken.
         runs: usize,
@@ -207,6 +279,31 @@ pub enum BoundaryError {
         /// Upper side.
         hi: f64,
     },
+}
+
+/// What an interrupted scan had found, in words.
+fn found_so_far(partial: &scan::Scan) -> String {
+    if partial.changes.is_empty() {
+        return format!(
+            "; {} of the scan's points had ended, no change bracketed yet",
+            partial.points.len()
+        );
+    }
+    let brackets: Vec<String> = partial
+        .changes
+        .iter()
+        .map(|c| {
+            format!(
+                "{} → {} in [{:e}, {:e}]{}",
+                c.below.regime.name(),
+                c.above.regime.name(),
+                c.below.value,
+                c.above.value,
+                if c.complete { "" } else { " (cut short)" }
+            )
+        })
+        .collect();
+    format!("; the changes so far: {}", brackets.join("; "))
 }
 
 /// The scan points between the ends, in words.
@@ -237,29 +334,78 @@ fn regime_at(
     key: &str,
     value: f64,
     (scale, thresholds): (Scale, RegimeThresholds),
+    (interrupt, cache): (Option<&AtomicBool>, Option<&cache::ProbeCache>),
+) -> Result<Option<Label>, BoundaryError> {
+    let fingerprint =
+        cache.map(|_| cache::ProbeCache::fingerprint(base, key, value, (scale, thresholds)));
+    if let (Some(c), Some(f)) = (cache, &fingerprint)
+        && let Some(label) = c.get(f, scale)
+    {
+        return Ok(Some(label));
+    }
+    let label = regime_run(base, key, value, (scale, thresholds), interrupt)?;
+    if let (Some(c), Some(f), Some(l)) = (cache, fingerprint, label) {
+        c.put(f, l);
+    }
+    Ok(label)
+}
+
+/// The regime of one value: its run, lengthened while undecided (see the module docs).
+fn regime_run(
+    base: &ResolvedScene,
+    key: &str,
+    value: f64,
+    (scale, thresholds): (Scale, RegimeThresholds),
     interrupt: Option<&AtomicBool>,
 ) -> Result<Option<Label>, BoundaryError> {
-    let scene = base.with_overrides(&[format!("{key}={value:e}")])?;
-    let mut control = Control {
-        interrupt,
-        thresholds,
-        ..Control::default()
-    };
-    let outcome = crate::driver::run(&scene, &mut NullSink, &mut control)?;
-    if outcome.stop == crate::outcome::StopReason::Interrupted {
-        return Ok(None);
+    let mut label = None;
+    for doubling in 0..=UNDECIDED_DOUBLINGS {
+        // The window first, the key last: a search along a window key keeps its value.
+        let mut overrides = window_overrides(base, f64::from(1u32 << doubling));
+        overrides.push(format!("{key}={value:e}"));
+        let scene = base.with_overrides(&overrides)?;
+        let mut control = Control {
+            interrupt,
+            thresholds,
+            ..Control::default()
+        };
+        let outcome = crate::driver::run(&scene, &mut NullSink, &mut control)?;
+        if outcome.stop == crate::outcome::StopReason::Interrupted {
+            return Ok(None);
+        }
+        if let Some(f) = &outcome.failure {
+            return Err(BoundaryError::Failed {
+                key: key.to_string(),
+                value,
+                message: f.to_string(),
+            });
+        }
+        let l = match scale {
+            Scale::Film => Label::Film(outcome.summary.regime),
+            Scale::Stamp => {
+                Label::Stamp(outcome.summary.stamp_regime.unwrap_or(StampRegime::Creep))
+            }
+        };
+        label = Some(l);
+        if l.decided() {
+            break;
+        }
     }
-    if let Some(f) = &outcome.failure {
-        return Err(BoundaryError::Failed {
-            key: key.to_string(),
-            value,
-            message: f.to_string(),
-        });
+    Ok(label)
+}
+
+/// The overrides that lengthen `base`'s window `factor` times (none for 1): `time.end`, and
+/// `time.travel` when the scene gives it.
+fn window_overrides(base: &ResolvedScene, factor: f64) -> Vec<String> {
+    if factor == 1.0 {
+        return Vec::new();
     }
-    Ok(Some(match scale {
-        Scale::Film => Label::Film(outcome.summary.regime),
-        Scale::Stamp => Label::Stamp(outcome.summary.stamp_regime.unwrap_or(StampRegime::Creep)),
-    }))
+    let time = base.resolved.time.as_ref();
+    let mut out = vec![format!("time.end={:e}", factor * base.config.time.end_s)];
+    if let Some(travel) = time.and_then(|t| t.travel) {
+        out.push(format!("time.travel={:e}", factor * travel));
+    }
+    out
 }
 
 /// Checks the bracket's ends and the tolerance.
@@ -269,7 +415,7 @@ fn check_range(key: &str, lo: f64, hi: f64, rtol: f64) -> Result<(), BoundaryErr
         if !v.is_finite() {
             return Err(BoundaryError::Invalid {
                 name,
-                value: format!("{v}"),
+                value: crate::keys::human(v),
                 allowed: "a finite number".into(),
             });
         }
@@ -284,7 +430,7 @@ fn check_range(key: &str, lo: f64, hi: f64, rtol: f64) -> Result<(), BoundaryErr
     if !(rtol > 0.0 && rtol <= 0.5) {
         return Err(BoundaryError::Invalid {
             name: "--rtol",
-            value: format!("{rtol}"),
+            value: crate::keys::human(rtol),
             allowed: "0 < rtol <= 0.5".into(),
         });
     }
@@ -311,10 +457,14 @@ struct Bisected {
     runs: usize,
     /// A regime met inside that is neither end's (a second change nearby).
     third: Option<Label>,
+    /// A midpoint whose regime stayed undecided: the bisection stopped there, with `[a, b]`
+    /// holding it.
+    undecided: Option<f64>,
 }
 
 /// Bisects `[a, b]` (regimes `ra` ≠ `rb`) until (b − a) ≤ rtol·max(|a|, |b|); `regime` runs
-/// one value (`None`: interrupted; the bisection then gives back its bracket so far).
+/// one value (`None`: interrupted; the bisection then gives back its bracket so far, as
+/// `Err` of a [`Bisected`]).
 fn bisect(
     (mut a, ra): (f64, Label),
     (mut b, mut rb): (f64, Label),
@@ -322,7 +472,7 @@ fn bisect(
     geometric: bool,
     max_runs: usize,
     regime: &mut dyn FnMut(f64) -> Result<Option<Label>, BoundaryError>,
-) -> Result<Result<Bisected, (f64, f64)>, BoundaryError> {
+) -> Result<Result<Bisected, Bisected>, BoundaryError> {
     let (rb0, mut runs, mut third) = (rb, 0, None);
     while b - a > rtol * a.abs().max(b.abs()) && runs < max_runs {
         let mid = midpoint(a, b, geometric);
@@ -331,9 +481,26 @@ fn bisect(
             break;
         }
         let Some(r) = regime(mid)? else {
-            return Ok(Err((a, b)));
+            return Ok(Err(Bisected {
+                a,
+                b,
+                rb,
+                runs,
+                third,
+                undecided: None,
+            }));
         };
         runs += 1;
+        if !r.decided() {
+            return Ok(Ok(Bisected {
+                a,
+                b,
+                rb,
+                runs,
+                third,
+                undecided: Some(mid),
+            }));
+        }
         if r != ra && r != rb0 {
             third.get_or_insert(r);
         }
@@ -350,6 +517,7 @@ fn bisect(
         rb,
         runs,
         third,
+        undecided: None,
     }))
 }
 
@@ -372,7 +540,13 @@ pub fn find(
     let geometric = a > 0.0;
     let mut probes = Vec::new();
     let mut probe = |value: f64, stage: Stage| -> Result<Option<Label>, BoundaryError> {
-        let r = regime_at(base, key, value, (Scale::Film, thresholds), interrupt)?;
+        let r = regime_at(
+            base,
+            key,
+            value,
+            (Scale::Film, thresholds),
+            (interrupt, None),
+        )?;
         if let Some(regime) = r {
             let p = Probe {
                 value,
@@ -392,6 +566,19 @@ pub fn find(
     let Some(rb) = probe(b, Stage::Scan)? else {
         return Err(interrupted(1, a, b));
     };
+    let undecided = |at: f64, lo: f64, hi: f64| BoundaryError::Undecided {
+        key: key.to_string(),
+        at,
+        lo,
+        hi,
+        factor: 1 << UNDECIDED_DOUBLINGS,
+    };
+    if !ra.decided() {
+        return Err(undecided(a, a, b));
+    }
+    if !rb.decided() {
+        return Err(undecided(b, a, b));
+    }
     if ra == rb {
         return Err(BoundaryError::SameRegime {
             key: key.to_string(),
@@ -405,8 +592,11 @@ pub fn find(
     let found = bisect((a, ra), (b, rb), rtol, geometric, MAX_RUNS - 2, &mut mid)?;
     let found = match found {
         Ok(found) => found,
-        Err((a, b)) => return Err(interrupted(probes.len(), a, b)),
+        Err(cut) => return Err(interrupted(probes.len(), cut.a, cut.b)),
     };
+    if let Some(at) = found.undecided {
+        return Err(undecided(at, found.a, found.b));
+    }
     Ok(Boundary {
         key: key.to_string(),
         value: midpoint(found.a, found.b, geometric),

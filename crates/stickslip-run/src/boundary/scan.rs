@@ -14,6 +14,11 @@
 //!   changes, bisected there at the refined resolution, and the move is the distance between
 //!   the two values; a change not found again within the range is *lost* (infinite error).
 //!
+//! Points whose stamp-scale regime stays undecided (see [`super`]) are no side of a change:
+//! each stretch of them between decided points is listed as an [`UndecidedSpan`], as is a
+//! bisection that meets one, and a warning says so; a scan with undecided stretches only ends
+//! in [`BoundaryError::Undecided`].
+//!
 //! A change's error is the bracket's half-width plus the larger of the moves. A change whose
 //! bisection met a third regime, two changes closer than the scan's spacing and a lost change
 //! are warnings: more changes may hide between the scan's points.
@@ -40,22 +45,25 @@ pub const MAX_SCAN: usize = 10_000;
 const TIME_STEPPING_KEYS: [&str; 2] = ["time.tolerance", "time.dt"];
 
 /// How a scan runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ScanOptions {
+#[derive(Debug, Clone, Copy)]
+pub struct ScanOptions<'a> {
     /// Points of the first scan (≥ 2; the bracket's ends included).
     pub points: usize,
     /// Runs at a time (scan points, and changes bisected side by side).
     pub jobs: usize,
     /// The regime followed: the film's or the stamp's.
     pub scale: Scale,
+    /// Where the runs are kept as they end, and found again by a rerun ([`super::cache`]).
+    pub cache: Option<&'a super::cache::ProbeCache>,
 }
 
-impl Default for ScanOptions {
+impl Default for ScanOptions<'_> {
     fn default() -> Self {
         Self {
             points: DEFAULT_SCAN,
             jobs: 2,
             scale: Scale::Film,
+            cache: None,
         }
     }
 }
@@ -93,6 +101,22 @@ pub struct Change {
     pub third: Option<Label>,
     /// Runs for this change (its bisection's midpoints and its refined reruns).
     pub runs: usize,
+    /// False for a change an interrupt cut short: its bracket is as far as the bisection got,
+    /// and its refined reruns are those that ended.
+    pub complete: bool,
+}
+
+/// A stretch of the range where the regime stayed undecided (the stamp's `transient` over
+/// [`super::UNDECIDED_DOUBLINGS`] doublings of the window): a change may lie inside, between
+/// the decided regimes at its ends, but it is not located and has no error.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UndecidedSpan {
+    /// The last decided value below (or the range's first point, when undecided).
+    pub below: Probe,
+    /// The first decided value above (or the range's last point, when undecided).
+    pub above: Probe,
+    /// The undecided values met inside.
+    pub undecided: Vec<f64>,
 }
 
 /// What a scan found.
@@ -108,6 +132,9 @@ pub struct Scan {
     pub points: Vec<Probe>,
     /// Every change found, in increasing value.
     pub changes: Vec<Change>,
+    /// Every stretch whose regime stayed undecided, in increasing value: listed, never
+    /// counted as a change.
+    pub undecided: Vec<UndecidedSpan>,
     /// What the scan cannot vouch for (changes closer than its spacing, a third regime inside
     /// a bisection, a change lost at a refined resolution, a refinement not made).
     pub warnings: Vec<String>,
@@ -149,6 +176,7 @@ struct Ctx<'a> {
     thresholds: RegimeThresholds,
     scale: Scale,
     interrupt: Option<&'a AtomicBool>,
+    cache: Option<&'a super::cache::ProbeCache>,
     on_probe: &'a (dyn Fn(&Probe) + Sync),
     runs: AtomicUsize,
 }
@@ -166,7 +194,7 @@ impl Ctx<'_> {
             self.key,
             value,
             (self.scale, self.thresholds),
-            self.interrupt,
+            (self.interrupt, self.cache),
         )?;
         if let Some(regime) = r {
             self.runs.fetch_add(1, Ordering::Relaxed);
@@ -187,19 +215,17 @@ impl Ctx<'_> {
         }
     }
 
-    /// Bisects `[a, b]` on `scene`, runs counted in `runs`.
+    /// Bisects `[a, b]` on `scene`, runs counted in `runs`; `Err` of the bracket so far when
+    /// interrupted.
     fn bisect_on(
         &self,
         scene: &ResolvedScene,
         stage: Stage,
         a: (f64, Label),
         b: (f64, Label),
-    ) -> Result<Bisected, BoundaryError> {
+    ) -> Result<Result<Bisected, Bisected>, BoundaryError> {
         let mut regime = |v: f64| self.regime(scene, v, stage);
-        match bisect(a, b, self.rtol, self.geometric, MAX_RUNS, &mut regime)? {
-            Ok(found) => Ok(found),
-            Err(_) => Err(self.interrupted()),
-        }
+        bisect(a, b, self.rtol, self.geometric, MAX_RUNS, &mut regime)
     }
 
     /// Where the change bisected to `found` (lower regime `ra`) lies at the refined
@@ -261,7 +287,9 @@ impl Ctx<'_> {
                 } else {
                     ((outer, r), (inner, ra2))
                 };
-                let again = self.bisect_on(scene, stage, lower, upper)?;
+                let again = self
+                    .bisect_on(scene, stage, lower, upper)?
+                    .map_err(|_| self.interrupted())?;
                 count.set(count.get() + again.runs);
                 let v = midpoint(again.a, again.b, self.geometric);
                 return Ok(Shift {
@@ -291,7 +319,7 @@ pub fn scan(
     key: &str,
     (lo, hi): (f64, f64),
     rtol: f64,
-    options: ScanOptions,
+    options: ScanOptions<'_>,
     thresholds: RegimeThresholds,
     interrupt: Option<&AtomicBool>,
     on_probe: &(dyn Fn(&Probe) + Sync),
@@ -316,6 +344,7 @@ pub fn scan(
         thresholds,
         scale: options.scale,
         interrupt,
+        cache: options.cache,
         on_probe,
         runs: AtomicUsize::new(0),
     };
@@ -327,9 +356,11 @@ pub fn scan(
         tick,
     );
     let mut points = Vec::with_capacity(values.len());
+    let mut cut = false;
     for (value, r) in values.iter().zip(regimes) {
         let Some(regime) = r? else {
-            return Err(ctx.interrupted());
+            cut = true;
+            continue;
         };
         points.push(Probe {
             value: *value,
@@ -337,10 +368,39 @@ pub fn scan(
             stage: Stage::Scan,
         });
     }
-    let pairs: Vec<usize> = (1..points.len())
-        .filter(|&i| points[i - 1].regime != points[i].regime)
-        .collect();
-    if pairs.is_empty() {
+    let spacing = if geometric {
+        values[1] / values[0]
+    } else {
+        values[1] - values[0]
+    };
+    let result = |points: Vec<Probe>, changes, undecided, warnings| Scan {
+        key: key.to_string(),
+        lo: a,
+        hi: b,
+        points,
+        runs: ctx.runs.load(Ordering::Relaxed),
+        changes,
+        undecided,
+        warnings,
+        geometric,
+        spacing,
+        rtol,
+    };
+    if cut {
+        // Interrupted in the first scan: the changes between the points that ended, each
+        // bracketed by them and not bisected.
+        let (pairs, undecided) = split_pairs(&points);
+        let changes = pairs
+            .iter()
+            .map(|&i| unbisected(points[i - 1], points[i]))
+            .collect();
+        return Err(BoundaryError::ScanInterrupted {
+            runs: ctx.runs.load(Ordering::Relaxed),
+            partial: Box::new(result(points, changes, undecided, Vec::new())),
+        });
+    }
+    let (pairs, mut undecided) = split_pairs(&points);
+    if pairs.is_empty() && undecided.is_empty() {
         return Err(BoundaryError::SameRegime {
             key: key.to_string(),
             lo: a,
@@ -361,23 +421,48 @@ pub fn scan(
     } else {
         refined_scenes(base, &mut warnings)
     };
-    let change = |k: usize| -> Result<Change, BoundaryError> {
+    let change = |k: usize| -> Result<Result<Change, UndecidedSpan>, BoundaryError> {
         let (lower, upper) = (points[pairs[k] - 1], points[pairs[k]]);
-        let found = ctx.bisect_on(
+        let (found, mut complete) = match ctx.bisect_on(
             base,
             Stage::Bisect,
             (lower.value, lower.regime),
             (upper.value, upper.regime),
-        )?;
+        )? {
+            Ok(found) => (found, true),
+            Err(cut) => (cut, false),
+        };
+        if let Some(at) = found.undecided {
+            return Ok(Err(UndecidedSpan {
+                below: Probe {
+                    value: found.a,
+                    regime: lower.regime,
+                    stage: Stage::Bisect,
+                },
+                above: Probe {
+                    value: found.b,
+                    regime: found.rb,
+                    stage: Stage::Bisect,
+                },
+                undecided: vec![at],
+            }));
+        }
         let value = midpoint(found.a, found.b, geometric);
         let mut shifts = Vec::new();
-        for (stage, scene) in &refined {
-            shifts.push(ctx.shift(scene, *stage, &found, lower.regime, value)?);
+        for (stage, scene) in refined.iter().filter(|_| complete) {
+            match ctx.shift(scene, *stage, &found, lower.regime, value) {
+                Ok(s) => shifts.push(s),
+                Err(BoundaryError::Interrupted { .. }) => {
+                    complete = false;
+                    break;
+                }
+                Err(e) => return Err(e),
+            }
         }
         let bracket = 0.5 * (found.b - found.a);
         let error = bracket + shifts.iter().map(|s| s.moved).fold(0.0, f64::max);
         let runs = found.runs + shifts.iter().map(|s| s.runs).sum::<usize>();
-        Ok(Change {
+        Ok(Ok(Change {
             value,
             below: Probe {
                 value: found.a,
@@ -394,30 +479,93 @@ pub fn scan(
             error,
             third: found.third,
             runs,
-        })
+            complete,
+        }))
     };
     let found = crate::pool::map(pairs.len(), options.jobs, &change, tick);
     let mut changes = Vec::with_capacity(found.len());
     for c in found {
-        changes.push(c?);
+        match c? {
+            Ok(c) => changes.push(c),
+            Err(span) => undecided.push(span),
+        }
+    }
+    undecided.sort_by(|x, y| x.below.value.total_cmp(&y.below.value));
+    if changes.iter().any(|c| !c.complete) {
+        return Err(BoundaryError::ScanInterrupted {
+            runs: ctx.runs.load(Ordering::Relaxed),
+            partial: Box::new(result(points, changes, undecided, warnings)),
+        });
+    }
+    if changes.is_empty() {
+        let span = &undecided[0];
+        return Err(BoundaryError::Undecided {
+            key: key.to_string(),
+            at: span.undecided[0],
+            lo: span.below.value,
+            hi: span.above.value,
+            factor: 1 << super::UNDECIDED_DOUBLINGS,
+        });
+    }
+    for span in &undecided {
+        warnings.push(format!(
+            "{key}: between {:.4e} ({}) and {:.4e} ({}) the stamp-scale regime stays undecided \
+             (transient) at {} value(s) even over {}× the window: a change there is not located \
+             (a longer time.end or time.travel decides)",
+            span.below.value,
+            span.below.regime.said(),
+            span.above.value,
+            span.above.regime.said(),
+            span.undecided.len(),
+            1 << super::UNDECIDED_DOUBLINGS
+        ));
     }
     warnings.extend(scan_warnings(&changes, geometric, &values, key));
-    Ok(Scan {
-        key: key.to_string(),
-        lo: a,
-        hi: b,
-        points,
-        runs: ctx.runs.load(Ordering::Relaxed),
-        changes,
-        warnings,
-        geometric,
-        spacing: if geometric {
-            values[1] / values[0]
-        } else {
-            values[1] - values[0]
-        },
-        rtol,
-    })
+    Ok(result(points, changes, undecided, warnings))
+}
+
+/// A change bracketed by two scan points and not bisected (an interrupted scan's).
+fn unbisected(below: Probe, above: Probe) -> Change {
+    let bracket = 0.5 * (above.value - below.value);
+    Change {
+        value: 0.5 * (below.value + above.value),
+        below,
+        above,
+        bracket,
+        shifts: Vec::new(),
+        error: bracket,
+        third: None,
+        runs: 0,
+        complete: false,
+    }
+}
+
+/// The scan's neighbouring pairs whose regimes differ, both decided (the index of the upper
+/// point), and the stretches of undecided points between decided ones (each listed once, with
+/// the decided points around it, or the range's end when it reaches one).
+fn split_pairs(points: &[Probe]) -> (Vec<usize>, Vec<UndecidedSpan>) {
+    let mut pairs = Vec::new();
+    let mut spans = Vec::new();
+    let mut i = 0;
+    while i < points.len() {
+        if points[i].regime.decided() {
+            if i > 0 && points[i - 1].regime.decided() && points[i - 1].regime != points[i].regime {
+                pairs.push(i);
+            }
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < points.len() && !points[i].regime.decided() {
+            i += 1;
+        }
+        spans.push(UndecidedSpan {
+            below: points[start.saturating_sub(1)],
+            above: points[i.min(points.len() - 1)],
+            undecided: points[start..i].iter().map(|p| p.value).collect(),
+        });
+    }
+    (pairs, spans)
 }
 
 /// The refined scenes a change is rerun on, as stages; a refinement that does not resolve is

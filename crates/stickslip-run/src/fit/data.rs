@@ -31,7 +31,64 @@ impl Default for Columns {
     }
 }
 
+/// Longest piece of a trace's text a message quotes, characters.
+const QUOTED_CHARS: usize = 40;
+
+/// `text` as a message quotes it: whole when short, else its start and its length (a 60 MB
+/// line is not echoed).
+fn clip(text: &str) -> String {
+    match text.char_indices().nth(QUOTED_CHARS) {
+        None => text.to_string(),
+        Some((end, _)) => format!("{}… ({} bytes in all)", &text[..end], text.len()),
+    }
+}
+
 impl Columns {
+    /// Refuses an ambiguous mapping of the trace's `header` names: t and F (and an X named in
+    /// `--columns`) on one column, a column name the header holds twice, or an X asked for by
+    /// name that the header lacks.
+    ///
+    /// # Errors
+    /// [`FitError::Input`] naming `--columns` or the header.
+    fn check_against(&self, header: &[&str]) -> Result<(), FitError> {
+        let used = [("t", &self.t), ("F", &self.f), ("X", &self.x)];
+        for (i, (a, name_a)) in used.iter().enumerate() {
+            for (b, name_b) in &used[i + 1..] {
+                if name_a == name_b {
+                    return Err(FitError::input(
+                        "--columns",
+                        format!("{a}={name_a}, {b}={name_b}"),
+                        "a different column for each of t, F and X",
+                    ));
+                }
+            }
+        }
+        for (which, name) in used {
+            let count = header.iter().filter(|h| **h == name.as_str()).count();
+            if count > 1 {
+                return Err(FitError::input(
+                    "trace header",
+                    clip(&header.join(",")),
+                    format!(
+                        "column names each once: {name} (the {which} column) appears {count} \
+                         times, so which one is meant is ambiguous"
+                    ),
+                ));
+            }
+        }
+        if self.x != "X" && !header.contains(&self.x.as_str()) {
+            return Err(FitError::input(
+                "--columns X",
+                self.x.as_str(),
+                format!(
+                    "one of the header's columns ({}), or no X= to fit without X",
+                    clip(&header.join(", "))
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// The default names with `spec`'s (`t=time,F=force`, comma-separated) in their place.
     ///
     /// # Errors
@@ -118,6 +175,7 @@ impl Trace {
             ));
         };
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        columns.check_against(&names)?;
         let index = |name: &str, which: &str| {
             names.iter().position(|n| *n == name).ok_or_else(|| {
                 FitError::input(
@@ -143,7 +201,11 @@ impl Trace {
                     Ok(v) if v.is_finite() => Ok(v),
                     _ => Err(FitError::input(
                         format!("trace {name} at line {}", line + 1),
-                        if text.is_empty() { "(empty)" } else { text },
+                        if text.is_empty() {
+                            "(empty)".to_string()
+                        } else {
+                            clip(text)
+                        },
                         "a finite number",
                     )),
                 }
@@ -181,10 +243,18 @@ impl Trace {
             {
                 return Err(FitError::input(
                     format!("trace {name} at sample {}", i + 1),
-                    format!("{v}"),
+                    crate::keys::human(*v),
                     "a finite number",
                 ));
             }
+        }
+        if self.f_range_n() == 0.0 {
+            return Err(FitError::input(
+                "trace F",
+                format!("{} N at every sample", crate::keys::human(self.f_n[0])),
+                "a force that varies (a constant trace holds nothing to fit, and no noise to \
+                 weigh it by)",
+            ));
         }
         if self.t_s[0] < 0.0 {
             return Err(FitError::input(

@@ -175,6 +175,12 @@ impl Forward {
     }
 }
 
+/// Runs a resolved scene as a forward run does (the discretisation check's refined model).
+#[must_use]
+pub fn run_resolved(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
+    run_scene(scene, interrupt)
+}
+
 /// Runs `scene` with a null sink, recording F at every step.
 fn run_scene(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
     let mut curve = ModelCurve::default();

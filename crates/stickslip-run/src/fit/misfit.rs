@@ -154,8 +154,23 @@ impl Target {
         {
             return Err(FitError::input(
                 "--noise",
-                format!("{s}"),
+                crate::keys::human(s),
                 "a finite standard deviation of F > 0 N (omit it to estimate it from the data)",
+            ));
+        }
+        // A noise as large as the signal leaves nothing to fit (and hides every event): the
+        // option is wrong, not the trace.
+        if let Some(s) = noise_n
+            && s >= trace.f_range_n()
+        {
+            return Err(FitError::input(
+                "--noise",
+                crate::keys::human(s),
+                format!(
+                    "a standard deviation of F below the trace's span of F, {} N (is it in N?); \
+                     omit it to estimate it from the data",
+                    crate::keys::human(trace.f_range_n())
+                ),
             ));
         }
         let sigma_f_n = noise_n.unwrap_or_else(|| noise_sigma_n(&trace));

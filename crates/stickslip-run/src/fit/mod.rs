@@ -17,6 +17,7 @@
 //! - the result is [`crate::schema::fit::FitReport`] (fit.json) and the fitted scene.
 
 pub mod data;
+pub mod discretisation;
 pub mod error;
 pub mod events;
 pub mod forward;
@@ -60,6 +61,39 @@ pub struct FitOptions<'p> {
     pub interrupt: Option<&'p AtomicBool>,
     /// Progress, on the calling thread; returning true stops the fit as Ctrl-C does.
     pub progress: Option<&'p mut OnProgress<'p>>,
+    /// Resume: the values (in the parameters' units, in their order) an interrupted fit of the
+    /// same inputs had reached; the local stage starts there and the global sample is skipped.
+    pub start: Option<Vec<f64>>,
+}
+
+/// The fingerprint of a fit's inputs (fit.json's `inputs`): the resolved scene, the parameter
+/// specifications, the misfit, the given noise and every number of the trace.
+#[must_use]
+pub fn inputs_fingerprint(
+    scene: &ResolvedScene,
+    params: &[String],
+    misfit: MisfitKind,
+    noise_n: Option<f64>,
+    trace: &Trace,
+) -> String {
+    use crate::atomic::{FNV1A64_INIT, fnv1a64};
+    let mut h = fnv1a64(FNV1A64_INIT, scene.resolved.to_toml_string().as_bytes());
+    for p in params {
+        h = fnv1a64(h, p.as_bytes());
+        h = fnv1a64(h, b"\n");
+    }
+    h = fnv1a64(h, misfit.name().as_bytes());
+    h = fnv1a64(h, &noise_n.unwrap_or(f64::NAN).to_bits().to_le_bytes());
+    for column in [Some(&trace.t_s), Some(&trace.f_n), trace.x_m.as_ref()]
+        .into_iter()
+        .flatten()
+    {
+        for v in column {
+            h = fnv1a64(h, &v.to_bits().to_le_bytes());
+        }
+        h = fnv1a64(h, b"|");
+    }
+    format!("{h:016x}")
 }
 
 /// A fit's results: fit.json's report, the fitted scene, and the curves of the figure.
@@ -139,12 +173,69 @@ pub fn refuse_cut_short(scene: &ResolvedScene) -> Result<(), FitError> {
             allowed,
         ));
     }
+    if let Some(travel) = scene.resolved.time.as_ref().and_then(|t| t.travel) {
+        return Err(FitError::input(
+            "time.travel",
+            crate::keys::human(travel),
+            "unset: the fit ends its model's runs at the trace's end",
+        ));
+    }
     if scene.steady.stop {
         return Err(FitError::input(
             "time.until",
             "\"periodic\"",
             "\"end\": the fit runs its model over the whole trace",
         ));
+    }
+    Ok(())
+}
+
+/// How far above the scene's force scale τmax·πa0² a trace's force may reach: the model's
+/// friction stays near it (a noise kick or a first-order film's peak adds a few times at
+/// most), so a trace far above it is in other units or of another contact.
+pub const MAX_FORCE_OF_SCALE: f64 = 1e3;
+
+/// Refuses a trace whose force lies far beyond anything the scene's contact can give (a
+/// trace in mN or dyn read as N, or of another contact).
+///
+/// # Errors
+/// [`FitError::Input`] naming the trace's F with its largest value and the scene's scale.
+fn refuse_foreign_units(scene: &ResolvedScene, trace: &Trace) -> Result<(), FitError> {
+    let c = &scene.config;
+    let scale = c.lubricant.tau_max_pa * std::f64::consts::PI * c.contact.radius_m.powi(2);
+    let largest = trace.f_n.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if largest > MAX_FORCE_OF_SCALE * scale {
+        return Err(FitError::input(
+            "trace F",
+            format!("up to {} N", crate::keys::human(largest)),
+            format!(
+                "forces within {MAX_FORCE_OF_SCALE:e} × the scene's scale τmax·πa0² = {} N (is \
+                 the trace in N? is it of this contact?)",
+                crate::keys::human(scale)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Refuses, before any run, a parameter the scene does not take at its bounds or midpoint
+/// (a key that does not apply to this scene, or a box the scene's rules between keys
+/// exclude): otherwise every forward run would be refused and the fit would end as a
+/// numerical failure.
+///
+/// # Errors
+/// [`FitError::Input`] naming the parameter, the value and the scene's reason.
+fn refuse_inapplicable(forward: &Forward, params: &[Param]) -> Result<(), FitError> {
+    for p in params.iter().filter(|p| p.scene_key) {
+        for z in [0.0, 0.5, 1.0] {
+            if let Err(e) = forward.scene(std::slice::from_ref(p), &[z]) {
+                return Err(FitError::input(
+                    "--param",
+                    format!("{} (at {})", p.key, p.setting(z)),
+                    format!("a key this scene takes over the whole box; it refuses it: {e}"),
+                ));
+            }
+        }
     }
     Ok(())
 }
@@ -161,6 +252,8 @@ pub fn fit(
 ) -> Result<FitOutcome, FitError> {
     let started = Instant::now();
     refuse_cut_short(scene)?;
+    refuse_foreign_units(scene, &trace)?;
+    let inputs = inputs_fingerprint(scene, params, options.misfit, options.noise_n, &trace);
     let target = Target::new(trace, options.misfit, options.noise_n)?;
     let params = parameters(scene, params, options.misfit, &target.trace)?;
     let profiled = match &options.profile {
@@ -175,6 +268,7 @@ pub fn fit(
     let shift_max = params.iter().find(|p| !p.scene_key).map_or(0.0, |p| p.hi);
     let t_end = target.trace.t_s[target.trace.t_s.len() - 1];
     let forward = Forward::new(scene, t_end + shift_max)?;
+    refuse_inapplicable(&forward, &params)?;
     let table = scene.to_table();
     let initial: Vec<Option<f64>> = params
         .iter()
@@ -196,7 +290,29 @@ pub fn fit(
     problem.interrupt = options.interrupt;
     problem.progress = options.progress;
 
-    let global = optimise::global(&mut problem, start).unwrap_or_default();
+    let resumed: Option<Vec<f64>> = match &options.start {
+        Some(values) if values.len() == params.len() => Some(
+            params
+                .iter()
+                .zip(values)
+                .map(|(p, &v)| p.z(v).clamp(0.0, 1.0))
+                .collect(),
+        ),
+        Some(values) => {
+            return Err(FitError::input(
+                "start",
+                format!("{} values", values.len()),
+                format!("one value per parameter ({})", params.len()),
+            ));
+        }
+        None => None,
+    };
+    let global = match resumed {
+        // An interrupted fit's best point: its global sample was made; the local stage goes
+        // on from there.
+        Some(z) => problem.evaluate_all(&[z], false).unwrap_or_default(),
+        None => optimise::global(&mut problem, start).unwrap_or_default(),
+    };
     let Some(first) = global
         .iter()
         .find(|e| e.failed.is_none())
@@ -304,6 +420,7 @@ pub fn fit(
     // residuals, and steps grown far off blur the derivative). Where that noise is too large
     // for the data the runs' tolerance is tightened and the local stage goes on from there.
     let mut unc = None;
+    let mut discretisation = None;
     if !problem.interrupted() {
         problem.stage = "uncertainty";
         let mut n = noise.unwrap_or(optimise::SolverNoise {
@@ -326,6 +443,14 @@ pub fn fit(
             && let Some(d) = linalg::svd(&j)
         {
             unc = Some(uncertainty::uncertainty(&params, &best.z, &d, best.chi2, m));
+            problem.stage = "discretisation";
+            discretisation = discretisation::estimate(
+                &forward,
+                (&params, &target),
+                (&best, problem.level),
+                &d,
+                options.interrupt,
+            );
         }
     }
     let mut profile_out = None;
@@ -378,7 +503,28 @@ pub fn fit(
                 hi: p.hi,
                 log: p.log,
                 initial: if p.scene_key { initial[k] } else { None },
+                discretisation: discretisation
+                    .as_ref()
+                    .and_then(|d: &discretisation::Discretisation| finite(d.shifts[k])),
             }
+        })
+        .collect::<Vec<FitParameter>>();
+    let warnings = parameters
+        .iter()
+        .filter_map(|p| {
+            let (shift, se) = (p.discretisation?, p.stderr?);
+            (shift > se).then(|| {
+                format!(
+                    "{}: the discretisation error {} {} exceeds the standard error {} {} (the \
+                     model refined moves the value by more than the data allow): fit at more \
+                     contact.nodes or a finer time.tolerance",
+                    p.key,
+                    crate::keys::human(shift),
+                    p.unit,
+                    crate::keys::human(se),
+                    p.unit
+                )
+            })
         })
         .collect();
     let report = FitReport {
@@ -419,6 +565,9 @@ pub fn fit(
         first_failure: problem.first_failure.clone(),
         profile: profile_out,
         wall_s: started.elapsed().as_secs_f64(),
+        discretisation_settings: discretisation.map(|d| d.settings).unwrap_or_default(),
+        warnings,
+        inputs,
     };
     Ok(FitOutcome {
         report,

@@ -8,7 +8,7 @@
 use super::forward::{Forward, Run};
 use super::misfit::{Compared, Target};
 use super::params::{Param, TIME_SHIFT};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// One evaluated model.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,6 +40,12 @@ pub struct Progress {
     pub level: u32,
     /// The runs' `time.tolerance` at that level (none with fixed steps).
     pub tolerance: Option<f64>,
+    /// Runs of the present batch (a global sample, a Jacobian, a line search's points, the
+    /// noise runs) not ended yet.
+    pub batch_left: usize,
+    /// The batch's remaining wall time, s, from the mean wall time of the runs at this
+    /// tolerance so far (none before the first such run ends).
+    pub batch_eta_s: Option<f64>,
 }
 
 /// A progress callback; returning true stops the fit as Ctrl-C does.
@@ -76,6 +82,9 @@ pub struct Problem<'a, 'p> {
     /// The last Jacobian made (by the local stage or for the intervals): an interrupted fit
     /// takes its provisional intervals from it.
     pub last_jacobian: Option<LastJacobian>,
+    /// Wall time and count of the runs so far, per (level, finer): the mean estimates a
+    /// batch's remaining time (a finer run costs more than a run at the fit's tolerance).
+    run_times: std::collections::HashMap<(u32, bool), (f64, usize)>,
     stopped: bool,
 }
 
@@ -107,6 +116,7 @@ impl<'a, 'p> Problem<'a, 'p> {
             first_failure: None,
             best: None,
             level: 0,
+            run_times: std::collections::HashMap::new(),
             stopped: false,
         }
     }
@@ -154,9 +164,25 @@ impl<'a, 'p> Problem<'a, 'p> {
         }
         let model = (self.forward, self.params, self.target);
         let how = (self.interrupt, self.level);
-        let work = |i: usize| run_one(model, how, &zs[i], finer);
+        // Runs ended in this batch and their summed wall time, µs, for the progress's ETA.
+        let ended = AtomicUsize::new(0);
+        let spent_us = std::sync::atomic::AtomicU64::new(0);
+        let work = |i: usize| {
+            let t0 = std::time::Instant::now();
+            let r = run_one(model, how, &zs[i], finer);
+            let us = u64::try_from(t0.elapsed().as_micros()).unwrap_or(u64::MAX);
+            spent_us.fetch_add(us, Ordering::Relaxed);
+            ended.fetch_add(1, Ordering::Relaxed);
+            r
+        };
         let level = self.level;
         let tolerance = self.forward.tolerance_at(level);
+        let (before_s, before_n) = self
+            .run_times
+            .get(&(level, finer))
+            .copied()
+            .unwrap_or((0.0, 0));
+        let jobs = self.jobs;
         let (stage, evaluations, failed, best) = (
             self.stage,
             self.evaluations,
@@ -167,17 +193,27 @@ impl<'a, 'p> Problem<'a, 'p> {
         let progress = &mut self.progress;
         let mut tick = || {
             if let Some(p) = progress.as_mut() {
+                let done = ended.load(Ordering::Relaxed);
+                let spent = spent_us.load(Ordering::Relaxed) as f64 * 1e-6;
+                let (total_s, runs) = (before_s + spent, before_n + done);
+                let left = zs.len().saturating_sub(done);
                 stop |= p(&Progress {
                     stage,
-                    evaluations,
+                    evaluations: evaluations + done,
                     failed_runs: failed,
                     best_chi2: best,
                     level,
                     tolerance,
+                    batch_left: left,
+                    batch_eta_s: (runs > 0)
+                        .then(|| total_s / runs as f64 * left.div_ceil(jobs) as f64),
                 });
             }
         };
         let results = crate::pool::map(zs.len(), self.jobs, &work, &mut tick);
+        let entry = self.run_times.entry((level, finer)).or_insert((0.0, 0));
+        entry.0 += spent_us.load(Ordering::Relaxed) as f64 * 1e-6;
+        entry.1 += ended.load(Ordering::Relaxed);
         self.evaluations += zs.len();
         let mut out = Vec::with_capacity(zs.len());
         for (z, r) in zs.iter().zip(results) {

@@ -157,6 +157,18 @@ impl SceneError {
                     })
                     .map(|i| i.path.to_string())
                     .chain(
+                        // time.end unless time.travel stands for it.
+                        [crate::keys::time::END.path]
+                            .into_iter()
+                            .filter(|p| {
+                                *p != key
+                                    && crate::keys::lookup(root, p).is_none()
+                                    && crate::keys::lookup(root, crate::keys::time::TRAVEL.path)
+                                        .is_none()
+                            })
+                            .map(str::to_string),
+                    )
+                    .chain(
                         // A spring drive (the default) needs its stiffness and mass.
                         [drive::STIFFNESS.path, drive::MASS.path]
                             .into_iter()

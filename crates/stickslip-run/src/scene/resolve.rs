@@ -309,6 +309,58 @@ fn resolve_drive(d: &DriveSection) -> Result<(Drive, Integrator, DriveSection), 
     Ok((drive, integrator, section))
 }
 
+/// The end of the run, s: `time.end`, or the time the drive needs to advance `time.travel`
+/// (m) at |drive.velocity|, or the earlier of the two when both are given. Errors name the
+/// key the user gave, with the value they gave.
+fn resolve_end(end: Option<f64>, travel: Option<f64>, so_far: &Scene) -> Result<f64, SceneError> {
+    let end = end.map(|e| time::END.check(e)).transpose()?;
+    let Some(travel) = travel else {
+        return end.ok_or_else(|| {
+            SceneError::missing(
+                time::END.path,
+                format!(
+                    "{}; or time.travel (m), the drive's advance that ends the run",
+                    time::END.allowed()
+                ),
+            )
+        });
+    };
+    let velocity = so_far
+        .drive
+        .as_ref()
+        .and_then(|d| d.velocity)
+        .unwrap_or(0.0);
+    let by_travel = travel / velocity.abs();
+    if !(by_travel.is_finite() && by_travel > 0.0) {
+        return Err(SceneError::invalid(
+            time::TRAVEL.path,
+            error::human(travel),
+            format!(
+                "an advance the drive makes in a finite time: at drive.velocity = {} m/s it \
+                 takes {} s; or time.end alone",
+                error::human(velocity),
+                error::human(by_travel)
+            ),
+        ));
+    }
+    Ok(match end {
+        Some(e) => e.min(by_travel),
+        None => time::END.check(by_travel).map_err(|_| {
+            SceneError::invalid(
+                time::TRAVEL.path,
+                error::human(travel),
+                format!(
+                    "an advance taking a time.end that is {}: at drive.velocity = {} m/s it \
+                     takes {} s",
+                    time::END.allowed(),
+                    error::human(velocity),
+                    error::human(by_travel)
+                ),
+            )
+        })?,
+    })
+}
+
 /// The stop rules of `[time]` besides the end: `max_events`, `max_open_event` (s), and the
 /// steady-cycle rule (`until`, `steady_cycles`, `steady_rtol`).
 type Stops = (Option<u64>, Option<f64>, crate::steady::SteadyRule);
@@ -319,7 +371,8 @@ fn resolve_time(
     t: &TimeSection,
     so_far: &Scene,
 ) -> Result<(TimeConfig, Stops, TimeSection), SceneError> {
-    let end = time::END.value(t.end, &nothing())?;
+    let travel = time::TRAVEL.resolve(t.travel, &nothing())?;
+    let end = resolve_end(t.end, travel, so_far)?;
     let dt = t.dt.or(time::DT.fixed_default()).unwrap_or(f64::NAN);
     if !(dt.is_finite() && dt > 0.0 && dt <= end) {
         return Err(SceneError::invalid(
@@ -332,6 +385,7 @@ fn resolve_time(
     // The section as resolved so far, for the derived defaults that follow.
     let mut section = TimeSection {
         end: Some(end),
+        travel,
         dt: Some(dt),
         scheme: Some(scheme),
         ..TimeSection::default()

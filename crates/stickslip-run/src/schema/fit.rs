@@ -33,6 +33,12 @@ pub struct FitParameter {
     /// The value in the scene before the fit (null for the time shift, or a key the scene
     /// leaves to a derived default it does not write out).
     pub initial: Option<f64>,
+    /// The discretisation error, in the parameter's unit: how far the value moves when the
+    /// model is refined (`discretisation_settings`: twice the nodes, a tenth of the
+    /// tolerance), from one refined run at the optimum (null: not computed — interrupted, or
+    /// the refined run failed).
+    #[serde(default)]
+    pub discretisation: Option<f64>,
 }
 
 /// One event of the data or of the fitted model.
@@ -130,6 +136,18 @@ pub struct FitReport {
     pub profile: Option<FitProfile>,
     /// Wall time, s.
     pub wall_s: f64,
+    /// The refinement the discretisation errors were measured with, as --set text.
+    #[serde(default)]
+    pub discretisation_settings: Vec<String>,
+    /// What the fit warns of: a discretisation error larger than the standard error (the
+    /// interval does not hold the model's own error: fit at more nodes or a finer tolerance).
+    #[serde(default)]
+    pub warnings: Vec<String>,
+    /// A fingerprint of the fit's inputs (the resolved scene, the parameters and their boxes,
+    /// the misfit, the noise option and the trace's numbers): an interrupted fit is resumed
+    /// only by a fit of the same inputs.
+    #[serde(default)]
+    pub inputs: String,
 }
 
 impl FitReport {

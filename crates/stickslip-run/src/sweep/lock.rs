@@ -148,6 +148,10 @@ pub struct Prepared {
     pub previous_build: Option<String>,
     /// `force` removed earlier results.
     pub started_afresh: bool,
+    /// The directory's sweep.json could not be read (why): it was damaged, not another
+    /// sweep's, so it was rewritten for this sweep. Each point record names its sweep, so a
+    /// record of another sweep is still refused when it is read.
+    pub repaired: Option<String>,
 }
 
 fn remove_if_present(path: &Path, dir: bool) -> io::Result<()> {
@@ -216,10 +220,19 @@ pub fn prepare(sweep: &Sweep, dir: &Path, force: bool) -> Result<Prepared, Sweep
                     remove_if_present(&dir.join(f), false).map_err(io_err(dir))?;
                 }
             }
-            Some(_) => {
+            Some(Ok(_)) => {
                 return Err(SweepRunError::Other {
                     dir: dir.display().to_string(),
                 });
+            }
+            Some(Err(why)) => {
+                // Damaged (cut short, edited, emptied), not another sweep's: the records keep
+                // their own fingerprints, so rewriting it loses nothing and accepts nothing
+                // foreign. The stale map goes with it.
+                for f in [CSV_FILE, JSON_FILE] {
+                    remove_if_present(&dir.join(f), false).map_err(io_err(dir))?;
+                }
+                prepared.repaired = Some(why);
             }
             None => {}
         }

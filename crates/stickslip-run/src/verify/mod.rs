@@ -10,14 +10,15 @@
 
 pub mod celik;
 pub mod estimate;
+pub mod levels;
 pub mod target;
 
 use crate::driver::{Control, NullSink, StartError};
 use crate::keys::{contact, time};
-use crate::outcome::RunOutcome;
 use crate::scene::{ResolvedScene, SceneError};
 use crate::summary::RunSummary;
 use estimate::Estimate;
+use levels::LevelResult;
 use serde::{Deserialize, Deserializer, Serialize};
 use stickslip_core::config::{ContactModel, Scheme};
 
@@ -184,6 +185,26 @@ pub enum VerifyError {
         /// The failure, as the run reports it.
         reason: String,
     },
+    /// Interrupted (Ctrl-C, SIGTERM): the levels that ended are kept when the verify has an
+    /// output directory.
+    #[error(
+        "interrupted with {finished} of {levels} level runs finished{}",
+        match kept {
+            Some(dir) => format!(
+                "; they are kept in {0}: the same command with --out {0} runs only the rest",
+                dir.display()
+            ),
+            None => String::new(),
+        }
+    )]
+    Interrupted {
+        /// Level runs that had ended.
+        finished: usize,
+        /// Level runs in all.
+        levels: usize,
+        /// Where they are kept.
+        kept: Option<std::path::PathBuf>,
+    },
     /// A run that could not start.
     #[error("a run could not start ({what}): {error}")]
     Start {
@@ -287,7 +308,7 @@ pub fn numbers(s: &RunSummary, onsets_s: &[f64]) -> Vec<(String, &'static str, O
 
 /// The quantities of a run, by name, with their units: the discrete ones (event count,
 /// regime) and [`numbers`].
-fn quantities(o: &RunOutcome) -> Vec<(String, &'static str, Option<Value>)> {
+fn quantities(o: &LevelResult) -> Vec<(String, &'static str, Option<Value>)> {
     let s = &o.summary;
     let mut out = vec![
         (
@@ -301,9 +322,8 @@ fn quantities(o: &RunOutcome) -> Vec<(String, &'static str, Option<Value>)> {
             Some(Value::Text(s.regime.name().to_string())),
         ),
     ];
-    let onsets: Vec<f64> = o.events.iter().map(|e| e.t_onset_s).collect();
     out.extend(
-        numbers(s, &onsets)
+        numbers(s, &o.onsets_s)
             .into_iter()
             .map(|(name, unit, v)| (name, unit, v.map(Value::Number))),
     );
@@ -354,9 +374,36 @@ pub fn verify_levels(
     rtol: f64,
     jobs: usize,
 ) -> Result<VerifyReport, VerifyError> {
+    verify_kept(scene, scenes, rtol, jobs, Keep::default())
+}
+
+/// Where a verify keeps its finished levels and what interrupts it.
+#[derive(Clone, Copy, Default)]
+pub struct Keep<'a> {
+    /// The output directory: finished levels are kept under it ([`levels`]) and reused.
+    pub dir: Option<&'a std::path::Path>,
+    /// Set by Ctrl-C or SIGTERM: the runs stop, the finished levels stay kept.
+    pub interrupt: Option<&'a std::sync::atomic::AtomicBool>,
+    /// Called with (level, reused) as each level's result is known.
+    pub on_level: Option<&'a (dyn Fn(usize, bool) + Sync)>,
+}
+
+/// As [`verify_levels`], keeping each finished level under `keep.dir` as it ends, reusing
+/// those kept by an earlier, interrupted verify of the same scene, and stopping on
+/// `keep.interrupt`.
+///
+/// # Errors
+/// As [`verify`]; [`VerifyError::Interrupted`] when interrupted.
+pub fn verify_kept(
+    scene: &ResolvedScene,
+    scenes: &[(Axis, ResolvedScene)],
+    rtol: f64,
+    jobs: usize,
+    keep: Keep<'_>,
+) -> Result<VerifyReport, VerifyError> {
     check_rtol(rtol)?;
-    let outcomes = run_all(scenes, jobs.max(1))?;
-    report_of(scene, scenes, &outcomes, rtol)
+    let results = run_all(scenes, jobs.max(1), keep)?;
+    report_of(scene, scenes, &results, rtol)
 }
 
 /// The report from the levels' outcomes. A refined level that failed numerically has none of
@@ -368,13 +415,13 @@ pub fn verify_levels(
 fn report_of(
     scene: &ResolvedScene,
     scenes: &[(Axis, ResolvedScene)],
-    outcomes: &[RunOutcome],
+    outcomes: &[LevelResult],
     rtol: f64,
 ) -> Result<VerifyReport, VerifyError> {
     if let Some(f) = outcomes.first().and_then(|o| o.failure.as_ref()) {
         return Err(VerifyError::Failed {
             what: format!("N = {}", scene.config.contact.nodes),
-            reason: f.to_string(),
+            reason: f.clone(),
         });
     }
     let levels = scenes
@@ -390,9 +437,9 @@ fn report_of(
                 .adaptive
                 .is_none()
                 .then_some(s.config.time.dt_s),
-            steps: o.counts.steps,
-            wall_s: o.wall_seconds,
-            status: o.status().name().to_string(),
+            steps: o.steps,
+            wall_s: o.wall_s,
+            status: o.status.clone(),
         })
         .collect();
     let time_order = if scene.config.time.adaptive.is_some() {
@@ -527,18 +574,63 @@ fn report_of(
 }
 
 /// Runs `scenes`, `jobs` at a time; the outcomes in their order.
-fn run_all(scenes: &[(Axis, ResolvedScene)], jobs: usize) -> Result<Vec<RunOutcome>, VerifyError> {
-    let work = |i: usize| crate::driver::run(&scenes[i].1, &mut NullSink, &mut Control::default());
-    crate::pool::map(scenes.len(), jobs, &work, &mut || {})
+/// Runs every level not already kept under `keep.dir`, keeping each as it ends.
+fn run_all(
+    scenes: &[(Axis, ResolvedScene)],
+    jobs: usize,
+    keep: Keep<'_>,
+) -> Result<Vec<LevelResult>, VerifyError> {
+    let work = |i: usize| -> Result<Option<LevelResult>, StartError> {
+        let scene = &scenes[i].1;
+        if let Some(kept) = keep.dir.and_then(|d| levels::load(d, i, scene)) {
+            if let Some(f) = keep.on_level {
+                f(i, true);
+            }
+            return Ok(Some(kept));
+        }
+        let mut control = Control {
+            interrupt: keep.interrupt,
+            ..Control::default()
+        };
+        let o = crate::driver::run(scene, &mut NullSink, &mut control)?;
+        if o.stop == crate::outcome::StopReason::Interrupted {
+            return Ok(None);
+        }
+        let r = LevelResult::of(scene, &o);
+        // Kept as soon as it ends; a level that cannot be kept is still used now.
+        if let Some(d) = keep.dir {
+            levels::save(d, i, &r).ok();
+        }
+        if let Some(f) = keep.on_level {
+            f(i, false);
+        }
+        Ok(Some(r))
+    };
+    let mut out = Vec::with_capacity(scenes.len());
+    let mut interrupted = false;
+    for (i, r) in crate::pool::map(scenes.len(), jobs, &work, &mut || {})
         .into_iter()
         .enumerate()
-        .map(|(i, r)| {
-            r.map_err(|error| VerifyError::Start {
-                what: format!("{:?} level {i}", scenes[i].0),
-                error: Box::new(error),
-            })
-        })
-        .collect()
+    {
+        match r {
+            Ok(Some(r)) => out.push(r),
+            Ok(None) => interrupted = true,
+            Err(error) => {
+                return Err(VerifyError::Start {
+                    what: format!("{:?} level {i}", scenes[i].0),
+                    error: Box::new(error),
+                });
+            }
+        }
+    }
+    if interrupted {
+        return Err(VerifyError::Interrupted {
+            finished: out.len(),
+            levels: scenes.len(),
+            kept: keep.dir.map(std::path::Path::to_path_buf),
+        });
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -623,16 +715,8 @@ mod tests {
     fn a_failed_level_is_no_value_and_a_failed_scene_is_no_report() {
         let scene = homogeneous();
         let scenes = level_scenes(&scene).unwrap();
-        let mut outcomes = run_all(&scenes, 2).unwrap();
-        let failure = stickslip_core::sim::NumericalFailure {
-            t_s: 1e-4,
-            step: 7,
-            node: 0,
-            r_m: 0.0,
-            quantity: "phi",
-            value: f64::NAN,
-            diagnosis: "made up for the test".into(),
-        };
+        let mut outcomes = run_all(&scenes, 2, Keep::default()).unwrap();
+        let failure = "made up for the test".to_string();
         // A refined level that failed: every quantity misses it and is "changed".
         outcomes[1].failure = Some(failure.clone());
         let r = report_of(&scene, &scenes, &outcomes, 0.5).unwrap();
@@ -646,6 +730,55 @@ mod tests {
         let e = report_of(&scene, &scenes, &outcomes, 0.5).unwrap_err();
         assert!(matches!(e, VerifyError::Failed { .. }), "{e}");
         assert!(e.to_string().contains("made up for the test"), "{e}");
+    }
+
+    #[test]
+    fn an_interrupted_verify_keeps_its_finished_levels_and_the_rerun_reuses_them() {
+        let scene = homogeneous();
+        let scenes = level_scenes(&scene).unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let whole = verify_levels(&scene, &scenes, 1e-3, 1).unwrap();
+        // Interrupted as soon as the first level has ended (one job: the rest are cut).
+        let flag = std::sync::atomic::AtomicBool::new(false);
+        let stop = |_: usize, _: bool| flag.store(true, std::sync::atomic::Ordering::Relaxed);
+        let keep = Keep {
+            dir: Some(tmp.path()),
+            interrupt: Some(&flag),
+            on_level: Some(&stop),
+        };
+        let e = verify_kept(&scene, &scenes, 1e-3, 1, keep).unwrap_err();
+        assert!(
+            matches!(e, VerifyError::Interrupted { finished: 1, levels, .. } if levels == scenes.len()),
+            "{e}"
+        );
+        assert!(e.to_string().contains("runs only the rest"), "{e}");
+        assert_eq!(levels::count(tmp.path()), 1);
+        // The rerun reuses level 0, runs the others, and reports what an uninterrupted one does.
+        let reused = std::sync::Mutex::new(Vec::new());
+        let note = |k: usize, r: bool| reused.lock().unwrap().push((k, r));
+        let keep = Keep {
+            dir: Some(tmp.path()),
+            interrupt: None,
+            on_level: Some(&note),
+        };
+        let again = verify_kept(&scene, &scenes, 1e-3, 1, keep).unwrap();
+        let mut seen = reused.into_inner().unwrap();
+        seen.sort_unstable();
+        assert_eq!(seen[0], (0, true));
+        assert!(seen[1..].iter().all(|&(_, r)| !r), "{seen:?}");
+        for (a, b) in again.quantities.iter().zip(&whole.quantities) {
+            assert_eq!(a.value.to_bits(), b.value.to_bits(), "{}", a.name);
+            assert_eq!(
+                a.uncertainty.to_bits(),
+                b.uncertainty.to_bits(),
+                "{}",
+                a.name
+            );
+        }
+        // A record of another scene is not reused.
+        let other = scene.with_overrides(&["lubricant.gamma=11"]).unwrap();
+        assert!(levels::load(tmp.path(), 0, &other).is_none());
+        assert!(levels::load(tmp.path(), 0, &scenes[0].1).is_some());
     }
 
     #[test]
