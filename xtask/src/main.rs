@@ -4,6 +4,7 @@
 mod build_timing;
 mod maps;
 mod python;
+mod readme;
 mod slurm;
 mod test_all;
 mod wheel;
@@ -159,7 +160,16 @@ fn bench(args: &[String]) -> ExitCode {
         args,
     );
     match status {
-        Ok(s) if s.success() => ExitCode::SUCCESS,
+        Ok(s) if s.success() => match readme::update(&workspace_root()) {
+            Ok(()) => {
+                eprintln!("bench: README.md's performance table updated from the report");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("bench: cannot copy the performance table into README.md: {e}");
+                ExitCode::from(1)
+            }
+        },
         Ok(s) => ExitCode::from(u8::try_from(s.code().unwrap_or(1)).unwrap_or(1)),
         Err(e) => {
             eprintln!("bench: cannot run cargo: {e}");

@@ -263,3 +263,78 @@ fn an_interrupted_fit_keeps_provisional_intervals_from_its_last_jacobian() {
     let back = stickslip_run::schema::fit::FitReport::parse(&r.to_json()).unwrap();
     assert_eq!(&back, r);
 }
+
+#[test]
+fn a_coarse_fit_states_its_discretisation_error_and_warns_when_it_exceeds_the_statistical() {
+    // The h0 = 1 nm contact to just past its first melting, on the paper's uniform grid, whose
+    // outermost node makes the first onset converge slowly in N: data from N = 80, fitted for
+    // τmax at N = 10. The fitted value is biased by the model's spatial error, which the
+    // statistical interval does not hold; the refined run at 2N must report a move of the
+    // same order as that bias, and warn.
+    let uniform = |nodes: usize| {
+        Scene::from_path(
+            &super::common::scene("sfa"),
+            &[
+                format!("contact.nodes={nodes}"),
+                "contact.grid=uniform".to_string(),
+                "time.end=0.115".to_string(),
+                "output.profile_times=[]".to_string(),
+            ],
+        )
+        .unwrap()
+    };
+    let truth = uniform(80);
+    let forward = Forward::new(&truth, 0.115).unwrap();
+    let Run::Done(curve) = forward.run(&[], &[], None) else {
+        panic!("the true model failed")
+    };
+    // Every 20 µs, with a small deterministic noise (1e-7 N, 0.02 % of the peak).
+    let t: Vec<f64> = (0..5750).map(|i| i as f64 * 2e-5).collect();
+    let f: Vec<f64> = t
+        .iter()
+        .enumerate()
+        .map(|(i, &t)| curve.at(t) + if i % 2 == 0 { 1e-7 } else { -1e-7 })
+        .collect();
+    let trace = Trace::new(t, f, None).unwrap();
+    let tau_true = truth.config.lubricant.tau_max_pa;
+    let r = stickslip_run::fit::fit(
+        &uniform(10),
+        trace,
+        &["lubricant.tau_max=5e5:2e6".to_string()],
+        FitOptions {
+            jobs: 2,
+            ..FitOptions::default()
+        },
+    )
+    .unwrap()
+    .report;
+    assert_eq!(
+        r.discretisation_settings.first().map(String::as_str),
+        Some("contact.nodes=20")
+    );
+    let p = r.parameter("lubricant.tau_max").unwrap();
+    let (shift, se) = (p.discretisation.unwrap(), p.stderr.unwrap());
+    let bias = (p.value - tau_true).abs();
+    println!(
+        "N = 10 against data from N = 80: tau_max {} (truth {tau_true}), standard error {se}, \
+         discretisation error {shift}",
+        p.value
+    );
+    assert!(
+        bias > 3.0 * se,
+        "bias {bias} against se {se}: not a biased fit"
+    );
+    assert!(shift > se, "shift {shift} against se {se}");
+    // The move to 2N is part of the way to the converged model: of the bias's order.
+    assert!(
+        shift > bias / 10.0 && shift < bias * 3.0,
+        "shift {shift} against bias {bias}"
+    );
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.starts_with("lubricant.tau_max: the discretisation error")),
+        "{:?}",
+        r.warnings
+    );
+}

@@ -618,7 +618,21 @@ fn sweep_file_errors_name_the_key_and_the_line_and_exit_as_run_does() {
         "name = \"bad\"\nscene = \"{}\"\n",
         common::scene("rigid").display()
     );
-    let cases: [(&str, &str, &str, &str); 5] = [
+    let cases: [(&str, &str, &str, &str); 7] = [
+        (
+            "spot checks that cannot be made (2N beyond the node limit)",
+            "[[axis]]\nkey = \"contact.nodes\"\nvalues = [50, 15000]\n[verify]\nsample = 0.5\n",
+            "sweep verify = point 1 (contact.nodes = 15000) (line 6) is invalid; allowed: points whose \
+             spot checks",
+            "",
+        ),
+        (
+            "[[verify]] for [verify]",
+            "[[axis]]\nkey = \"drive.velocity\"\nvalues = [1.0]\n[[verify]]\nsample = 0.5\n",
+            "sweep verify = [[verify]] (an array of tables) (line 6) is invalid; allowed: one \
+             [verify] table, in single brackets",
+            "",
+        ),
         (
             "a count written as a float",
             "[[axis]]\nkey = \"drive.velocity\"\nrange = { from = 1, to = 2, count = 4.0 }\n",

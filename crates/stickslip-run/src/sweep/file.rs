@@ -341,6 +341,19 @@ fn line_of_scene_key(text: &str, entries: &[Entry], key: &str) -> Option<usize> 
         .map(|e| line_at(text, e.key.start))
 }
 
+/// The line of the first `[[section]]` or `section =` in `text`.
+fn entries_line(text: &str, section: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| {
+            let l = l.trim_start();
+            l.starts_with(&format!("[[{section}]]"))
+                || l.starts_with(&format!("[{section}]"))
+                || l.strip_prefix(section)
+                    .is_some_and(|r| r.trim_start().starts_with('='))
+        })
+        .map(|i| i + 1)
+}
+
 /// What a serde "expected …" means, in the words of the messages.
 fn expected_words(expected: &str) -> String {
     match expected {
@@ -399,6 +412,29 @@ pub fn parse(text: &str, path: &str, lines: bool) -> Result<SweepFile, SweepErro
         }
         Err(e) => e,
     };
+    // A table written as an array of tables ([[verify]] for [verify]): say so, rather than
+    // what serde expected of the array's first element.
+    if let Ok(table) = text.parse::<toml::Table>() {
+        for section in ["verify", "set", "regime"] {
+            if let Some(toml::Value::Array(items)) = table.get(section) {
+                let double = items.iter().all(toml::Value::is_table);
+                let at = entries_line(text, section).filter(|_| lines);
+                return Err(SweepError::Invalid {
+                    key: section.to_string(),
+                    value: if double {
+                        format!("[[{section}]] (an array of tables)")
+                    } else {
+                        "an array".to_string()
+                    },
+                    allowed: format!(
+                        "one [{section}] table, in single brackets (docs/reference.md, \"Sweep \
+                         file\"); [[axis]] is the only section written twice"
+                    ),
+                    line: at,
+                });
+            }
+        }
+    }
     let entries = flatten(doc.get_ref());
     let message = e.message().trim().to_string();
     let span = e.span().unwrap_or(0..0);

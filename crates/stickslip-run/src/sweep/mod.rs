@@ -551,12 +551,26 @@ impl Sweep {
             verify,
         };
         for p in sweep.points_validated_up_front() {
-            sweep.scene(p).map_err(|error| SweepError::Point {
+            let scene = sweep.scene(p).map_err(|error| SweepError::Point {
                 point: p,
                 values: sweep.describe(p),
                 error: Box::new(error),
                 line: None,
             })?;
+            // The spot checks rerun points at 2N and a tenth of the tolerance once the map is
+            // complete: a point where they cannot be made is refused now, not after the map.
+            if sweep.verify.is_some()
+                && let Err(e) = crate::verify::refinements(&scene)
+            {
+                return Err(SweepError::invalid(
+                    "verify",
+                    format!("point {p} ({})", sweep.describe(p)),
+                    &format!(
+                        "points whose spot checks (2N, a tenth of the tolerance) can be made; \
+                         here {e} (remove [verify], or change the point's values)"
+                    ),
+                ));
+            }
         }
         Ok(sweep)
     }
