@@ -371,6 +371,10 @@ impl Preflight {
                         1.2 * t
                     ),
                 }),
+                // The free stamp's motion overflowed (a dashpot or speed at the edge of the
+                // doubles): nothing is known of when it melts, and saying "never" would be
+                // wrong; check names the inputs.
+                None if !stamp_travel_m.is_finite() => {}
                 None => {
                     let a_end = config.temperature.a_coeff_pa(end);
                     findings.push(Finding {

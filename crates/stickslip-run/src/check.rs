@@ -324,7 +324,10 @@ fn cost_of(scene: &ResolvedScene, driver: &mut Driver) -> Result<CostEstimate, S
             format!("{} fixed steps of time.dt", scene.steps),
         ),
         Some(a) => {
-            let events = if preflight.critical_displacement_m > 0.0 {
+            // A travel that overflowed counts no events (check says the travel is unknown).
+            let events = if preflight.critical_displacement_m > 0.0
+                && preflight.stamp_travel_m.is_finite()
+            {
                 (preflight.stamp_travel_m.abs() / preflight.critical_displacement_m).floor()
             } else {
                 0.0

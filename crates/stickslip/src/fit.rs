@@ -155,6 +155,20 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         Ok(x) => x,
         Err(e) => return crate::fail(&e, e.exit()),
     };
+    // A trace that starts long after the drive: every forward run simulates from t = 0, so
+    // its cost is set by the trace's end, not its span. Said before the runs.
+    let (t0, t1) = (trace.t_s[0], trace.t_s[trace.t_s.len() - 1]);
+    if t0 > t1 - t0 {
+        eprintln!(
+            "fit: note: the trace starts at t = {} s, {:.0}× its span of {} s after the drive \
+             started: every forward run simulates from t = 0 to {} s (the model's drive starts \
+             at t = 0; shift the trace's times if it does not)",
+            stickslip_run::keys::human(t0),
+            t0 / (t1 - t0),
+            stickslip_run::keys::human(t1 - t0),
+            stickslip_run::keys::human(t1)
+        );
+    }
     // An interrupted fit of the same inputs in --out is resumed from its best point (its
     // global sample was made): the same command finishes it.
     let inputs = stickslip_run::fit::inputs_fingerprint(&scene, a.params, kind, a.noise, &trace);

@@ -367,3 +367,76 @@ fn the_stamp_scale_finds_where_the_stamp_stops_slipping() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(texts(&bad).1.contains("film") && texts(&bad).1.contains("stamp"));
 }
+
+#[test]
+fn an_interrupted_scan_prints_its_brackets_and_the_same_command_finishes_it_from_its_runs() {
+    // The several-changes line above with --out: SIGINT once some runs are kept; the scan
+    // says what it had found (exit 130), and the same command makes only the missing runs and
+    // prints what an uninterrupted search prints.
+    let tmp = tempfile::tempdir().unwrap();
+    let out_dir = tmp.path().join("b");
+    let rigid = scene("rigid");
+    let mut args: Vec<String> = vec!["boundary".into(), rigid.display().to_string()];
+    args.extend(SETS.iter().map(|s| (*s).to_string()));
+    for a in [
+        "--key",
+        "temperature.A0",
+        "--from",
+        "-3e5",
+        "--to",
+        "1.5e6",
+        "--scan",
+        "7",
+        "--rtol",
+        "1e-2",
+        "--set",
+        "drive.velocity=0.5",
+        "--jobs",
+        "1",
+        "--quiet",
+        "--out",
+    ] {
+        args.push(a.into());
+    }
+    args.push(out_dir.display().to_string());
+    let probes = out_dir.join("probes.jsonl");
+    let lines = || {
+        std::fs::read_to_string(&probes)
+            .map(|t| t.lines().count())
+            .unwrap_or(0)
+    };
+    let child = crate::common::bin()
+        .args(&args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while lines() < 9 && started.elapsed() < std::time::Duration::from_secs(120) {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let cut = child.wait_with_output().unwrap();
+    let (stdout, stderr) = texts(&cut);
+    assert_eq!(cut.status.code(), Some(130), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("the changes above are as far as the scan got"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("--out"), "{stderr}");
+    let kept = lines();
+    assert!(kept >= 9, "{kept}");
+    // The same command: the kept runs are found again, and the answer is a whole search's.
+    let again = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let (stdout, stderr) = texts(&again);
+    assert!(again.status.success(), "{stderr}");
+    assert!(stderr.contains(&format!("{kept} runs kept")), "{stderr}");
+    let fresh_dir = tmp.path().join("fresh");
+    let mut fresh_args = args.clone();
+    *fresh_args.last_mut().unwrap() = fresh_dir.display().to_string();
+    let fresh = run(&fresh_args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(texts(&fresh).0, stdout);
+}

@@ -604,3 +604,24 @@ fn a_periodic_run_that_does_not_settle_says_why() {
         "{stderr}"
     );
 }
+
+#[test]
+fn check_names_the_inputs_when_a_derived_number_overflows() {
+    // A dashpot at the edge of the doubles: the free stamp's travel overflows; check says
+    // which inputs did it instead of printing NaN.
+    let out = run(&[
+        "check",
+        &scene("fig2").display().to_string(),
+        "--set",
+        "drive.damping=1e308",
+    ]);
+    let (stdout, stderr) = texts(&out);
+    assert!(
+        !stdout.contains("NaN") && !stdout.contains("= nan"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("stamp_travel: not computable") && stdout.contains("drive.damping = 1e308"),
+        "{stdout}{stderr}"
+    );
+}

@@ -283,3 +283,51 @@ fn verify_of_a_scene_that_fails_numerically_is_a_numerical_failure_not_within() 
     );
     assert!(!stdout.contains("within"), "{stdout}");
 }
+
+#[test]
+fn sigterm_keeps_the_finished_levels_and_the_same_command_runs_only_the_rest() {
+    // fig2 at N = 200, one job: the scene's own level ends first; SIGTERM then stops the rest
+    // (exit 130, as a run's), the level stays in levels/, and the same command reuses it.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("v");
+    let args: Vec<String> = [
+        "verify",
+        scene("fig2").to_str().unwrap(),
+        "--set",
+        "contact.nodes=200",
+        "--jobs",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]
+    .iter()
+    .map(|s| (*s).to_string())
+    .collect();
+    let child = crate::common::bin()
+        .args(&args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let first = out.join("levels").join("level-0.json");
+    let started = std::time::Instant::now();
+    while !first.exists() && started.elapsed() < std::time::Duration::from_secs(120) {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let cut = child.wait_with_output().unwrap();
+    let (_, stderr) = texts(&cut);
+    assert_eq!(cut.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("runs only the rest"), "{stderr}");
+    assert!(first.exists());
+    assert!(!out.join("verify.json").exists());
+    // The same command, without --force: the directory holds this verify's levels only.
+    let again = run_strings(&args);
+    let (_, stderr) = texts(&again);
+    assert!(matches!(again.status.code(), Some(0 | 4)), "{stderr}");
+    assert!(stderr.contains("level 0 reused"), "{stderr}");
+    assert!(out.join("verify.json").exists());
+}
