@@ -61,6 +61,9 @@ pub struct CostEstimate {
     /// The probe's steps carried at its pace to `time.end`, and their wall time, s: what the
     /// first steps alone imply.
     pub probe_pace_seconds: f64,
+    /// The probe's steps carried at its pace to `time.end`: the steps of the stick phases,
+    /// as the output-size estimate counts them.
+    pub probe_pace_steps: f64,
     /// How the step count was estimated (and why it is unknown, when it is).
     pub basis: String,
 }
@@ -259,7 +262,15 @@ pub fn check(scene: &ResolvedScene) -> Result<CheckReport, StartError> {
     if let Some(w) = long_run_warning(scene, &preflight, &cost) {
         warnings.push(w);
     }
-    let output = crate::output_size::estimate(scene, cost.steps);
+    let output = crate::output_size::estimate_clustered(
+        scene,
+        cost.steps,
+        if cost.probe_pace_steps.is_finite() {
+            cost.probe_pace_steps
+        } else {
+            cost.steps
+        },
+    );
     if let Some(interval) = output.interval_for_limit_s {
         warnings.push(Finding {
             severity: stickslip_core::preflight::Severity::Warning,
@@ -370,6 +381,7 @@ fn cost_of(scene: &ResolvedScene, driver: &mut Driver) -> Result<CostEstimate, S
         steps,
         seconds: backed.then_some(steps * seconds_per_step),
         probe_pace_seconds: pace * seconds_per_step,
+        probe_pace_steps: pace,
         basis,
     })
 }

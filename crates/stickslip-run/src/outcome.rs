@@ -176,6 +176,10 @@ impl RunOutcome {
                 ));
             }
             line.push_str(&format!(", stamp regime {}", regime.name()));
+            if regime == crate::cycles::StampRegime::Transient {
+                // Not a verdict: the window was too short to tell.
+                line.push_str(" (undecided: a longer time.end or time.travel decides)");
+            }
             if let Some(c) = &s.cycles {
                 let every = |stats: &crate::cycles::CycleStats, what: &str| {
                     stats

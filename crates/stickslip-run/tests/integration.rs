@@ -14,6 +14,7 @@ mod fit;
 mod grid;
 mod keys;
 mod onset_estimate;
+mod output_rows;
 mod refine;
 mod scene_fuzz;
 mod scene_resolution;

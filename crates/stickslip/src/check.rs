@@ -244,9 +244,18 @@ pub fn print(scene: &ResolvedScene) -> ExitCode {
     say!();
     say!("# output (expected)");
     say!(
-        "series_rows = {:.0} (series.csv{}), profile_rows = {:.0} (profiles.csv), bytes = {:.3e} \
-         ({:.1} MB)",
+        "series_rows = {:.0}{} (series.csv{}), profile_rows = {:.0} (profiles.csv), bytes = \
+         {:.3e} ({:.1} MB)",
         out.series_rows,
+        if out.series_rows_max > 1.5 * out.series_rows_min {
+            format!(
+                " (between {:.0}, a row per step at the first steps' pace, and {:.0}, a row \
+                 per step: a melting's steps cluster and share the interval's marks)",
+                out.series_rows_min, out.series_rows_max
+            )
+        } else {
+            String::new()
+        },
         if out.probes > 0 {
             format!(" and probes.csv, {} probes", out.probes)
         } else {

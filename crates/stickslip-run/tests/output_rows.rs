@@ -1,0 +1,30 @@
+//! `check`'s output-size estimate against the rows a run writes: fig2 as shipped and the
+//! h0 = 1 nm contact at a 1 µs series interval, whose meltings' steps cluster in fronts and
+//! share the interval's marks (a row per step would be 2.6× and 7.6× high).
+
+use stickslip_run::Scene;
+
+#[test]
+fn the_series_rows_estimate_is_within_a_factor_2_5_of_the_rows_written() {
+    for (name, sets) in [
+        ("fig2", vec!["contact.nodes=200"]),
+        ("sfa", vec!["output.series_interval=1e-6"]),
+    ] {
+        let scene = Scene::from_path(&super::common::scene(name), &sets).unwrap();
+        let report = stickslip_run::check::check(&scene).unwrap();
+        let (outcome, _) =
+            stickslip_run::run_in_memory(&scene, &mut stickslip_run::Control::default()).unwrap();
+        let written = outcome.series_rows as f64;
+        let o = &report.output;
+        let ratio = o.series_rows / written;
+        println!(
+            "{name}: {} rows written, estimate {} (range {} … {})",
+            written, o.series_rows, o.series_rows_min, o.series_rows_max
+        );
+        assert!((0.4..=2.5).contains(&ratio), "{name}: {ratio} ({o:?})");
+        assert!(
+            o.series_rows_min <= written && written <= o.series_rows_max,
+            "{name}: {o:?}"
+        );
+    }
+}
