@@ -295,3 +295,17 @@ fn time_travel_ends_the_run_when_the_drive_has_advanced_that_far() {
         .to_string();
     assert!(e.contains("`time.end`") && e.contains("time.travel"), "{e}");
 }
+
+#[test]
+fn a_default_the_user_never_gave_is_named_as_one_with_the_key_that_broke_it() {
+    // time.end = 1e10 s: the default series interval is too fine for it; the message says it
+    // is the default and names time.end.
+    let e = Scene::from_toml_str(MINIMAL, &["time.end=1e10"])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("output.series_interval = 1e-7 (its default)"),
+        "{e}"
+    );
+    assert!(e.contains("or a shorter time.end (now 1e10 s)"), "{e}");
+}

@@ -560,12 +560,23 @@ fn resolve_output(
     // Marks closer than end·1e-12 round onto the same time (and more than 1e12 rows is no
     // record anyone reads): a subnormal interval would run with a handful of rows.
     if series_interval < end / MAX_STEPS {
+        // A default the user never gave is said to be one, and time.end named as the cause.
         return Err(SceneError::invalid(
             output::SERIES_INTERVAL.path,
-            error::human(series_interval),
             format!(
-                "finite, > 0 and >= time.end / {MAX_STEPS:e} = {:e} s",
-                end / MAX_STEPS
+                "{}{}",
+                error::human(series_interval),
+                if o.series_interval.is_none() {
+                    " (its default)"
+                } else {
+                    ""
+                }
+            ),
+            format!(
+                "finite, > 0 and >= time.end / {MAX_STEPS:e} = {:e} s; or a shorter time.end \
+                 (now {} s)",
+                end / MAX_STEPS,
+                error::human(end)
             ),
         ));
     }
@@ -723,12 +734,19 @@ pub fn resolve(scene: &Scene) -> Result<ResolvedScene, SceneError> {
     };
     config.validate()?;
     if end / time.dt_s > MAX_STEPS {
+        let given = scene.time.as_ref().and_then(|t| t.dt).is_some();
         return Err(SceneError::invalid(
             time::DT.path,
-            error::human(time.dt_s),
             format!(
-                "finite, > 0 and >= time.end / {MAX_STEPS:e} = {:e} s (at most {MAX_STEPS:e} steps)",
-                end / MAX_STEPS
+                "{}{}",
+                error::human(time.dt_s),
+                if given { "" } else { " (its default)" }
+            ),
+            format!(
+                "finite, > 0 and >= time.end / {MAX_STEPS:e} = {:e} s (at most {MAX_STEPS:e} \
+                 steps); or a shorter time.end (now {} s)",
+                end / MAX_STEPS,
+                error::human(end)
             ),
         ));
     }
