@@ -625,3 +625,29 @@ fn check_names_the_inputs_when_a_derived_number_overflows() {
         "{stdout}{stderr}"
     );
 }
+
+#[test]
+fn a_coupling_that_overflows_names_the_inputs_that_can_do_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = run(&[
+        "run",
+        &scene("fig2").display().to_string(),
+        "--set",
+        "contact.nodes=20",
+        "--set",
+        "time.end=1e-5",
+        "--set",
+        "output.profile_times=[]",
+        "--set",
+        "drive.damping=1e308",
+        "--out",
+        tmp.path().join("r").to_str().unwrap(),
+        "--quiet",
+    ]);
+    let (_, stderr) = texts(&out);
+    assert_eq!(out.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("coupling residual") && stderr.contains("drive.damping = 1e308"),
+        "{stderr}"
+    );
+}
