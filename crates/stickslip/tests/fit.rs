@@ -292,6 +292,21 @@ fn bad_input_exits_2_naming_the_field() {
             "a key this scene takes over the whole box",
         ),
         (
+            // A trace long after the drive's start: the cost of that is said before any run
+            // (the unknown key then stops the fit).
+            write(
+                "late.csv",
+                &format!(
+                    "t,F\n{}",
+                    (0..40)
+                        .map(|i| format!("{:e},{}e-4\n", 0.5 + i as f64 * 1e-6, i % 10))
+                        .collect::<String>()
+                ),
+            ),
+            vec!["--param", "lubricant.nope"],
+            "the trace starts at t = 0.5 s",
+        ),
+        (
             write(
                 "long.csv",
                 &format!("t,F\n{}{}\n", saw, "x".repeat(1 << 20)),
