@@ -27,12 +27,13 @@ pub struct OutputSize {
     /// Rows of series.csv (and of probes.csv when the scene has probes): the geometric mean
     /// of [`OutputSize::series_rows_min`] and [`OutputSize::series_rows_max`]. The writer
     /// writes a row at the first step at or after each mark: a melting's steps cluster in a
-    /// front microseconds long and share marks, the stick's steps each reach one. Within 2.5×
+    /// front microseconds long and share marks, the stick's steps each reach one. Within 3×
     /// of the rows written on fig2 and on the h0 = 1 nm contact at a 1 µs interval (tested),
     /// where a row per step is 2.6× and 7.6× high.
     pub series_rows: f64,
-    /// The fewest: a row per step at the pace of the run's first steps (the approach to the
-    /// first melting), at most one per mark.
+    /// A row per step at the pace of the run's first steps (the approach to the first
+    /// melting, as far as check's timed probe got), at most one per mark: the stick phases'
+    /// rows. Not a bound: the probe's pace depends on how far it got.
     pub series_rows_min: f64,
     /// The most: a row per step, at most one per mark.
     pub series_rows_max: f64,
