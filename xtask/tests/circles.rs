@@ -1,8 +1,9 @@
-//! No two source files import each other: for every crate, each file's references to other
-//! modules of its crate (`crate::a::b`, `super::c`, in `use` lines and in code, tests aside)
-//! are resolved to files, and a pair of files that refer to each other fails the test — but
-//! for a module and its own submodules (a parent `mod.rs` and the files it declares belong
-//! together).
+//! No circle of imports, of any length, among source files or among folders: for every crate,
+//! each file's references to other modules of its crate (`crate::a::b`, `super::c`, in `use`
+//! lines and in code, tests aside) are resolved to files, and any strongly connected set of
+//! files fails the test — but for a module and its own submodules (a parent `mod.rs` and the
+//! files it declares belong together). At folder level every module counts as its crate's
+//! top-level module (`sim::coupling` as `sim`), and the same holds.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -134,38 +135,142 @@ fn resolve(
         .find(|p| mods.contains_key(p))
 }
 
-/// Pairs of files of the crate at `src` that refer to each other (a module and its own
-/// submodules aside), as `a <-> b` relative to `root`.
-fn circles(root: &Path, src: &Path) -> Vec<String> {
+/// The import graph of the crate at `src`: each module's file and the modules it refers to
+/// (a module's references to its own submodules and parents aside: they belong together).
+fn import_graph(src: &Path) -> (BTreeMap<ModPath, PathBuf>, Graph) {
     let mods = modules(src);
-    let mut edges: BTreeMap<ModPath, BTreeSet<ModPath>> = BTreeMap::new();
+    let nested = |a: &ModPath, b: &ModPath| a.starts_with(b) || b.starts_with(a);
+    let mut edges = Graph::new();
     for (m, file) in &mods {
         let text = std::fs::read_to_string(file).unwrap_or_default();
+        edges.entry(m.clone()).or_default();
         for r in referenced(&code_without_tests(&text)) {
             if let Some(to) = resolve(m, file, &r, &mods)
-                && &to != m
+                && !nested(m, &to)
             {
                 edges.entry(m.clone()).or_default().insert(to);
             }
         }
     }
-    let nested = |a: &ModPath, b: &ModPath| a.starts_with(b) || b.starts_with(a);
+    (mods, edges)
+}
+
+/// A directed graph of module paths.
+type Graph = BTreeMap<ModPath, BTreeSet<ModPath>>;
+
+/// The strongly connected components of `graph` with more than one node: each is a circle of
+/// imports of some length (Tarjan's algorithm, iterative so that deep graphs cannot overflow).
+fn cycles(graph: &Graph) -> Vec<Vec<ModPath>> {
+    let nodes: Vec<&ModPath> = graph
+        .keys()
+        .chain(graph.values().flatten())
+        .collect::<BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    let id: BTreeMap<&ModPath, usize> = nodes.iter().enumerate().map(|(i, n)| (*n, i)).collect();
+    let succ: Vec<Vec<usize>> = nodes
+        .iter()
+        .map(|n| {
+            graph
+                .get(*n)
+                .map_or(Vec::new(), |t| t.iter().map(|m| id[m]).collect())
+        })
+        .collect();
+    let n = nodes.len();
+    let (mut index, mut low) = (vec![usize::MAX; n], vec![0; n]);
+    let (mut on_stack, mut stack, mut next) = (vec![false; n], Vec::new(), 0);
     let mut out = Vec::new();
-    for (a, tos) in &edges {
-        for b in tos {
-            if a < b && !nested(a, b) && edges.get(b).is_some_and(|t| t.contains(a)) {
-                let rel = |m: &ModPath| {
-                    mods[m]
-                        .strip_prefix(root)
-                        .unwrap_or(&mods[m])
-                        .display()
-                        .to_string()
-                };
-                out.push(format!("{} <-> {}", rel(a), rel(b)));
+    for root in 0..n {
+        if index[root] != usize::MAX {
+            continue;
+        }
+        // (node, position in its successor list)
+        let mut work = vec![(root, 0)];
+        while let Some(&mut (v, ref mut pos)) = work.last_mut() {
+            if *pos == 0 {
+                index[v] = next;
+                low[v] = next;
+                next += 1;
+                stack.push(v);
+                on_stack[v] = true;
+            }
+            if let Some(&w) = succ[v].get(*pos) {
+                *pos += 1;
+                if index[w] == usize::MAX {
+                    work.push((w, 0));
+                } else if on_stack[w] {
+                    low[v] = low[v].min(index[w]);
+                }
+                continue;
+            }
+            work.pop();
+            if let Some(&(parent, _)) = work.last() {
+                low[parent] = low[parent].min(low[v]);
+            }
+            if low[v] == index[v] {
+                let mut component = Vec::new();
+                while let Some(w) = stack.pop() {
+                    on_stack[w] = false;
+                    component.push(nodes[w].clone());
+                    if w == v {
+                        break;
+                    }
+                }
+                if component.len() > 1 {
+                    component.sort();
+                    out.push(component);
+                }
             }
         }
     }
+    out.sort();
     out
+}
+
+/// Circles of files of the crate at `src` (a module and its own submodules aside), each as
+/// `a -> b -> … ` relative to `root`.
+fn circles(root: &Path, src: &Path) -> Vec<String> {
+    let (mods, edges) = import_graph(src);
+    let rel = |m: &ModPath| {
+        mods[m]
+            .strip_prefix(root)
+            .unwrap_or(&mods[m])
+            .display()
+            .to_string()
+    };
+    cycles(&edges)
+        .iter()
+        .map(|c| c.iter().map(rel).collect::<Vec<_>>().join(" <-> "))
+        .collect()
+}
+
+/// Circles of folders of the crate at `src`: each module counted as its crate's top-level
+/// module (`sim::coupling` as `sim`), so that two folders leaning on each other through
+/// different files are found too.
+fn folder_circles(root: &Path, src: &Path) -> Vec<String> {
+    let (_, edges) = import_graph(src);
+    let top = |m: &ModPath| m.iter().take(1).cloned().collect::<ModPath>();
+    let mut folders = Graph::new();
+    for (a, tos) in &edges {
+        for b in tos {
+            let (fa, fb) = (top(a), top(b));
+            // The crate root (lib.rs) re-exports; it is nobody's folder.
+            if fa != fb && !fa.is_empty() && !fb.is_empty() {
+                folders.entry(fa).or_default().insert(fb);
+            }
+        }
+    }
+    let name = src.strip_prefix(root).unwrap_or(src).display().to_string();
+    cycles(&folders)
+        .iter()
+        .map(|c| {
+            let parts: Vec<String> = c
+                .iter()
+                .map(|m| format!("{name}/{}", m.join("/")))
+                .collect();
+            parts.join(" <-> ")
+        })
+        .collect()
 }
 
 /// Every crate's `src` in the workspace.
@@ -202,6 +307,19 @@ fn no_two_files_import_each_other() {
 }
 
 #[test]
+fn no_two_folders_import_each_other() {
+    let root = workspace_root();
+    let found: Vec<String> = crate_sources(&root)
+        .iter()
+        .flat_map(|src| folder_circles(&root, src))
+        .collect();
+    assert!(
+        found.is_empty(),
+        "folders that import each other: {found:#?}"
+    );
+}
+
+#[test]
 fn a_pair_of_files_that_import_each_other_is_found() {
     let tmp = std::env::temp_dir().join(format!("stickslip-circles-{}", std::process::id()));
     let src = tmp.join("src");
@@ -224,4 +342,44 @@ fn a_pair_of_files_that_import_each_other_is_found() {
     // a <-> b; sim/step refers to a and to its parent, a module and its submodule belong
     // together, and its test-only import of b does not count.
     assert_eq!(found, ["src/a.rs <-> src/b.rs"]);
+}
+
+#[test]
+fn a_circle_of_three_files_and_one_of_two_folders_are_found() {
+    let tmp = std::env::temp_dir().join(format!("stickslip-circles3-{}", std::process::id()));
+    let src = tmp.join("src");
+    std::fs::create_dir_all(src.join("sim")).unwrap();
+    std::fs::create_dir_all(src.join("config")).unwrap();
+    let files = [
+        (
+            "lib.rs",
+            "//! x\npub mod a;\npub mod b;\npub mod c;\npub mod config;\npub mod sim;\n",
+        ),
+        ("a.rs", "//! a\nuse crate::b::B;\npub struct A;\n"),
+        ("b.rs", "//! b\npub struct B(crate::c::C);\n"),
+        ("c.rs", "//! c\npub struct C(super::a::A);\n"),
+        ("sim/mod.rs", "//! sim\npub mod step;\n"),
+        ("sim/step.rs", "//! step\nuse crate::config::Config;\n"),
+        (
+            "config/mod.rs",
+            "//! config\npub mod check;\npub struct Config;\n",
+        ),
+        (
+            "config/check.rs",
+            "//! check\nuse crate::sim::step::Step;\n",
+        ),
+    ];
+    for (name, text) in files {
+        std::fs::write(src.join(name), text).unwrap();
+    }
+    let files = circles(&tmp, &src);
+    let folders = folder_circles(&tmp, &src);
+    std::fs::remove_dir_all(&tmp).unwrap();
+    // No two files import each other, but a -> b -> c -> a is a circle; and sim/step and
+    // config/check are no circle of files, but their folders lean on each other.
+    assert_eq!(files, ["src/a.rs <-> src/b.rs <-> src/c.rs"]);
+    assert_eq!(
+        folders,
+        ["src/a <-> src/b <-> src/c", "src/config <-> src/sim"]
+    );
 }

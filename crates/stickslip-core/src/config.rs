@@ -7,7 +7,7 @@
 use crate::drive::{Drive, Integrator};
 use crate::landau::{LandauParams, Temperature};
 use crate::noise::NoiseKind;
-pub use crate::sim::events::EventConfig;
+pub use events::EventConfig;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -203,6 +203,7 @@ pub struct SimConfig {
 }
 
 pub mod bounds;
+mod events;
 
 pub use bounds::{LENGTH_RANGE_M, MAX_NODES, MODULUS_RANGE_PA};
 

@@ -14,6 +14,7 @@
 
 pub mod config;
 pub mod drive;
+pub mod failure;
 pub mod grid;
 pub mod landau;
 pub mod mdr;

@@ -6,7 +6,7 @@
 
 use crate::config::{Derived, Scheme, SimConfig};
 use crate::drive::{Drive, SpringDrive, free_spring_exact};
-use crate::sim::failure::NumericalFailure;
+use crate::failure::NumericalFailure;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 

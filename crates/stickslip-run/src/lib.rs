@@ -34,6 +34,7 @@ pub mod edge_layer;
 pub mod exit;
 pub mod fit;
 pub mod keys;
+pub mod layout;
 pub mod outcome;
 pub mod output_size;
 pub mod pool;

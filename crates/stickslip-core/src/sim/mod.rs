@@ -30,7 +30,6 @@ pub mod coupling;
 mod drive_step;
 pub mod error_estimate;
 pub mod events;
-pub mod failure;
 mod film;
 mod literal;
 mod ramp;
@@ -39,8 +38,8 @@ pub mod step_control;
 mod stepper;
 mod viscous;
 
+pub use crate::failure::NumericalFailure;
 pub use adaptive::StepError;
-pub use failure::NumericalFailure;
 pub use state::{
     ControllerMemory, EventBook, PhysicalState, SimState, StepCounters, StepperMemory,
 };

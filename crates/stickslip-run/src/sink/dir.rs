@@ -176,9 +176,9 @@ const OTHER_RESULTS: &[(&str, &[&str])] = &[
     (
         "a sweep",
         &[
-            crate::sweep::lock::SWEEP_FILE,
-            crate::sweep::map::CSV_FILE,
-            crate::sweep::map::JSON_FILE,
+            crate::layout::sweep::SWEEP_FILE,
+            crate::layout::sweep::CSV_FILE,
+            crate::layout::sweep::JSON_FILE,
         ],
     ),
 ];

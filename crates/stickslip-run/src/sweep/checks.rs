@@ -3,9 +3,9 @@
 //! back as current only for this sweep, this build and the point's values; and what the
 //! checks found, map.json's `spot_checks`. Writer and reader together.
 
-use super::lock::CHECKS_DIR;
 use super::record::PointStatus;
 use crate::atomic::write_atomic_recomputable;
+use crate::layout::sweep::CHECKS_DIR;
 use crate::summary::RunSummary;
 use serde::{Deserialize, Serialize};
 use std::io;

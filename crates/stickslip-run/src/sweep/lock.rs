@@ -15,22 +15,14 @@
 //!   writes and rereads the file only when that changed.
 
 use super::Sweep;
-use super::map::{CSV_FILE, JSON_FILE};
 use crate::atomic::write_atomic;
+pub use crate::layout::sweep::{CHECKS_DIR, SWEEP_DIRS, SWEEP_FILE};
+use crate::layout::sweep::{CSV_FILE, JSON_FILE};
 use serde::{Deserialize, Serialize};
 use std::io;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use thiserror::Error;
-
-/// File name of the resolved sweep in its directory.
-pub const SWEEP_FILE: &str = "sweep.json";
-
-/// Subdirectories of a sweep directory a fresh start removes.
-pub const SWEEP_DIRS: [&str; 4] = ["points", "runs", "shards", CHECKS_DIR];
-
-/// The spot checks' records under the sweep directory.
-pub const CHECKS_DIR: &str = "checks";
 
 /// Why a sweep could not run or merge.
 #[derive(Debug, Error)]

@@ -18,10 +18,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// File name of the table.
-pub const CSV_FILE: &str = "map.csv";
-/// File name of the sweep as resolved with the table.
-pub const JSON_FILE: &str = "map.json";
+pub use crate::layout::sweep::{CSV_FILE, JSON_FILE};
 
 /// The last column of map.csv (after `message`): whether the point's last cycles repeat
 /// (`true`/`false`, run.json's `summary.steady`).

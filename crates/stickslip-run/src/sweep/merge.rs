@@ -33,8 +33,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// Directory of the shard tables in a sweep directory.
-pub const SHARDS_DIR: &str = "shards";
+pub use crate::layout::sweep::SHARDS_DIR;
 
 /// `DIR/shards/I-of-N.BUILD.json`: the rows of one shard that ran to its end.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -2,10 +2,11 @@
 //! regime rules, written from the definitions they describe (the thresholds' defaults, the
 //! summary columns, the point limit), so the reference cannot drift from the code.
 
-use super::map::{CSV_FILE, JSON_FILE, LEVEL_COLUMN, SUMMARY_COLUMNS};
+use super::map::{LEVEL_COLUMN, SUMMARY_COLUMNS};
 use super::record::PointStatus;
 use super::refine::{MAX_AXES, ON_REGIME, columns};
 use super::{HARD_MAX_POINTS, MAX_POINTS};
+use crate::layout::sweep::{CHECKS_DIR, CSV_FILE, JSON_FILE};
 use crate::summary::{Regime, RegimeThresholds};
 
 /// `### Refinement`: the `[refine]` table's rules.
@@ -71,7 +72,7 @@ fn spot_checks() -> String {
          definition: adding it to a finished sweep runs only the checks. A changed regime is a \
          warning, not an exit status: the map's regime at that point is not converged. `sweep \
          plot` rings the checked points whose regime changed.\n",
-        dir = super::lock::CHECKS_DIR,
+        dir = CHECKS_DIR,
         json = JSON_FILE,
     )
 }
