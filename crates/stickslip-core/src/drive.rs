@@ -101,6 +101,28 @@ pub enum Integrator {
     Rk4,
 }
 
+/// Where the loaded split's flow linearised the friction force: the stamp's position X0 (m)
+/// and the force F0 (N) at the step's start, and the stiffness k (N/m) of the linearisation,
+/// F ≈ F0 + k·(X − X0).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FlowAnchor {
+    /// X0, m.
+    pub x_m: f64,
+    /// F0, N.
+    pub force_n: f64,
+    /// k, N/m.
+    pub stiffness_n_per_m: f64,
+}
+
+impl FlowAnchor {
+    /// F's departure from the linearisation at the stamp's position `x_m`:
+    /// f − F0 − k·(X − X0), N.
+    #[must_use]
+    pub fn departure_n(&self, force_n: f64, x_m: f64) -> f64 {
+        force_n - self.force_n - self.stiffness_n_per_m * (x_m - self.x_m)
+    }
+}
+
 /// Stamp pulled through a spring of stiffness K whose free end moves at V0 (Eq. 10), with a
 /// dashpot c_d parallel to the spring: m·Ẍ = K·(V0·t − X) + c_d·(V0 − Ẋ) − F.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -436,6 +458,64 @@ impl SpringDrive {
         state.t_s += dt_s;
         state.x_m = y1 + alpha + beta * state.t_s;
         state.v_m_per_s = yv1 + beta;
+    }
+
+    /// The loaded split's first part, the default spring integrator's: the flow
+    /// ([`loaded_flow`](Self::loaded_flow)) with the friction force linearised at the step's
+    /// start, F ≈ F0 + k·(X − X0), F0 = `force_n`, k = `stiffness_n_per_m` (the contact as a
+    /// spring), c_v = `drag_n_s_per_m`. Its opening kick, of F's departure from the
+    /// linearisation, is 0. Returns the linearisation, for
+    /// [`loaded_split_close`](Self::loaded_split_close).
+    pub fn loaded_split_open(
+        &self,
+        state: &mut DriveState,
+        dt_s: f64,
+        stiffness_n_per_m: f64,
+        drag_n_s_per_m: f64,
+        force_n: f64,
+    ) -> FlowAnchor {
+        let anchor = FlowAnchor {
+            x_m: state.x_m,
+            force_n,
+            stiffness_n_per_m,
+        };
+        self.loaded_flow(
+            state,
+            dt_s,
+            stiffness_n_per_m,
+            drag_n_s_per_m,
+            stiffness_n_per_m * anchor.x_m - force_n,
+        );
+        anchor
+    }
+
+    /// The loaded split's closing half kick with F = `force_n` at the step's end: of F's
+    /// departure from the linearisation `anchor` that the flow carried.
+    pub fn loaded_split_close(
+        &self,
+        state: &mut DriveState,
+        dt_s: f64,
+        anchor: &FlowAnchor,
+        force_n: f64,
+    ) {
+        self.friction_half_kick(state, anchor.departure_n(force_n, state.x_m), dt_s);
+    }
+
+    /// One whole loaded split step (second order; see
+    /// [`loaded_split_open`](Self::loaded_split_open)): the friction force `force_n` at the
+    /// start, `force_at_end` of the state after the flow (the simulation solves the film with
+    /// the stamp's new position there).
+    pub fn loaded_split_step(
+        &self,
+        state: &mut DriveState,
+        dt_s: f64,
+        stiffness_n_per_m: f64,
+        force_n: f64,
+        force_at_end: impl FnOnce(&DriveState) -> f64,
+    ) {
+        let anchor = self.loaded_split_open(state, dt_s, stiffness_n_per_m, 0.0, force_n);
+        let end = force_at_end(state);
+        self.loaded_split_close(state, dt_s, &anchor, end);
     }
 
     /// One split step: friction half kick with `friction_before_n`, the spring's exact flow,

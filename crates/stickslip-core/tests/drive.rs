@@ -1,128 +1,86 @@
-//! Drive integrators against exact answers: observed orders of velocity Verlet and RK4 on the
-//! friction-free spring, of the split integrator under a prescribed friction force (and its
-//! exactness without one), long-run energy behaviour, split Verlet, and the exact rigid drive.
+//! Drive integrators against exact answers (the spring models of `models::spring`): observed
+//! orders of velocity Verlet and RK4 on the friction-free spring, of the split integrator under
+//! a prescribed friction force (and its exactness without one), of the shipped default, the
+//! loaded split, on the loaded spring; long-run energy behaviour, split Verlet, and the exact
+//! rigid drive.
 
 use stickslip_core::drive::{
     Drive, DriveState, Integrator, RigidDrive, SpringDrive, comoving_energy_j, free_spring_exact,
 };
 
-/// The paper's spring (fig2): K = 500 N/m, m = 0.1 kg, V0 = 1 m/s, ω ≈ 70.7 rad/s.
-fn fig2() -> SpringDrive {
-    SpringDrive::new(500.0, 0.1, 1.0).unwrap()
-}
-
-/// Phase-space error at `t_end` after 2^k steps, normalised by the oscillation amplitude
-/// (V0/ω for X, V0 for V).
-fn phase_error(drive: &SpringDrive, integrator: Integrator, t_end_s: f64, k: u32) -> f64 {
-    let n = 1u32 << k;
-    let dt = t_end_s / f64::from(n);
-    let mut state = DriveState::at_rest();
-    for _ in 0..n {
-        drive.step(integrator, &mut state, dt, 0.0);
-    }
-    let (x, v) = free_spring_exact(drive, t_end_s);
-    let v0 = drive.velocity_m_per_s;
-    let ex = (state.x_m - x) / (v0 / drive.omega_rad_per_s());
-    let ev = (state.v_m_per_s - v) / v0;
-    assert!((state.t_s - t_end_s).abs() <= 1e-12 * t_end_s);
-    ex.hypot(ev)
-}
-
-fn orders(
-    drive: &SpringDrive,
-    integrator: Integrator,
-    ks: std::ops::RangeInclusive<u32>,
-) -> Vec<f64> {
-    // ωT ≈ 7.07: a little more than one period.
-    let t_end = 0.1;
-    let errors: Vec<f64> = ks
-        .clone()
-        .map(|k| phase_error(drive, integrator, t_end, k))
-        .collect();
-    let orders: Vec<f64> = errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
-    eprintln!(
-        "{integrator:?}, T = {t_end} s, ω = {:.3} rad/s",
-        drive.omega_rad_per_s()
-    );
-    for (i, k) in ks.enumerate() {
-        let p = if i > 0 {
-            format!("{:.4}", orders[i - 1])
-        } else {
-            "-".into()
-        };
-        eprintln!(
-            "  dt = T/2^{k:<2} ωΔt = {:.4}  err = {:.3e}  p = {p}",
-            drive.omega_rad_per_s() * t_end / f64::from(1u32 << k),
-            errors[i]
-        );
-    }
-    orders
-}
+use crate::models::assert_order;
+use crate::models::spring::fig2_drive as fig2;
+use crate::models::spring::{Case, SpringMethod, SpringModel, damped_drive as damped, damped_free};
 
 #[test]
 fn verlet_is_second_order() {
-    let o = orders(&fig2(), Integrator::Verlet, 5..=11);
-    for &p in &o[o.len() - 4..] {
-        assert!((1.8..=2.2).contains(&p), "{o:?}");
-    }
+    assert_order(&Case(SpringMethod::Verlet, SpringModel::free()), 2.0, 0.2);
 }
 
 #[test]
 fn rk4_is_fourth_order() {
-    let o = orders(&fig2(), Integrator::Rk4, 4..=9);
-    for &p in &o[o.len() - 3..] {
-        assert!((3.7..=4.3).contains(&p), "{o:?}");
-    }
-}
-
-/// The split integrator under a prescribed friction force F(t) = F0·sin(Ωt), whose motion is
-/// known in closed form: with Y = X − V0·t, m·Ÿ = −K·Y − F(t), from rest (Y = 0, Ẏ = −V0),
-/// Y = B·sin ωt + Yp with Yp = −F0·sin(Ωt)/(m·(ω² − Ω²)) and B·ω = −V0 − Ẏp(0). Phase-space
-/// error at `t_end_s` after 2^k split steps with F at each step's start and end, normalised as
-/// in [`phase_error`].
-fn split_forced_error(drive: &SpringDrive, f0_n: f64, t_end_s: f64, k: u32) -> f64 {
-    let omega_f = 30.0;
-    let force = |t: f64| f0_n * (omega_f * t).sin();
-    let n = 1u32 << k;
-    let dt = t_end_s / f64::from(n);
-    let mut state = DriveState::at_rest();
-    for i in 0..n {
-        let t0 = f64::from(i) * dt;
-        drive.split_step(&mut state, dt, force(t0), force(t0 + dt));
-    }
-    let (m, w, v0) = (
-        drive.mass_kg,
-        drive.omega_rad_per_s(),
-        drive.velocity_m_per_s,
-    );
-    let c = -f0_n / (m * (w * w - omega_f * omega_f));
-    let b = (-v0 - c * omega_f) / w;
-    let y = b * (w * t_end_s).sin() + c * (omega_f * t_end_s).sin();
-    let yv = b * w * (w * t_end_s).cos() + c * omega_f * (omega_f * t_end_s).cos();
-    let (x, v) = (y + v0 * t_end_s, yv + v0);
-    let ex = (state.x_m - x) / (v0 / w);
-    let ev = (state.v_m_per_s - v) / v0;
-    assert!((state.t_s - t_end_s).abs() <= 1e-12 * t_end_s);
-    ex.hypot(ev)
+    assert_order(&Case(SpringMethod::Rk4, SpringModel::free()), 4.0, 0.3);
 }
 
 #[test]
 fn split_is_exact_without_friction_and_second_order_with_it() {
-    let d = fig2();
     // F = 0: the spring's own flow, exact whatever the step (ωΔt up to 7).
+    let free = SpringModel::free();
     for k in 0..=6 {
-        let e = split_forced_error(&d, 0.0, 0.1, k);
+        let e = free.error(&SpringMethod::Split.run(&free, 1 << k));
         assert!(e <= 1e-12, "2^{k} steps: {e:e}");
     }
-    // F0 = 3 N, about half the spring's force amplitude K·V0/ω ≈ 7 N.
-    let errors: Vec<f64> = (5..=11)
-        .map(|k| split_forced_error(&d, 3.0, 0.1, k))
-        .collect();
-    let orders: Vec<f64> = errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
-    let shown: Vec<String> = errors.iter().map(|e| format!("{e:.3e}")).collect();
-    eprintln!("split under F0·sin(Ωt): errors {shown:?}, observed orders {orders:.4?}");
-    for &p in &orders[orders.len() - 4..] {
-        assert!((1.9..=2.1).contains(&p), "{orders:?}");
+    assert_order(
+        &Case(SpringMethod::Split, SpringModel::forced(0.0)),
+        2.0,
+        0.1,
+    );
+}
+
+#[test]
+fn the_loaded_split_is_second_order_and_exact_on_the_contact_alone() {
+    for zeta in [0.0, 0.3] {
+        let model = SpringModel::loaded(zeta);
+        let k_c = model.contact_n_per_m;
+        // The shipped default, its flow loaded with the contact's stiffness.
+        assert_order(
+            &Case(
+                SpringMethod::LoadedSplit {
+                    stiffness_n_per_m: k_c,
+                },
+                model,
+            ),
+            2.0,
+            0.1,
+        );
+        // With a stiffness that is only an estimate of the contact's (the contact spring is
+        // computed at t = 0; the film's stiffness changes), still second order.
+        for k in [0.5 * k_c, 0.0] {
+            assert_order(
+                &Case(
+                    SpringMethod::LoadedSplit {
+                        stiffness_n_per_m: k,
+                    },
+                    model,
+                ),
+                2.0,
+                0.1,
+            );
+        }
+        // Without forcing, F is the contact alone, which the flow carries exactly: exact
+        // whatever the step (ω'Δt up to 61).
+        let contact = SpringModel {
+            forcing_n: 0.0,
+            ..model
+        };
+        for k in 0..=8 {
+            let state = SpringMethod::LoadedSplit {
+                stiffness_n_per_m: k_c,
+            }
+            .run(&contact, 1 << k);
+            let e = contact.error(&state);
+            assert!(e <= 1e-11, "zeta {zeta}, 2^{k} steps: {e:e}");
+        }
     }
 }
 
@@ -292,44 +250,6 @@ fn validation_names_field_value_and_range() {
     assert!(Drive::Spring(fig2()).validate().is_ok());
 }
 
-/// A spring with a dashpot of damping ratio ζ on the paper's K and m: c_d = 2ζ·√(K·m).
-fn damped(zeta: f64) -> SpringDrive {
-    let d = fig2();
-    d.with_damping(2.0 * zeta * (d.stiffness_n_per_m * d.mass_kg).sqrt())
-        .unwrap()
-}
-
-/// The textbook solution of the damped oscillator ÿ + 2ζω·ẏ + ω²·y = 0 from (y0, ẏ0) at t,
-/// written directly (no care for cancellation; used away from ζ = 1 except for ζ = 1 itself):
-/// under-damped e^(−ζωt)·(y0·cos ω_d t + (ẏ0 + ζω·y0)·sin(ω_d t)/ω_d), critical
-/// e^(−ωt)·(y0 + (ẏ0 + ω·y0)·t), over-damped (c1·e^(r1 t) + c2·e^(r2 t)) with the two roots.
-/// Returns (y, ẏ).
-fn damped_textbook(omega: f64, zeta: f64, y0: f64, yv0: f64, t: f64) -> (f64, f64) {
-    let a = zeta * omega;
-    if zeta < 1.0 {
-        let wd = omega * (1.0 - zeta * zeta).sqrt();
-        let (c, s) = ((wd * t).cos(), (wd * t).sin());
-        let e = (-a * t).exp();
-        let b = (yv0 + a * y0) / wd;
-        (
-            e * (y0 * c + b * s),
-            e * (-a * (y0 * c + b * s) + (-y0 * wd * s + b * wd * c)),
-        )
-    } else if zeta == 1.0 {
-        let e = (-omega * t).exp();
-        let b = yv0 + omega * y0;
-        (e * (y0 + b * t), e * (b - omega * (y0 + b * t)))
-    } else {
-        let root = omega * (zeta * zeta - 1.0).sqrt();
-        let (r1, r2) = (-a + root, -a - root);
-        // y0 = c1 + c2, ẏ0 = r1·c1 + r2·c2.
-        let c1 = (yv0 - r2 * y0) / (r1 - r2);
-        let c2 = y0 - c1;
-        let (e1, e2) = ((r1 * t).exp(), (r2 * t).exp());
-        (c1 * e1 + c2 * e2, r1 * c1 * e1 + r2 * c2 * e2)
-    }
-}
-
 /// Phase-space distance of the stamp's co-moving state (Y = X − V0·t, Ẏ/ω) from the exact
 /// (y, ẏ), relative to the exact state's own size — a relative error that never divides by a
 /// zero of Y or Ẏ alone.
@@ -375,7 +295,7 @@ fn damped_free_oscillator_split_flow_is_exact_whatever_the_step() {
                 d.split_step(&mut s, dt, 0.0, 0.0);
                 frame.split_step(&mut c, dt, 0.0, 0.0);
                 // At the flow's own elapsed time i·Δt (t_s sums the steps, with rounding).
-                let exact = damped_textbook(w, zeta, 0.0, -v0, f64::from(i) * dt);
+                let exact = damped_free(w, zeta, 0.0, -v0, f64::from(i) * dt);
                 // In the co-moving frame: relative to the state's own size, at every step; the
                 // bound is the flow's rounding, composed up to 4096 times.
                 let rel = relative_phase_error(&frame, &c, exact);
@@ -416,7 +336,7 @@ fn damped_flow_is_continuous_through_critical_damping() {
                 for _ in 0..n {
                     frame.split_step(&mut c, dt, 0.0, 0.0);
                 }
-                let exact = damped_textbook(w, 1.0, 0.0, -d.velocity_m_per_s, f64::from(n) * dt);
+                let exact = damped_free(w, 1.0, 0.0, -d.velocity_m_per_s, f64::from(n) * dt);
                 let e = relative_phase_error(&frame, &c, exact);
                 // |∂ln Ẏ/∂ζ| ≈ (ωT)² ≈ 158 at the end, plus rounding.
                 assert!(
@@ -429,99 +349,32 @@ fn damped_flow_is_continuous_through_critical_damping() {
     }
 }
 
-/// The damped spring under F0·sin(Ωt) from rest, after 2^k steps of `step` (F at each step's
-/// start and end): relative phase-space error at `t_end_s` against the closed form
-/// Y = Yp + Yh, Yp = A·sin Ωt + B·cos Ωt with (K − mΩ²)·A − c·Ω·B = −F0, c·Ω·A + (K − mΩ²)·B = 0,
-/// Yh the free damped motion from Y(0) − Yp(0), Ẏ(0) − Ẏp(0).
-fn damped_forced_error(
-    d: &SpringDrive,
-    f0_n: f64,
-    t_end_s: f64,
-    k: u32,
-    mut step: impl FnMut(&mut DriveState, f64, f64, f64),
-) -> f64 {
-    let omega_f = 30.0;
-    let force = |t: f64| f0_n * (omega_f * t).sin();
-    let n = 1u32 << k;
-    let dt = t_end_s / f64::from(n);
-    let mut state = DriveState::at_rest();
-    for i in 0..n {
-        let t0 = f64::from(i) * dt;
-        step(&mut state, dt, force(t0), force(t0 + dt));
-    }
-    let (kk, m, c, v0) = (
-        d.stiffness_n_per_m,
-        d.mass_kg,
-        d.damping_n_s_per_m,
-        d.velocity_m_per_s,
-    );
-    let det = (kk - m * omega_f * omega_f).powi(2) + (c * omega_f).powi(2);
-    let a = -f0_n * (kk - m * omega_f * omega_f) / det;
-    let b = f0_n * c * omega_f / det;
-    let (yh, yhv) = damped_textbook(
-        d.omega_rad_per_s(),
-        d.damping_ratio(),
-        -b,
-        -v0 - a * omega_f,
-        t_end_s,
-    );
-    let (s, co) = ((omega_f * t_end_s).sin(), (omega_f * t_end_s).cos());
-    let exact = (yh + a * s + b * co, yhv + omega_f * (a * co - b * s));
-    assert!((state.t_s - t_end_s).abs() <= 1e-12 * t_end_s);
-    relative_phase_error(d, &state, exact)
-}
-
-fn observed_orders(errors: &[f64]) -> Vec<f64> {
-    errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
-}
-
 #[test]
 fn damped_split_is_second_order_in_the_friction_force() {
     for zeta in [0.05, 0.5, 2.0] {
-        let d = damped(zeta);
         // F = 0: exact (the flow alone), a few steps over 0.1 s.
+        let free = SpringModel::damped(zeta);
         for k in 0..=4 {
-            let e = damped_forced_error(&d, 0.0, 0.1, k, |s, h, f0, f1| d.split_step(s, h, f0, f1));
+            let e = free.error(&SpringMethod::Split.run(&free, 1 << k));
             assert!(e <= 1e-12, "zeta {zeta}, 2^{k} steps: {e:e}");
         }
-        let errors: Vec<f64> = (5..=11)
-            .map(|k| {
-                damped_forced_error(&d, 3.0, 0.1, k, |s, h, f0, f1| d.split_step(s, h, f0, f1))
-            })
-            .collect();
-        let orders = observed_orders(&errors);
-        let shown: Vec<String> = errors.iter().map(|e| format!("{e:.3e}")).collect();
-        eprintln!("damped split, zeta = {zeta}, F0·sin(Ωt): errors {shown:?}, orders {orders:.4?}");
-        for &p in &orders[orders.len() - 4..] {
-            assert!((1.9..=2.1).contains(&p), "zeta {zeta}: {orders:?}");
-        }
+        assert_order(
+            &Case(SpringMethod::Split, SpringModel::forced(zeta)),
+            2.0,
+            0.1,
+        );
     }
 }
 
 #[test]
 fn damped_verlet_is_second_order_and_rk4_fourth() {
-    let d = damped(0.5);
-    let verlet: Vec<f64> = (5..=11)
-        .map(|k| damped_forced_error(&d, 3.0, 0.1, k, |s, h, f0, f1| d.verlet_step(s, h, f0, f1)))
-        .collect();
-    let vo = observed_orders(&verlet);
-    eprintln!("damped Verlet, zeta = 0.5, F0·sin(Ωt): orders {vo:.4?}");
-    for &p in &vo[vo.len() - 4..] {
-        assert!((1.9..=2.1).contains(&p), "{vo:?}");
-    }
+    assert_order(
+        &Case(SpringMethod::Verlet, SpringModel::forced(0.5)),
+        2.0,
+        0.1,
+    );
     // RK4 holds F over the step, so its order shows on the free damped spring.
-    let rk4: Vec<f64> = (4..=9)
-        .map(|k| {
-            damped_forced_error(&d, 0.0, 0.1, k, |s, h, f0, _| {
-                d.step(Integrator::Rk4, s, h, f0)
-            })
-        })
-        .collect();
-    let ro = observed_orders(&rk4);
-    eprintln!("damped RK4, zeta = 0.5, free: orders {ro:.4?}");
-    for &p in &ro[ro.len() - 3..] {
-        assert!((3.7..=4.3).contains(&p), "{ro:?}");
-    }
+    assert_order(&Case(SpringMethod::Rk4, SpringModel::damped(0.5)), 4.0, 0.3);
 }
 
 #[test]
@@ -547,7 +400,7 @@ fn damping_is_checked_and_zero_damping_is_the_undamped_spring() {
     // The friction-free motion from rest: the flow's own, against the textbook.
     let half = damped(0.5);
     let (x, v) = free_spring_exact(&half, 0.05);
-    let (y, yv) = damped_textbook(half.omega_rad_per_s(), 0.5, 0.0, -1.0, 0.05);
+    let (y, yv) = damped_free(half.omega_rad_per_s(), 0.5, 0.0, -1.0, 0.05);
     assert!((x - (0.05 + y)).abs() <= 1e-15 && (v - (1.0 + yv)).abs() <= 1e-14);
 }
 

@@ -11,6 +11,7 @@ mod landau_first_order;
 mod mdr_entries;
 mod mdr_pairs;
 mod mdr_properties;
+mod models;
 mod noise;
 mod sim_first_order;
 mod sim_state;

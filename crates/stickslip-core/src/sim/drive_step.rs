@@ -25,10 +25,8 @@ impl Simulation {
                 s.drift(&mut self.state.physical.drive, dt_s);
             }
             (Drive::Spring(s), Integrator::Split) if k > 0.0 => {
-                // The flow carries F linearised at the step's start, F0 + k·(X − X0); the
-                // opening kick, of F's departure from it, is 0.
-                self.flow_anchor = (x0, f);
-                s.loaded_flow(&mut self.state.physical.drive, dt_s, k, 0.0, k * x0 - f);
+                self.flow_anchor =
+                    s.loaded_split_open(&mut self.state.physical.drive, dt_s, k, 0.0, f);
             }
             (Drive::Spring(s), Integrator::Split) => {
                 s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
@@ -37,19 +35,6 @@ impl Simulation {
             (d, integrator) => d.step(integrator, &mut self.state.physical.drive, dt_s, f),
         }
         self.state.physical.drive.x_m - x0
-    }
-
-    /// The split integrator's closing kick force for the kick force `f_n` at the step's end:
-    /// F's departure from the linearisation the flow carried, f − F0 − k·(X − X0) (f itself
-    /// when the flow carries no stiffness).
-    fn departure_from_flow_n(&self, f_n: f64) -> f64 {
-        let k = self.flow_stiffness_n_per_m;
-        if k > 0.0 {
-            let (x0, f0) = self.flow_anchor;
-            f_n - f0 - k * (self.state.physical.drive.x_m - x0)
-        } else {
-            f_n
-        }
     }
 
     pub(super) fn drive_second_half(&mut self, dt_s: f64) {
@@ -69,8 +54,16 @@ impl Simulation {
             }
             (Drive::Spring(s), Integrator::Split) => {
                 let f = self.state.physical.force_n;
-                let kick = self.departure_from_flow_n(f);
-                s.friction_half_kick(&mut self.state.physical.drive, kick, dt_s);
+                if self.flow_stiffness_n_per_m > 0.0 {
+                    s.loaded_split_close(
+                        &mut self.state.physical.drive,
+                        dt_s,
+                        &self.flow_anchor,
+                        f,
+                    );
+                } else {
+                    s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
+                }
             }
             _ => {}
         }
@@ -90,20 +83,14 @@ impl Simulation {
                 if first && k > 0.0 {
                     // As without viscosity: the flow carries the kick force linearised at the
                     // step's start, and the opening kick is 0.
-                    let x0 = state.x_m;
-                    self.flow_anchor = (x0, kick_n);
-                    s.loaded_flow(state, dt_s, k, drag, k * x0 - kick_n);
+                    self.flow_anchor = s.loaded_split_open(state, dt_s, k, drag, kick_n);
                 } else if first {
                     s.friction_half_kick(state, kick_n, dt_s);
                     s.spring_flow_with_drag(state, dt_s, drag);
+                } else if k > 0.0 {
+                    s.loaded_split_close(state, dt_s, &self.flow_anchor, kick_n);
                 } else {
-                    let kick = if k > 0.0 {
-                        let (x0, f0) = self.flow_anchor;
-                        kick_n - f0 - k * (state.x_m - x0)
-                    } else {
-                        kick_n
-                    };
-                    s.friction_half_kick(state, kick, dt_s);
+                    s.friction_half_kick(state, kick_n, dt_s);
                 }
             }
             (Drive::Spring(s), Integrator::Verlet) => {

@@ -151,9 +151,9 @@ pub struct Simulation {
     /// ([`Simulation::contact_spring`]); 0 for the other integrators, the rigid drive and the
     /// literal scheme, whose flow is the spring's alone.
     flow_stiffness_n_per_m: f64,
-    /// Where the split flow linearised the kick force in the step being taken: (X0 in m, F0 in
-    /// N) at its start (with `flow_stiffness_n_per_m` > 0).
-    flow_anchor: (f64, f64),
+    /// Where the split flow linearised the kick force in the step being taken (with
+    /// `flow_stiffness_n_per_m` > 0).
+    flow_anchor: crate::drive::FlowAnchor,
     /// The last coupling solve's residual, root mean square over the nodes, m: its strain
     /// enters the step's error estimate (0 without a solve).
     last_coupling_rms_m: f64,
@@ -289,7 +289,7 @@ impl Simulation {
             rho0: 0.0,
             viscous: None,
             flow_stiffness_n_per_m: 0.0,
-            flow_anchor: (0.0, 0.0),
+            flow_anchor: crate::drive::FlowAnchor::default(),
             last_coupling_rms_m: 0.0,
         };
         sim.rho0 = sim.lagged_sweep_contraction();
