@@ -39,7 +39,12 @@ const CARGO_TEST: [&str; 5] = [
 fn cargo(root: &Path, extra: &[&str]) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let mut cmd = Command::new(&cargo);
-    cmd.current_dir(root).args(CARGO_TEST).args(extra);
+    // A snapshot that differs fails, and nothing is written beside it: a change in the work a
+    // run does (the step counters' snapshots) is accepted only by committing the new snapshot.
+    cmd.current_dir(root)
+        .args(CARGO_TEST)
+        .args(extra)
+        .env("INSTA_UPDATE", "no");
     match cmd.status() {
         Ok(s) if s.success() => Ok(()),
         Ok(s) => Err(format!("`cargo {}` failed ({s})", CARGO_TEST.join(" "))),
