@@ -13,9 +13,9 @@ use stickslip_report::palette::GREY;
 use stickslip_report::plot::Series;
 use stickslip_run::sweep::map::MapRow;
 
-const H: &str = "contact.film_thickness";
-const G: &str = "contact.g_eff";
-const MODEL: &str = "contact.model";
+const H: &str = stickslip_run::keys::contact::FILM_THICKNESS.path;
+const G: &str = stickslip_run::keys::contact::G_EFF.path;
+const MODEL: &str = stickslip_run::keys::contact::MODEL.path;
 
 /// Relative agreement asked of the two models where ρ ≤ 1.
 pub const TOLERANCE: f64 = 0.01;

@@ -23,7 +23,7 @@ use stickslip_run::boundary;
 use stickslip_run::summary::Regime;
 use stickslip_run::sweep::refine::agreement;
 
-const V: &str = "drive.velocity";
+const V: &str = stickslip_run::keys::drive::VELOCITY.path;
 const A: &str = "temperature.A0";
 
 /// Relative tolerance of the critical speeds found by bisection.

@@ -30,8 +30,8 @@ use stickslip_run::ResolvedScene;
 use stickslip_run::boundary::{self, Boundary};
 use stickslip_run::summary::Regime;
 
-const E: &str = "lubricant.eps_melt";
-const V: &str = "drive.velocity";
+const E: &str = stickslip_run::keys::lubricant::EPS_MELT.path;
+const V: &str = stickslip_run::keys::drive::VELOCITY.path;
 
 /// Relative tolerance of the critical speeds found by bisection.
 pub const BOUNDARY_RTOL: f64 = 1e-3;

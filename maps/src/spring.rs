@@ -11,8 +11,8 @@ use stickslip_report::plot::Series;
 use stickslip_run::summary::Regime;
 use stickslip_run::sweep::map::MapRow;
 
-const K: &str = "drive.stiffness";
-const V: &str = "drive.velocity";
+const K: &str = stickslip_run::keys::drive::STIFFNESS.path;
+const V: &str = stickslip_run::keys::drive::VELOCITY.path;
 
 /// Relative agreement required along a diagonal where ω·t_first < [`SMALL_OMEGA_T`].
 pub const TOLERANCE: f64 = 1e-3;

@@ -12,8 +12,8 @@ use crate::{Check, Map, Section};
 use stickslip_report::fmt::sig;
 use stickslip_report::map::panels;
 
-const V: &str = "drive.velocity";
-const END: &str = "time.end";
+const V: &str = stickslip_run::keys::drive::VELOCITY.path;
+const END: &str = stickslip_run::keys::time::END.path;
 
 /// The steady map's section.
 ///

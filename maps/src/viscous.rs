@@ -18,8 +18,8 @@ use stickslip_run::cycles::StampRegime;
 use stickslip_run::summary::{Regime, RegimeThresholds};
 use stickslip_run::sweep::map::MapRow;
 
-const K: &str = "drive.stiffness";
-const ETA: &str = "lubricant.viscosity";
+const K: &str = stickslip_run::keys::drive::STIFFNESS.path;
+const ETA: &str = stickslip_run::keys::lubricant::VISCOSITY.path;
 /// Kinetic friction in steady sliding against the Couette force, where the film is liquid
 /// (film regime `sliding`): relative agreement required.
 pub const COUETTE_TOLERANCE: f64 = 0.02;
@@ -56,7 +56,7 @@ fn damped_pair(map: &Map) -> Result<(f64, f64), String> {
             .with_overrides(&[
                 format!("{K}={DAMPED_K:e}"),
                 format!("{ETA}={DAMPED_ETA:e}"),
-                format!("drive.damping={damping:e}"),
+                stickslip_run::keys::drive::DAMPING.set(damping).to_string(),
             ])
             .map_err(|e| e.to_string())?;
         let outcome = stickslip_run::run(
@@ -104,7 +104,7 @@ fn critical_speeds(map: &Map, jobs: usize) -> Result<Vec<Critical>, String> {
             .with_overrides(&[
                 format!("{K}={k:e}"),
                 format!("{ETA}={SCAN_ETA:e}"),
-                format!("time.end={end:e}"),
+                stickslip_run::keys::time::END.set(end).to_string(),
             ])
             .map_err(|e| e.to_string())?;
         let found = scan(

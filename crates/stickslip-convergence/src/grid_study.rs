@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use stickslip_run::driver::{Control, NullSink};
+use stickslip_run::keys::{Setting, contact, time, words::GridChoice};
 use stickslip_run::verify::celik;
 use stickslip_run::{ResolvedScene, Scene};
 
@@ -129,13 +130,13 @@ pub enum GridKind {
 }
 
 impl GridKind {
-    /// The `--set` overrides that select it.
-    fn overrides(self) -> Vec<String> {
+    /// The settings that select it.
+    fn overrides(self) -> Vec<Setting> {
         match self {
-            Self::Uniform => vec!["contact.grid=uniform".into()],
+            Self::Uniform => vec![contact::GRID.set(GridChoice::Uniform)],
             Self::Graded { power } => vec![
-                "contact.grid=graded".into(),
-                format!("contact.grading={power}"),
+                contact::GRID.set(GridChoice::Graded),
+                contact::GRADING.set(power),
             ],
         }
     }
@@ -257,13 +258,14 @@ fn workspace_root() -> PathBuf {
 fn scene_of(s: &GridScene, grid: GridKind, nodes: usize, tolerance: f64) -> ResolvedScene {
     let mut sets = grid.overrides();
     sets.extend([
-        format!("contact.nodes={nodes}"),
-        format!("time.tolerance={tolerance}"),
-        "time.max_events=1".into(),
+        contact::NODES.set(nodes as i64),
+        time::TOLERANCE.set(tolerance),
+        time::MAX_EVENTS.set(1),
     ]);
     if let Some(end) = s.end_s {
-        sets.push(format!("time.end={end}"));
+        sets.push(time::END.set(end));
     }
+    let sets: Vec<String> = sets.iter().map(ToString::to_string).collect();
     Scene::from_path(&workspace_root().join(&s.file), &sets)
         .unwrap_or_else(|e| panic!("{}: {e}", s.file))
 }

@@ -24,7 +24,7 @@ pub mod scan;
 
 use crate::cycles::StampRegime;
 use crate::driver::{Control, NullSink, StartError};
-use crate::keys::{KEYS, ValueType};
+use crate::keys::{self, KEYS, ValueType};
 use crate::scene::{ResolvedScene, SceneError};
 use crate::summary::{Regime, RegimeThresholds};
 use serde::Serialize;
@@ -401,9 +401,13 @@ fn window_overrides(base: &ResolvedScene, factor: f64) -> Vec<String> {
         return Vec::new();
     }
     let time = base.resolved.time.as_ref();
-    let mut out = vec![format!("time.end={:e}", factor * base.config.time.end_s)];
+    let mut out = vec![
+        keys::time::END
+            .set(factor * base.config.time.end_s)
+            .to_string(),
+    ];
     if let Some(travel) = time.and_then(|t| t.travel) {
-        out.push(format!("time.travel={:e}", factor * travel));
+        out.push(keys::time::TRAVEL.set(factor * travel).to_string());
     }
     out
 }

@@ -41,7 +41,11 @@ fn refinement(forward: &Forward, level: u32) -> Vec<String> {
     let mut out = Vec::new();
     let radial = c.contact.model == stickslip_core::config::ContactModel::Radial;
     if radial && 2 * c.contact.nodes <= MAX_NODES {
-        out.push(format!("contact.nodes={}", 2 * c.contact.nodes));
+        out.push(
+            crate::keys::contact::NODES
+                .set(2 * c.contact.nodes as i64)
+                .to_string(),
+        );
     }
     out.push(match forward.tolerance_at(level) {
         Some(tol) => crate::keys::time::TOLERANCE.set(tol / 10.0).to_string(),
