@@ -80,11 +80,16 @@ fn line(what: &str, s: &FitSummary) -> String {
 ///
 /// # Errors
 /// A case that cannot be prepared, or a fit without any successful run.
+///
+/// With `keep`, each seed's fit (and the first seed's Jacobian check) is kept as
+/// `keep/seed-K.json` when it finishes, and a seed whose record is there is not fitted again:
+/// a coverage set of 20 fits takes hours, and an interrupted one resumes at its next seed.
 pub fn coverage(
     root: &Path,
     case: Case,
     sizes: &Sizes,
     jobs: usize,
+    keep: Option<&Path>,
     log: &mut Log<'_>,
 ) -> Result<(CoverageRun, JacobianCheck), String> {
     let p = prepare(root, case)?;
@@ -95,13 +100,38 @@ pub fn coverage(
     let mut fits = Vec::new();
     let mut check = None;
     for seed in 1..=sizes.seeds as u64 {
-        let trace = p.trace(p.case.samples, seed)?;
-        let cpu0 = cpu_time_s();
-        let out = p.fit(trace, MisfitKind::Events, jobs, false)?;
-        let s = summary(&p, &out, (seed, p.case.samples), cpu0, jobs)?;
+        let record = keep.map(|dir| dir.join(format!("seed-{seed}.json")));
+        let kept = record
+            .as_ref()
+            .and_then(|path| std::fs::read_to_string(path).ok())
+            .and_then(|text| {
+                serde_json::from_str::<(FitSummary, Option<JacobianCheck>)>(&text).ok()
+            })
+            .filter(|(s, c)| s.seed == seed && (seed > 1 || c.is_some()));
+        let (s, c) = if let Some(kept) = kept {
+            log(&format!("{} seed {seed}: kept", p.case.id));
+            kept
+        } else {
+            let trace = p.trace(p.case.samples, seed)?;
+            let cpu0 = cpu_time_s();
+            let out = p.fit(trace, MisfitKind::Events, jobs, false)?;
+            let s = summary(&p, &out, (seed, p.case.samples), cpu0, jobs)?;
+            let c = if seed == 1 {
+                Some(jacobian::check(&p, &out, seed, jobs)?)
+            } else {
+                None
+            };
+            if let (Some(path), Some(dir)) = (&record, keep) {
+                std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+                let text = serde_json::to_string(&(&s, &c)).map_err(|e| e.to_string())?;
+                stickslip_report::write_atomic(path, text.as_bytes())
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+            }
+            (s, c)
+        };
         log(&line(&format!("{} seed {seed}", p.case.id), &s));
         if check.is_none() {
-            check = Some(jacobian::check(&p, &out, seed, jobs)?);
+            check = c;
         }
         fits.push(s);
     }

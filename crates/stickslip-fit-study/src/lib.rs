@@ -68,7 +68,7 @@ over 20 seeds for fig2 and the SFA contact, interval width against samples, Jaco
 central differences, the cost of each fit (the fig2 and SFA first-slip targets), the damped
 viscous SFA contact, and what the fits find identifiable. The full study takes hours on two
 cores; every section's result is kept under target/fit-study/ (in CARGO_TARGET_DIR when set) as
-it finishes.
+it finishes, and each coverage fit as it finishes.
 
 Options:
   --quick          a smoke study of about ten minutes (N = 30, two seeds, the SFA fits with
@@ -76,7 +76,8 @@ Options:
                    --out is given
   --out DIR        output directory (default: the workspace's reports/)
   --jobs J         forward runs at a time per fit (default 2)
-  --resume         keep the sections a previous run of the same size finished
+  --resume         keep the sections (and the coverage fits) a previous run of the same size
+                   finished
   --render-only    redraw the page and figures from DIR/fit.json
   -h, --help       this text
 
@@ -144,9 +145,25 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
     let (root, jobs) = (opts.root.as_path(), opts.jobs);
     let mut times = Vec::new();
     let mut jacobians: Vec<JacobianCheck> = Vec::new();
+    // Each coverage fit's record, for --resume within a section; a fresh study starts afresh.
+    let seeds_dir = |name: &str| opts.work.join(format!("{name}-seeds"));
+    if !opts.resume {
+        for name in ["coverage-A", "coverage-B"] {
+            let _ = std::fs::remove_dir_all(seeds_dir(name));
+        }
+    }
+    let seed_dirs = [seeds_dir("coverage-A"), seeds_dir("coverage-B")];
+    let keep = |name: &str| Some(seed_dirs[usize::from(name == "coverage-B")].as_path());
     let (a, ja): (CoverageRun, JacobianCheck) =
         section(opts, "coverage-A", &mut times, log, &mut |l| {
-            fits::coverage(root, cases::set_a(&sizes), &sizes, jobs, l)
+            fits::coverage(
+                root,
+                cases::set_a(&sizes),
+                &sizes,
+                jobs,
+                keep("coverage-A"),
+                l,
+            )
         })?;
     jacobians.push(ja);
     let (width, jw): (WidthRun, JacobianCheck) =
@@ -160,7 +177,14 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
         })?;
     let (b, jb): (CoverageRun, JacobianCheck) =
         section(opts, "coverage-B", &mut times, log, &mut |l| {
-            fits::coverage(root, cases::set_b(&sizes), &sizes, jobs, l)
+            fits::coverage(
+                root,
+                cases::set_b(&sizes),
+                &sizes,
+                jobs,
+                keep("coverage-B"),
+                l,
+            )
         })?;
     jacobians.push(jb);
     jacobians.push(jf);
