@@ -276,6 +276,12 @@ impl SpringDrive {
         self.damping_n_s_per_m / (2.0 * (self.stiffness_n_per_m * self.mass_kg).sqrt())
     }
 
+    /// The spring's force on the stamp, K·(V0·t − X), N: the force the drive measures.
+    #[must_use]
+    pub fn spring_force_n(&self, t_s: f64, x_m: f64) -> f64 {
+        self.stiffness_n_per_m * (self.velocity_m_per_s * t_s - x_m)
+    }
+
     /// Acceleration Ẍ = (K·(V0·t − X) + c_d·(V0 − V) − F)/m in m/s², F the friction force in
     /// N (without a dashpot, c_d = 0, the paper's (K·(V0·t − X) − F)/m exactly).
     #[must_use]
@@ -286,7 +292,7 @@ impl SpringDrive {
         v_m_per_s: f64,
         friction_n: f64,
     ) -> f64 {
-        let spring = self.stiffness_n_per_m * (self.velocity_m_per_s * t_s - x_m);
+        let spring = self.spring_force_n(t_s, x_m);
         if self.damping_n_s_per_m == 0.0 {
             (spring - friction_n) / self.mass_kg
         } else {
@@ -313,7 +319,7 @@ impl SpringDrive {
             return;
         }
         let h2m = 0.5 * dt_s / self.mass_kg;
-        let others = self.stiffness_n_per_m * (self.velocity_m_per_s * state.t_s - state.x_m)
+        let others = self.spring_force_n(state.t_s, state.x_m)
             + self.damping_n_s_per_m * self.velocity_m_per_s
             - friction_n;
         state.v_m_per_s = (state.v_m_per_s + h2m * others) / (1.0 + h2m * self.damping_n_s_per_m);

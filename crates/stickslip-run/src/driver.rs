@@ -487,9 +487,7 @@ impl Driver {
     fn observe_slips(&mut self) {
         let s = &self.sim.state().physical;
         let f_drive = match &self.scene.config.drive {
-            Drive::Spring(sp) => {
-                sp.stiffness_n_per_m * (sp.velocity_m_per_s * s.drive.t_s - s.drive.x_m)
-            }
+            Drive::Spring(sp) => sp.spring_force_n(s.drive.t_s, s.drive.x_m),
             Drive::Rigid(_) => s.force_n,
         };
         let now = Moment {

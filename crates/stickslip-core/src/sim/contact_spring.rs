@@ -18,8 +18,19 @@ use crate::preflight::ContactSpring;
 
 impl Simulation {
     /// The contact as a linear spring at t = 0 (see the module docs); none when the film
-    /// starts molten or nothing can melt (no melting strain).
+    /// starts molten or nothing can melt (no melting strain). Computed once (it depends on the
+    /// configuration and the operators alone): the split integrator's flow and the preflight
+    /// both ask for it.
     pub fn contact_spring(&mut self) -> Option<ContactSpring> {
+        if let Some(known) = self.contact_spring_at_start {
+            return known;
+        }
+        let spring = self.linear_contact_spring();
+        self.contact_spring_at_start = Some(spring);
+        spring
+    }
+
+    fn linear_contact_spring(&self) -> Option<ContactSpring> {
         let c = &self.config;
         let l = &c.lubricant;
         let a_coeff = c.temperature.a_coeff_pa(0.0);

@@ -154,6 +154,8 @@ pub struct Simulation {
     /// Where the split flow linearised the kick force in the step being taken (with
     /// `flow_stiffness_n_per_m` > 0).
     flow_anchor: crate::drive::FlowAnchor,
+    /// [`Simulation::contact_spring`] once computed (the outer `None`: not yet).
+    contact_spring_at_start: Option<Option<crate::preflight::ContactSpring>>,
     /// The last coupling solve's residual, root mean square over the nodes, m: its strain
     /// enters the step's error estimate (0 without a solve).
     last_coupling_rms_m: f64,
@@ -290,6 +292,7 @@ impl Simulation {
             viscous: None,
             flow_stiffness_n_per_m: 0.0,
             flow_anchor: crate::drive::FlowAnchor::default(),
+            contact_spring_at_start: None,
             last_coupling_rms_m: 0.0,
         };
         sim.rho0 = sim.lagged_sweep_contraction();
