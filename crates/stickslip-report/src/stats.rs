@@ -1,20 +1,8 @@
 //! The one set of small statistics of the reports.
 
-/// Median (the mean of the two middle values for an even count); NaN when empty.
-#[must_use]
-pub fn median(values: &[f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
+/// Median (the mean of the two middle values for an even count); NaN when empty: the run
+/// library's one median.
+pub use stickslip_run::stats::median;
 
 /// Arithmetic mean; NaN when empty.
 #[must_use]

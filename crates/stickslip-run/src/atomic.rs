@@ -22,21 +22,13 @@ use std::io::{self, BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// Initial state of [`fnv1a64`].
-pub const FNV1A64_INIT: u64 = 0xcbf2_9ce4_8422_2325;
-
-/// Continues the 64-bit FNV-1a hash `state` over `bytes` (start from [`FNV1A64_INIT`]).
+/// The 64-bit FNV-1a hash, the one the build's identity uses too: continues `state` over
+/// `bytes` (start from [`FNV1A64_INIT`]).
 ///
 /// A checksum, not a cryptographic hash: it catches damaged or foreign files, cheaply enough to
 /// run over every byte a run writes. Its definition is fixed, so values stored in a checkpoint
 /// stay comparable across builds.
-pub fn fnv1a64(mut state: u64, bytes: &[u8]) -> u64 {
-    for &b in bytes {
-        state ^= u64::from(b);
-        state = state.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    state
-}
+pub use crate::build_id::sources::{FNV_INIT as FNV1A64_INIT, fnv as fnv1a64};
 
 /// How far a streamed file has got: the bytes written and their checksum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -102,11 +102,7 @@ impl Spread {
         let n = values.len();
         let mut sorted = values.to_vec();
         sorted.sort_by(f64::total_cmp);
-        let median = if n % 2 == 1 {
-            sorted[n / 2]
-        } else {
-            0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
-        };
+        let median = crate::stats::median_of_sorted(&sorted);
         let mean = values.iter().sum::<f64>() / n as f64;
         let var = if n > 1 {
             values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64

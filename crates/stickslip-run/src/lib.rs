@@ -42,6 +42,7 @@ pub mod scene;
 pub mod schema;
 pub mod sink;
 pub mod slips;
+pub mod stats;
 pub mod steady;
 pub mod summary;
 pub mod sweep;

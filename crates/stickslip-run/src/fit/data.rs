@@ -6,6 +6,7 @@
 //! ([`noise_sigma_n`], docs/fit.md#noise).
 
 use super::error::FitError;
+use crate::stats::median;
 
 /// Fewest samples a trace may have: fewer cannot show a stick–slip cycle and its noise.
 pub const MIN_SAMPLES: usize = 20;
@@ -276,8 +277,8 @@ impl Trace {
     /// The median spacing of the samples, s.
     #[must_use]
     pub fn median_spacing_s(&self) -> f64 {
-        let mut d: Vec<f64> = self.t_s.windows(2).map(|w| w[1] - w[0]).collect();
-        median(&mut d)
+        let d: Vec<f64> = self.t_s.windows(2).map(|w| w[1] - w[0]).collect();
+        if d.is_empty() { 0.0 } else { median(&d) }
     }
 
     /// The span F covers, max − min, N.
@@ -290,21 +291,6 @@ impl Trace {
                 (a.min(v), b.max(v))
             });
         hi - lo
-    }
-}
-
-/// The median of `v` (reordered), 0 when empty.
-#[must_use]
-pub fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
 }
 
@@ -327,10 +313,15 @@ pub fn noise_sigma_n(trace: &Trace) -> f64 {
 /// [`NOISE_FLOOR_OF_RANGE`] of their span.
 #[must_use]
 pub fn noise_sigma(v: &[f64]) -> f64 {
-    let mut d: Vec<f64> = v.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
-    let m = median(&mut d.clone());
-    let mut dev: Vec<f64> = d.iter_mut().map(|x| (*x - m).abs()).collect();
-    let sigma = 1.4826 * median(&mut dev) / 6f64.sqrt();
+    let d: Vec<f64> = v.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
+    // Fewer than three values: no second difference, no noise seen.
+    let sigma = if d.is_empty() {
+        0.0
+    } else {
+        let m = median(&d);
+        let dev: Vec<f64> = d.iter().map(|x| (*x - m).abs()).collect();
+        1.4826 * median(&dev) / 6f64.sqrt()
+    };
     let (lo, hi) = v
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {

@@ -152,8 +152,10 @@ impl MapRow {
             wall_s: r.wall_s,
             message: r.message.clone(),
             level: r.level,
-            slip_interval_median: median(r.summary.cycles.as_ref().map(|c| &c.slips)),
-            melting_interval_median: median(r.summary.cycles.as_ref().map(|c| &c.meltings)),
+            slip_interval_median: median_interval(r.summary.cycles.as_ref().map(|c| &c.slips)),
+            melting_interval_median: median_interval(
+                r.summary.cycles.as_ref().map(|c| &c.meltings),
+            ),
         }
     }
 
@@ -182,7 +184,7 @@ impl MapRow {
 }
 
 /// The median interval of one scale's statistics.
-fn median(stats: Option<&crate::cycles::CycleStats>) -> Option<f64> {
+fn median_interval(stats: Option<&crate::cycles::CycleStats>) -> Option<f64> {
     stats.and_then(|c| c.interval_s.map(|i| i.median))
 }
 
