@@ -405,21 +405,12 @@ fn an_interrupted_scan_prints_its_brackets_and_the_same_command_finishes_it_from
             .map(|t| t.lines().count())
             .unwrap_or(0)
     };
-    let child = crate::common::bin()
-        .args(&args)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let started = std::time::Instant::now();
-    while lines() < 9 && started.elapsed() < std::time::Duration::from_secs(120) {
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    let cut = child.wait_with_output().unwrap();
+    let cut = crate::common::run_signalled(
+        &args,
+        "INT",
+        || lines() >= 9,
+        std::time::Duration::from_secs(120),
+    );
     let (stdout, stderr) = texts(&cut);
     assert_eq!(cut.status.code(), Some(130), "{stdout}{stderr}");
     assert!(

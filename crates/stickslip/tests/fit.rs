@@ -402,10 +402,7 @@ fn ctrl_c_keeps_the_best_fit_so_far() {
         seen.push_str(&line);
         seen.push('\n');
         if line.contains("local stage") {
-            std::process::Command::new("kill")
-                .args(["-INT", &child.id().to_string()])
-                .status()
-                .unwrap();
+            crate::common::signal(&child, "INT");
             break;
         }
     }

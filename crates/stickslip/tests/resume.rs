@@ -8,7 +8,7 @@
 
 use crate::common;
 
-use common::{bin, run, scene, texts};
+use common::{bin, run, scene, signal, texts};
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Stdio};
@@ -427,16 +427,6 @@ fn status(dir: &Path) -> Option<String> {
     stickslip_run::schema::run_info::RunInfo::read(dir)
         .ok()
         .map(|i| i.status.name().to_string())
-}
-
-/// Sends `signal` (e.g. "INT") to `child`.
-fn signal(child: &Child, signal: &str) {
-    let ok = std::process::Command::new("kill")
-        .args([&format!("-{signal}"), &child.id().to_string()])
-        .status()
-        .expect("kill runs")
-        .success();
-    assert!(ok, "kill -{signal} failed");
 }
 
 #[test]

@@ -303,22 +303,13 @@ fn sigterm_keeps_the_finished_levels_and_the_same_command_runs_only_the_rest() {
     .iter()
     .map(|s| (*s).to_string())
     .collect();
-    let child = crate::common::bin()
-        .args(&args)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
     let first = out.join("levels").join("level-0.json");
-    let started = std::time::Instant::now();
-    while !first.exists() && started.elapsed() < std::time::Duration::from_secs(120) {
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    std::process::Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    let cut = child.wait_with_output().unwrap();
+    let cut = crate::common::run_signalled(
+        &args,
+        "TERM",
+        || first.exists(),
+        std::time::Duration::from_secs(120),
+    );
     let (_, stderr) = texts(&cut);
     assert_eq!(cut.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("runs only the rest"), "{stderr}");

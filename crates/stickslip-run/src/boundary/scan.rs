@@ -432,18 +432,21 @@ pub fn scan(
             Ok(found) => (found, true),
             Err(cut) => (cut, false),
         };
+        // The bisection's last bracket: the span left undecided, or the change's.
+        let below = Probe {
+            value: found.a,
+            regime: lower.regime,
+            stage: Stage::Bisect,
+        };
+        let above = Probe {
+            value: found.b,
+            regime: found.rb,
+            stage: Stage::Bisect,
+        };
         if let Some(at) = found.undecided {
             return Ok(Err(UndecidedSpan {
-                below: Probe {
-                    value: found.a,
-                    regime: lower.regime,
-                    stage: Stage::Bisect,
-                },
-                above: Probe {
-                    value: found.b,
-                    regime: found.rb,
-                    stage: Stage::Bisect,
-                },
+                below,
+                above,
                 undecided: vec![at],
             }));
         }
@@ -464,16 +467,8 @@ pub fn scan(
         let runs = found.runs + shifts.iter().map(|s| s.runs).sum::<usize>();
         Ok(Ok(Change {
             value,
-            below: Probe {
-                value: found.a,
-                regime: lower.regime,
-                stage: Stage::Bisect,
-            },
-            above: Probe {
-                value: found.b,
-                regime: found.rb,
-                stage: Stage::Bisect,
-            },
+            below,
+            above,
             bracket,
             shifts,
             error,

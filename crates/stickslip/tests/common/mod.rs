@@ -2,7 +2,8 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 /// The `stickslip` binary built for these tests.
 pub fn bin() -> Command {
@@ -19,6 +20,38 @@ pub fn scene(name: &str) -> PathBuf {
 /// Runs the binary with `args`.
 pub fn run(args: &[&str]) -> Output {
     bin().args(args).output().expect("the binary runs")
+}
+
+/// Sends `signal` (e.g. "INT") to `child`; panics when `kill` fails.
+pub fn signal(child: &Child, signal: &str) {
+    let ok = Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .expect("kill runs")
+        .success();
+    assert!(ok, "kill -{signal} failed");
+}
+
+/// Runs the binary with `args`, sends `sig` (e.g. "INT") once `ready()` holds or after
+/// `timeout`, and returns its output: an interrupt at a chosen point of a long command.
+pub fn run_signalled(
+    args: &[String],
+    sig: &str,
+    ready: impl Fn() -> bool,
+    timeout: Duration,
+) -> Output {
+    let child = bin()
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    let started = Instant::now();
+    while !ready() && started.elapsed() < timeout {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    signal(&child, sig);
+    child.wait_with_output().expect("the binary ends")
 }
 
 /// Stdout and stderr of `out` as text.
