@@ -5,10 +5,8 @@ use stickslip_core::landau::{
     LandauParams, PhiStepper, Temperature, critical_strain, equilibrium_phi, exact_phi, rhs, stress,
 };
 
-/// The paper's lubricant (fig2): τmax = 1e6 Pa, εmax = 1, a = 1e6 Pa, γ = 10 /(Pa·s).
-fn fig2() -> LandauParams {
-    LandauParams::new(1e6, 1.0, 1e6, 10.0).unwrap()
-}
+use crate::models::landau::{Case, FrozenStrain, fig2_film as fig2};
+use crate::models::{Convergent, assert_order};
 
 fn rel_err(x: f64, reference: f64) -> f64 {
     (x - reference).abs() / reference.abs()
@@ -100,45 +98,6 @@ fn a_non_positive_gives_zero_without_nan() {
     }
 }
 
-/// Reference φ(T) and the step-refinement table of one stepper; returns observed orders.
-fn observed_orders(
-    stepper: PhiStepper,
-    p: &LandauParams,
-    phi0: f64,
-    eps: f64,
-    t_end_s: f64,
-    ks: std::ops::RangeInclusive<u32>,
-) -> (Vec<f64>, Vec<f64>) {
-    let a_coeff = p.a_coeff_default_pa();
-    let reference = exact_phi(phi0, eps, a_coeff, p, t_end_s);
-    let errors: Vec<f64> = ks
-        .clone()
-        .map(|k| {
-            let n = 1u32 << k;
-            let dt = t_end_s / f64::from(n);
-            let mut phi = phi0;
-            for _ in 0..n {
-                phi = stepper.step(phi, eps, a_coeff, p, dt);
-            }
-            rel_err(phi, reference)
-        })
-        .collect();
-    let orders: Vec<f64> = errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
-    eprintln!("{stepper:?} eps={eps} phi0={phi0} T={t_end_s:e}: ref φ(T) = {reference}");
-    for (i, k) in ks.enumerate() {
-        let p_str = if i > 0 {
-            format!("{:.4}", orders[i - 1])
-        } else {
-            "-".into()
-        };
-        eprintln!(
-            "  dt = T/2^{k:<2}  rel err = {:.3e}  p = {p_str}",
-            errors[i]
-        );
-    }
-    (errors, orders)
-}
-
 /// Melting (ε = 2 > εc, c = 1e6 Pa) from the solid equilibrium, and growth (ε = 1 < εc,
 /// c = −2e6 Pa) from φ = 0.1: both over ≈ 4 relaxation times 1/(2γ|c|).
 const CASES: [(f64, f64, f64); 2] = [(1.224_744_871_391_589, 2.0, 2e-7), (0.1, 1.0, 1e-7)];
@@ -148,13 +107,15 @@ fn first_order_steppers_converge_at_order_one() {
     let p = fig2();
     for stepper in [PhiStepper::ExplicitEuler, PhiStepper::ImplicitEuler] {
         for (phi0, eps, t_end) in CASES {
-            let (errors, orders) = observed_orders(stepper, &p, phi0, eps, t_end, 5..=12);
+            let model = FrozenStrain {
+                params: p,
+                phi0,
+                eps,
+                t_end_s: t_end,
+            };
+            let errors = assert_order(&Case(stepper, model, 5..=12), 1.0, 0.05);
             assert!(errors.iter().all(|e| e.is_finite()));
             assert!(errors[errors.len() - 1] < 2e-3, "{stepper:?}: {errors:?}");
-            // Asymptotic range: the last four refinements.
-            for &order in &orders[orders.len() - 4..] {
-                assert!((0.95..=1.05).contains(&order), "{stepper:?}: {orders:?}");
-            }
         }
     }
 }
@@ -163,9 +124,19 @@ fn first_order_steppers_converge_at_order_one() {
 fn exact_stepper_is_exact_for_every_step() {
     let p = fig2();
     for (phi0, eps, t_end) in CASES {
-        let (errors, _) = observed_orders(PhiStepper::Exact, &p, phi0, eps, t_end, 0..=12);
-        for e in errors {
-            assert!(e <= 1e-13, "{e}");
+        let case = Case(
+            PhiStepper::Exact,
+            FrozenStrain {
+                params: p,
+                phi0,
+                eps,
+                t_end_s: t_end,
+            },
+            0..=12,
+        );
+        for k in 0..=12 {
+            let e = case.error(k);
+            assert!(e <= 1e-13, "2^{k} steps: {e}");
         }
     }
 }

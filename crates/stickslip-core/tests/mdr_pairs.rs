@@ -1,6 +1,7 @@
 //! MDR operators against the exact pairs of docs/model.md#exact-answers: errors, observed orders,
 //! both norms.
 
+use crate::models::observed_orders;
 use stickslip_core::grid::{Grading, Grid};
 use stickslip_core::mdr::pairs::{self, ExactPair};
 use stickslip_core::mdr::{MdrOperators, Quadrature};
@@ -82,10 +83,6 @@ fn errors_with(ops: &MdrOperators, pair: &ExactPair, op: Op) -> (f64, f64) {
         }
     }
     (max, interior)
-}
-
-fn orders(errs: &[f64]) -> Vec<f64> {
-    errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
 }
 
 /// What we claim for one (pair, quadrature, operator, norm).
@@ -200,7 +197,7 @@ fn table() -> Vec<(String, Quadrature, Op, bool, Vec<f64>)> {
 /// Prints one row's errors and orders under `label` and records it in `failures` when they
 /// break `expect`.
 fn judge(label: &str, e: &[f64], expect: Expect, failures: &mut Vec<String>) {
-    let p = orders(e);
+    let p = observed_orders(e);
     eprintln!(
         "{label:<45} e={:?} p={:?}",
         e.iter().map(|v| format!("{v:.2e}")).collect::<Vec<_>>(),

@@ -87,7 +87,7 @@ fn the_accurate_step_is_second_order_for_the_first_order_film() {
         assert!((sim.time_s() - t_end).abs() < 1e-20);
         errors.push((sim.state().physical.phi[0] - reference).abs() / reference);
     }
-    let orders: Vec<f64> = errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
+    let orders = crate::models::observed_orders(&errors);
     eprintln!("phi(T) = {reference}: relative errors {errors:?}");
     eprintln!("observed orders {orders:.3?}");
     for p in &orders[2..] {

@@ -5,6 +5,7 @@
 
 #![allow(dead_code)] // each test file uses the models it needs
 
+pub mod landau;
 pub mod spring;
 
 /// A method applied to a model: its error at refinement level `level` (a step of T/2^level,
