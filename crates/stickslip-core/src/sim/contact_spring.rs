@@ -1,7 +1,8 @@
-//! The contact as a linear spring, for `check`'s first-onset estimate: the film linearised at
-//! its secant stiffness at melting (τ = a·φs²·ε with a·φs²·ε_m = the peak stress, so a node at
-//! the melting strain ε_m carries exactly the peak stress), in series with the substrate's
-//! static response. A unit stamp displacement X = 1 gives, from (I + K)·u3D = K·1 with
+//! The contact as a linear spring, whose stiffness the split integrator's flow carries (the
+//! stamp's oscillation on the contact followed exactly) and from which the preflight estimates
+//! the first onset (`check`): the film linearised at its secant stiffness at melting
+//! (τ = a·φs²·ε with a·φs²·ε_m = the peak stress, so a node at the melting strain ε_m carries
+//! exactly the peak stress), in series with the substrate's static response. A unit stamp displacement X = 1 gives, from (I + K)·u3D = K·1 with
 //! K = κ·C·diag(φs²) (the coupling the accurate scheme solves each step), the strain at every
 //! node, (1 − u3D)/h0, and the force. The first node reaches ε_m at X_m = ε_m / max strain;
 //! the force then is F_m = X_m · (force per unit X); the contact's stiffness is F_m / X_m.
