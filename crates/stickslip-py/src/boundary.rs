@@ -9,8 +9,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
-use stickslip_run::boundary::scan::{Change, DEFAULT_SCAN, ScanOptions, scan as scan_key};
+use stickslip_run::boundary::scan::{Change, ScanOptions, scan as scan_key};
 use stickslip_run::boundary::{BoundaryError, Probe};
+use stickslip_run::options;
 use stickslip_run::summary::RegimeThresholds;
 
 fn probe_dict<'py>(py: Python<'py>, p: &Probe) -> PyResult<Bound<'py, PyDict>> {
@@ -46,7 +47,7 @@ fn change_dict<'py>(py: Python<'py>, c: &Change) -> PyResult<Bound<'py, PyDict>>
 /// ``"probes"`` (every run as ``{"value", "regime", "stage"}``), ``"scan"`` (the scan's
 /// points) and ``"warnings"``. Internal: use ``stickslip.boundary``.
 #[pyfunction]
-#[pyo3(signature = (scene, key, lo, hi, rtol = 1e-3, scan = DEFAULT_SCAN, jobs = 2, scale = "film"))]
+#[pyo3(signature = (scene, key, lo, hi, rtol = options::BOUNDARY_RTOL, scan = options::BOUNDARY_SCAN, jobs = options::JOBS, scale = options::BOUNDARY_SCALE))]
 #[allow(clippy::too_many_arguments)]
 pub fn boundary<'py>(
     py: Python<'py>,

@@ -11,6 +11,7 @@ use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use stickslip_run::fit::{Columns, FitError, FitOptions, MisfitKind, Progress, Trace};
+use stickslip_run::options;
 
 /// Fits ``params`` (``KEY[=LO:HI]``) of ``scene`` to a trace: the CSV at ``path`` (its
 /// ``columns`` as ``t=NAME,F=NAME``) or the arrays ``t`` (s), ``f`` (N) and ``x`` (m, or
@@ -19,7 +20,7 @@ use stickslip_run::fit::{Columns, FitError, FitOptions, MisfitKind, Progress, Tr
 /// status ``"interrupted"``). With ``out``, also writes fit.json, fit.svg and fitted.toml
 /// there as ``stickslip fit --out`` does. Internal: use ``stickslip.fit``.
 #[pyfunction]
-#[pyo3(signature = (scene, params, misfit = "events", path = None, columns = None, t = None, f = None, x = None, noise = None, jobs = 2, profile = None, progress = None, out = None))]
+#[pyo3(signature = (scene, params, misfit = options::FIT_MISFIT, path = None, columns = None, t = None, f = None, x = None, noise = None, jobs = options::JOBS, profile = None, progress = None, out = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,

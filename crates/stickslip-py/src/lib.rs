@@ -68,5 +68,22 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mdr::force, m)?)?;
     m.add_function(wrap_pyfunction!(mdr::radii, m)?)?;
     m.add_function(wrap_pyfunction!(cli::cli, m)?)?;
+    m.add_function(wrap_pyfunction!(option_defaults, m)?)?;
     Ok(())
+}
+
+/// The defaults of the commands' options as ``{"command.option": value}``: the command line's
+/// and the Python functions' (one definition, the run library's ``options``).
+#[pyfunction]
+fn option_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    use stickslip_run::options::OptionDefault;
+    let out = pyo3::types::PyDict::new(py);
+    for (name, value) in stickslip_run::options::all() {
+        match value {
+            OptionDefault::Count(n) => out.set_item(name, n)?,
+            OptionDefault::Number(x) => out.set_item(name, x)?,
+            OptionDefault::Word(w) => out.set_item(name, w)?,
+        }
+    }
+    Ok(out)
 }

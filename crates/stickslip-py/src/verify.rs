@@ -4,6 +4,7 @@
 use crate::scene::PyScene;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use stickslip_run::options;
 use stickslip_run::verify::{VerifyError, target, verify as run_verify};
 
 /// Runs ``scene`` at its own settings and refined in space and time, ``jobs`` runs at a
@@ -12,7 +13,7 @@ use stickslip_run::verify::{VerifyError, target, verify as run_verify};
 /// ``asymptotic``, ``changed``, ``verdict``), ``levels``, ``rtol`` and ``scene``. Internal:
 /// use ``stickslip.verify``.
 #[pyfunction]
-#[pyo3(signature = (scene, rtol = 1e-3, jobs = 2))]
+#[pyo3(signature = (scene, rtol = options::VERIFY_RTOL, jobs = options::JOBS))]
 pub fn verify<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,

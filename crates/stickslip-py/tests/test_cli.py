@@ -215,3 +215,34 @@ def test_a_closed_stdout_is_no_error(cli: Path) -> None:
         err = child.stderr.read()
         child.wait(timeout=60)
         assert (child.returncode, err) == (0, b""), (command, err)
+
+
+def test_the_python_functions_defaults_are_the_command_lines():
+    # One definition of each option's default: the Python keyword's default and the value
+    # `stickslip COMMAND --help` states are both the extension's `option_defaults`.
+    import inspect
+    import re
+
+    import stickslip
+    from stickslip import _native
+
+    defaults = _native.option_defaults()
+    assert {"verify.rtol", "boundary.scan", "fit.jobs", "run.checkpoint_every"} <= set(defaults)
+    functions = {
+        "run": stickslip.run,
+        "verify": stickslip.verify,
+        "boundary": stickslip.boundary,
+        "fit": stickslip.fit,
+    }
+    for name, value in defaults.items():
+        command, option = name.split(".")
+        assert inspect.signature(functions[command]).parameters[option].default == value, name
+        flag = "--" + option.replace("_", "-")
+        shown = call([SCRIPT, command, "--help"]).stdout
+        # The flag's line and its description's, up to the next option's line.
+        found = re.search(
+            re.escape(flag) + r"[ <][^\n]*(?:\n(?!\s*-)[^\n]*)*?\[default: ([^\]]+)\]", shown
+        )
+        assert found, (name, shown)
+        text = found.group(1)
+        assert (float(text) if isinstance(value, (int, float)) else text) == value, (name, text)

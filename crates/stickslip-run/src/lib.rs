@@ -35,6 +35,7 @@ pub mod exit;
 pub mod fit;
 pub mod keys;
 pub mod layout;
+pub mod options;
 pub mod outcome;
 pub mod output_size;
 pub mod pool;

@@ -52,7 +52,7 @@ use stickslip_core::preflight::{Finding, Severity};
 use stickslip_run::checkpoint::CheckpointError;
 use stickslip_run::cycles::StampRegime;
 use stickslip_run::exit::Exit;
-use stickslip_run::sink::dir::DEFAULT_CHECKPOINT_EVERY_S;
+use stickslip_run::options;
 use stickslip_run::{DirOptions, ResumeOptions, RunError, RunOutcome, Scene, StopReason};
 
 /// Stick–slip friction of a lubricant film under a flat stamp.
@@ -88,7 +88,7 @@ enum Command {
         force: bool,
         /// Wall-clock seconds between checkpoints in DIR, from which `resume` finishes a killed
         /// run; 0 = none (Ctrl-C still writes one).
-        #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_CHECKPOINT_EVERY_S, value_parser = parse_interval)]
+        #[arg(long, value_name = "SECONDS", default_value_t = options::CHECKPOINT_EVERY_S, value_parser = parse_interval)]
         checkpoint_every: f64,
     },
     /// Validate a scene and print its resolved, derived and stability numbers, estimates of
@@ -124,17 +124,17 @@ enum Command {
         #[arg(long = "to", value_name = "HI", allow_hyphen_values = true)]
         to: f64,
         /// Relative width of the final bracket: (hi − lo) ≤ rtol·max(|lo|, |hi|).
-        #[arg(long, default_value_t = 1e-3)]
+        #[arg(long, default_value_t = options::BOUNDARY_RTOL)]
         rtol: f64,
         /// Points of the first scan, the range's ends included (2: the ends only).
-        #[arg(long, value_name = "N", default_value_t = stickslip_run::boundary::scan::DEFAULT_SCAN)]
+        #[arg(long, value_name = "N", default_value_t = options::BOUNDARY_SCAN)]
         scan: usize,
         /// Runs at a time.
-        #[arg(long, default_value_t = 2)]
+        #[arg(long, default_value_t = options::JOBS)]
         jobs: usize,
         /// Which regime to follow: the film's (`regime`) or the stamp's (`stamp_regime`:
         /// where slips of the stamp stop recurring).
-        #[arg(long, value_name = "SCALE", default_value = "film", value_parser = ["film", "stamp"])]
+        #[arg(long, value_name = "SCALE", default_value = options::BOUNDARY_SCALE, value_parser = ["film", "stamp"])]
         scale: String,
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
@@ -161,7 +161,7 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
         /// Relative accuracy each quantity's uncertainty must be within.
-        #[arg(long, default_value_t = 1e-3)]
+        #[arg(long, default_value_t = options::VERIFY_RTOL)]
         rtol: f64,
         /// Instead of checking the scene's own resolution, search the cheapest N and
         /// time.tolerance whose estimated error of the first onset and of its peak force is
@@ -179,7 +179,7 @@ enum Command {
         #[arg(long)]
         force: bool,
         /// Runs at a time.
-        #[arg(long, default_value_t = 2)]
+        #[arg(long, default_value_t = options::JOBS)]
         jobs: usize,
         /// Override a scene value (repeatable).
         #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
@@ -211,7 +211,7 @@ enum Command {
         param: Vec<String>,
         /// What is compared: `events` (onsets, intervals, peak forces and drops, matched
         /// event by event) or `trace` (F at the data's times, with a fitted time shift).
-        #[arg(long, value_name = "MISFIT", default_value = "events", value_parser = ["events", "trace"])]
+        #[arg(long, value_name = "MISFIT", default_value = options::FIT_MISFIT, value_parser = ["events", "trace"])]
         misfit: String,
         /// Column names of the trace when not t, F and X, e.g. `t=time,F=force`.
         #[arg(long, value_name = "t=NAME,F=NAME")]
@@ -220,7 +220,7 @@ enum Command {
         #[arg(long, value_name = "N", allow_hyphen_values = true)]
         noise: Option<f64>,
         /// Runs at a time.
-        #[arg(long, default_value_t = 2)]
+        #[arg(long, default_value_t = options::JOBS)]
         jobs: usize,
         /// Also compute the profile likelihood of this parameter (one of --param's keys).
         #[arg(long, value_name = "KEY")]

@@ -13,6 +13,9 @@ from ._native import Scene
 from ._progress import ProgressArg
 from ._result import FitResult, MapTable, RunResult
 
+# The options' defaults, the command line's own (one definition, in the run library).
+_DEFAULTS = _native.option_defaults()
+
 #: What a scene argument may be: a ``Scene``, a path to a scene file, or a scene dict.
 SceneLike = Union[Scene, str, "os.PathLike[str]", Mapping[str, Any]]
 #: A path: str or os.PathLike.
@@ -89,7 +92,7 @@ def run(
     progress: ProgressArg = None,
     out: Optional[PathLike] = None,
     force: bool = False,
-    checkpoint_every: float = 2.0,
+    checkpoint_every: float = _DEFAULTS["run.checkpoint_every"],
 ) -> RunResult:
     """Runs a scene and returns its output as a ``RunResult``.
 
@@ -297,7 +300,11 @@ def load_sweep(dir: PathLike) -> MapTable:
 
 
 def verify(
-    scene: SceneLike, rtol: float = 1e-3, *, jobs: int = 2, target: Optional[float] = None
+    scene: SceneLike,
+    rtol: float = _DEFAULTS["verify.rtol"],
+    *,
+    jobs: int = _DEFAULTS["verify.jobs"],
+    target: Optional[float] = None,
 ) -> Dict[str, Any]:
     """The error of every summary number of ``scene``, as ``stickslip verify`` gives it: the
     scene runs at its own settings and refined in space (N, 2N, 4N) and in time (tolerance
@@ -344,10 +351,10 @@ def boundary(
     lo: float,
     hi: float,
     *,
-    rtol: float = 1e-3,
-    scan: int = 9,
-    jobs: int = 2,
-    scale: str = "film",
+    rtol: float = _DEFAULTS["boundary.rtol"],
+    scan: int = _DEFAULTS["boundary.scan"],
+    jobs: int = _DEFAULTS["boundary.jobs"],
+    scale: str = _DEFAULTS["boundary.scale"],
 ) -> Dict[str, Any]:
     """Every value of ``key`` (a scene key taking a number, in its unit) between ``lo`` and
     ``hi`` where the regime changes, as ``stickslip boundary`` finds them: a first scan of
@@ -421,11 +428,11 @@ def fit(
     scene: SceneLike,
     data: Any,
     params: Any,
-    misfit: str = "events",
+    misfit: str = _DEFAULTS["fit.misfit"],
     *,
     noise: Optional[float] = None,
     columns: Optional[Mapping[str, str]] = None,
-    jobs: int = 2,
+    jobs: int = _DEFAULTS["fit.jobs"],
     profile: Optional[str] = None,
     progress: Optional[Any] = None,
     out: Optional[PathLike] = None,

@@ -171,3 +171,6 @@ def radii(radius: float, n: int) -> npt.NDArray[np.float64]:
 def cli(argv: Sequence[str], program: Optional[_Path] = None) -> int:
     """Runs ``stickslip ARGS...`` (``argv[0]`` is the program's name) as the Rust binary does
     and returns its exit status; for the ``stickslip`` command (``stickslip._cli``)."""
+
+def option_defaults() -> Dict[str, Any]:
+    """The defaults of the commands' options, ``{"command.option": value}``."""
