@@ -59,32 +59,50 @@ pub struct Options {
     pub work: PathBuf,
 }
 
-const HELP: &str = "\
-cargo xtask fit-study [options]
+/// `--jobs`: an integer >= 1.
+fn jobs_at_least_one(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("{text} is not an integer >= 1")),
+    }
+}
 
-Fits synthetic traces (known parameters, seeded noise) through the run library's fit and
-writes reports/fit.md, reports/fit.json and reports/fit_*.svg: coverage of the 95 % intervals
-over 20 seeds for fig2 and the SFA contact, interval width against samples, Jacobians against
-central differences, the cost of each fit (the fig2 and SFA first-slip targets), the damped
-viscous SFA contact, and what the fits find identifiable. The full study takes hours on two
-cores; every section's result is kept under target/fit-study/ (in CARGO_TARGET_DIR when set) as
-it finishes, and each coverage fit as it finishes.
-
-Options:
-  --quick          a smoke study of about ten minutes (N = 30, two seeds, the SFA fits with
-                   tau_max and gamma free), written to target/fit-study/quick/report unless
-                   --out is given
-  --out DIR        output directory (default: the workspace's reports/)
-  --jobs J         forward runs at a time per fit (default 2)
-  --resume         keep the sections (and the coverage fits) a previous run of the same size
-                   finished
-  --render-only    redraw the page and figures from DIR/fit.json
-  -h, --help       this text
-
-Exit status: 0 when every verdict passes, 1 when one fails (the report is written; the events
-misfit's width slope, which is not expected to follow n^-1/2, aside) or on an error, 2 for bad
-arguments.
-";
+/// `cargo xtask fit-study`'s options.
+#[derive(Debug, clap::Parser)]
+#[command(
+    name = "cargo xtask fit-study",
+    about = "Fits synthetic traces (known parameters, seeded noise) through the run library's fit",
+    long_about = "Fits synthetic traces (known parameters, seeded noise) through the run library's \
+                  fit and writes reports/fit.md, reports/fit.json and reports/fit_*.svg: coverage \
+                  of the 95 % intervals over 20 seeds for fig2 and the SFA contact, interval \
+                  width against samples, Jacobians against central differences, the cost of each \
+                  fit (the fig2 and SFA first-slip targets), the damped viscous SFA contact, and \
+                  what the fits find identifiable. The full study takes hours on two cores; \
+                  every section's result is kept under target/fit-study/ (in CARGO_TARGET_DIR \
+                  when set) as it finishes, and each coverage fit as it finishes.",
+    after_help = "Exit status: 0 when every verdict passes, 1 when one fails (the report is \
+                  written; the events misfit's width slope, which is not expected to follow \
+                  n^-1/2, aside) or on an error, 2 for bad arguments."
+)]
+struct Args {
+    /// A smoke study of about ten minutes (N = 30, two seeds, the SFA fits with tau_max and
+    /// gamma free), written to target/fit-study/quick/report unless --out is given.
+    #[arg(long)]
+    quick: bool,
+    /// Output directory [default: the workspace's reports/].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Forward runs at a time per fit.
+    #[arg(long, value_name = "J", default_value_t = stickslip_run::options::JOBS,
+          value_parser = jobs_at_least_one)]
+    jobs: usize,
+    /// Keep the sections (and the coverage fits) a previous run of the same size finished.
+    #[arg(long)]
+    resume: bool,
+    /// Redraw the page and figures from DIR/fit.json.
+    #[arg(long)]
+    render_only: bool,
+}
 
 /// The 1-minute load average, when readable.
 fn load_average() -> Option<f64> {
@@ -278,41 +296,27 @@ pub fn write(study: &Study, out: &Path, with_json: bool) -> Result<Vec<PathBuf>,
 /// error, 2 bad arguments.
 #[must_use]
 pub fn cli(args: &[String], root: PathBuf) -> ExitCode {
-    let mut quick = false;
-    let mut render_only = false;
-    let mut resume = false;
-    let mut jobs = 2;
-    let mut out: Option<PathBuf> = None;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "-h" | "--help" => {
-                print!("{HELP}");
-                return ExitCode::SUCCESS;
-            }
-            "--quick" => quick = true,
-            "--render-only" => render_only = true,
-            "--resume" => resume = true,
-            "--out" => match it.next() {
-                Some(v) => out = Some(PathBuf::from(v)),
-                None => {
-                    eprintln!("fit-study: --out needs a directory\n\n{HELP}");
-                    return ExitCode::from(2);
-                }
-            },
-            "--jobs" => match it.next().and_then(|v| v.parse::<usize>().ok()) {
-                Some(n) if n > 0 => jobs = n,
-                _ => {
-                    eprintln!("fit-study: --jobs needs an integer >= 1\n\n{HELP}");
-                    return ExitCode::from(2);
-                }
-            },
-            other => {
-                eprintln!("fit-study: unknown option `{other}`\n\n{HELP}");
-                return ExitCode::from(2);
-            }
+    let args = match <Args as clap::Parser>::try_parse_from(
+        std::iter::once("cargo xtask fit-study".to_string()).chain(args.iter().cloned()),
+    ) {
+        Ok(a) => a,
+        Err(e) => {
+            // --help prints and succeeds; a bad option exits 2 naming it.
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
         }
-    }
+    };
+    let Args {
+        quick,
+        out,
+        jobs,
+        resume,
+        render_only,
+    } = args;
     let size = if quick { "quick" } else { "full" };
     let target =
         std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
@@ -385,5 +389,30 @@ pub fn cli(args: &[String], root: PathBuf) -> ExitCode {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
+    }
+}
+
+#[cfg(test)]
+mod cli_tests {
+    use super::Args;
+    use clap::Parser;
+
+    #[test]
+    fn options_parse_with_their_defaults_and_bad_ones_are_refused() {
+        let a = Args::try_parse_from(["fit-study"]).unwrap();
+        assert_eq!(a.jobs, stickslip_run::options::JOBS);
+        assert!(!a.quick && !a.resume && !a.render_only && a.out.is_none());
+        let a = Args::try_parse_from(["fit-study", "--quick", "--jobs", "3", "--resume"]).unwrap();
+        assert!(a.quick && a.resume && a.jobs == 3);
+        for bad in [
+            &["--jobs", "0"][..],
+            &["--jobs", "x"],
+            &["--bogus"],
+            &["--out"],
+        ] {
+            let e = Args::try_parse_from(std::iter::once("fit-study").chain(bad.iter().copied()))
+                .unwrap_err();
+            assert!(e.use_stderr(), "{bad:?}");
+        }
     }
 }
