@@ -105,11 +105,11 @@ impl Settings {
             sim_dts_s: vec![1.6e-7, 8e-8, 4e-8, 2e-8, 1e-8, 5e-9, 2.5e-9],
             sim_dts_nodes: 125,
             wp_points: vec![(25, 4e-8), (50, 2e-8), (100, 1e-8), (200, 5e-9)],
-            ref_nodes: 400,
+            ref_nodes: FULL_REF_NODES,
             ref_dts_s: [5e-9, 2.5e-9, 1.25e-9],
-            repeats: 3,
+            repeats: FULL_REPEATS,
             max_nodes,
-            tolerance: Some(tolerance::ToleranceSettings::full(max_nodes, 3)),
+            tolerance: Some(tolerance::ToleranceSettings::full(max_nodes, FULL_REPEATS)),
             noise: Some(noise::NoiseSettings::full()),
             grid: Some(grid_study::GridSettings::full()),
         }
@@ -392,93 +392,94 @@ pub fn default_reports_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reports")
 }
 
-const HELP: &str = "\
-cargo xtask convergence [options]
+/// The full study's largest N of the whole-simulation N refinement.
+pub const FULL_MAX_NODES: usize = 2000;
+/// The full study's timing repeats per work-precision point.
+pub const FULL_REPEATS: usize = 3;
+/// The full study's nodes of the work-precision reference.
+pub const FULL_REF_NODES: usize = 400;
 
-Runs the convergence studies (operators, steppers, whole fig2 simulation, work-precision) and
-writes reports/convergence.md, reports/convergence.json and reports/convergence_*.svg.
+/// `cargo xtask convergence`'s options (`--repeats` and `--ref-nodes` default to the full
+/// study's, or to the smoke study's with `--quick` unless given).
+#[derive(Debug, clap::Parser)]
+#[command(
+    name = "cargo xtask convergence",
+    about = "Runs the convergence studies (operators, steppers, whole fig2 simulation, \
+             work-precision) and writes reports/convergence.md, reports/convergence.json and \
+             reports/convergence_*.svg"
+)]
+struct Args {
+    /// Largest N of the whole-simulation N refinement (the levels are 125, 250, 500, 1000,
+    /// 2000 up to N).
+    #[arg(long, value_name = "N", default_value_t = FULL_MAX_NODES, value_parser = at_least_one)]
+    max_nodes: usize,
+    /// Timing repeats per work-precision point (with --quick: the smoke study's unless given).
+    #[arg(long, value_name = "K", default_value_t = FULL_REPEATS, value_parser = at_least_one)]
+    repeats: usize,
+    /// Nodes of the work-precision reference (with --quick: the smoke study's unless given).
+    #[arg(long, value_name = "N", default_value_t = FULL_REF_NODES, value_parser = at_least_one)]
+    ref_nodes: usize,
+    /// A smoke study of about a minute (small N, few levels).
+    #[arg(long)]
+    quick: bool,
+    /// Re-render the .md and .svg files from the existing convergence.json.
+    #[arg(long)]
+    render_only: bool,
+    /// Run only the spatial study at the user's scale (section 8; about 20 min, with --quick
+    /// seconds) and merge it into the existing convergence.json.
+    #[arg(long)]
+    grid_only: bool,
+    /// Run every section but 8, and keep section 8 from the existing convergence.json (its
+    /// runs name their grid: no default moves them).
+    #[arg(long)]
+    keep_grid: bool,
+    /// Output directory [default: the workspace's reports/].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
 
-Options:
-  --max-nodes N    largest N of the whole-simulation N refinement (default 2000; the levels
-                   are 125, 250, 500, 1000, 2000 up to N)
-  --repeats K      timing repeats per work-precision point (default 3)
-  --ref-nodes N    nodes of the work-precision reference (default 400)
-  --quick          a smoke study of about a minute (small N, few levels)
-  --render-only    re-render the .md and .svg files from the existing convergence.json
-  --grid-only      run only the spatial study at the user's scale (section 8; about 20 min,
-                   with --quick seconds) and merge it into the existing convergence.json
-  --keep-grid      run every section but 8, and keep section 8 from the existing
-                   convergence.json (its runs name their grid: no default moves them)
-  --out DIR        output directory (default: the workspace's reports/)
-  -h, --help       this text
-";
+/// An integer >= 1.
+fn at_least_one(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("{text} is not an integer >= 1")),
+    }
+}
 
 /// `cargo xtask convergence` with `args` (the words after `convergence`).
 ///
 /// Exit status: 0 success, 2 bad arguments, 1 an I/O or rendering error.
 pub fn run_convergence_cli(args: &[String]) -> ExitCode {
-    let mut max_nodes = 2000;
-    let mut repeats = None;
-    let mut ref_nodes = None;
-    let mut quick = false;
-    let mut render_only = false;
-    let mut grid_only = false;
-    let mut keep_grid = false;
-    let mut out = default_reports_dir();
-    let mut it = args.iter();
-    let bad = |msg: String| {
-        eprintln!("convergence: {msg}\n\n{HELP}");
-        ExitCode::from(2)
-    };
-    while let Some(a) = it.next() {
-        let mut value = |name: &str| -> Result<String, ExitCode> {
-            it.next()
-                .cloned()
-                .ok_or_else(|| bad(format!("{name} needs a value")))
-        };
-        let parse_usize = |name: &str, v: String| -> Result<usize, ExitCode> {
-            v.parse::<usize>()
-                .ok()
-                .filter(|&n| n >= 1)
-                .ok_or_else(|| bad(format!("{name} = {v}: expected an integer >= 1")))
-        };
-        let step = match a.as_str() {
-            "-h" | "--help" => {
-                print!("{HELP}");
-                return ExitCode::SUCCESS;
-            }
-            "--max-nodes" => value(a)
-                .and_then(|v| parse_usize(a, v))
-                .map(|n| max_nodes = n),
-            "--repeats" => value(a)
-                .and_then(|v| parse_usize(a, v))
-                .map(|n| repeats = Some(n)),
-            "--ref-nodes" => value(a)
-                .and_then(|v| parse_usize(a, v))
-                .map(|n| ref_nodes = Some(n)),
-            "--quick" => {
-                quick = true;
-                Ok(())
-            }
-            "--render-only" => {
-                render_only = true;
-                Ok(())
-            }
-            "--grid-only" => {
-                grid_only = true;
-                Ok(())
-            }
-            "--keep-grid" => {
-                keep_grid = true;
-                Ok(())
-            }
-            "--out" => value(a).map(|v| out = PathBuf::from(v)),
-            other => Err(bad(format!("unknown option `{other}`"))),
-        };
-        if let Err(code) = step {
-            return code;
+    use clap::{CommandFactory, FromArgMatches, parser::ValueSource};
+    let argv = std::iter::once("cargo xtask convergence".to_string()).chain(args.iter().cloned());
+    let parsed = Args::command()
+        .try_get_matches_from(argv)
+        .and_then(|m| Args::from_arg_matches(&m).map(|a| (a, m)));
+    let (args, matches) = match parsed {
+        Ok(p) => p,
+        Err(e) => {
+            // --help prints and succeeds; a bad option exits 2 naming it.
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
         }
-    }
+    };
+    let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+    let Args {
+        max_nodes,
+        quick,
+        render_only,
+        grid_only,
+        keep_grid,
+        ..
+    } = args;
+    // --quick's own repeats and reference unless given.
+    let repeats = (!quick || given("repeats")).then_some(args.repeats);
+    let ref_nodes = (!quick || given("ref_nodes")).then_some(args.ref_nodes);
+    let out = args.out.unwrap_or_else(default_reports_dir);
     let json_path = out.join("convergence.json");
     let results = if render_only || grid_only {
         let text = match std::fs::read_to_string(&json_path) {
@@ -571,6 +572,28 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
         Err(e) => {
             eprintln!("convergence: {e}");
             ExitCode::from(1)
+        }
+    }
+}
+
+#[cfg(test)]
+mod cli_tests {
+    use super::{Args, FULL_MAX_NODES, FULL_REF_NODES, FULL_REPEATS};
+    use clap::Parser;
+
+    #[test]
+    fn options_default_to_the_full_study_and_bad_ones_are_refused() {
+        let a = Args::try_parse_from(["convergence"]).unwrap();
+        assert_eq!(
+            (a.max_nodes, a.repeats, a.ref_nodes),
+            (FULL_MAX_NODES, FULL_REPEATS, FULL_REF_NODES)
+        );
+        let full = super::Settings::full(a.max_nodes);
+        assert_eq!((full.repeats, full.ref_nodes), (a.repeats, a.ref_nodes));
+        for bad in [&["--repeats", "0"][..], &["--max-nodes", "x"], &["--bogus"]] {
+            let e = Args::try_parse_from(std::iter::once("convergence").chain(bad.iter().copied()))
+                .unwrap_err();
+            assert!(e.use_stderr(), "{bad:?}");
         }
     }
 }
