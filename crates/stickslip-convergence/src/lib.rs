@@ -438,36 +438,20 @@ struct Args {
     out: Option<PathBuf>,
 }
 
-/// An integer >= 1.
-fn at_least_one(text: &str) -> Result<usize, String> {
-    match text.parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err(format!("{text} is not an integer >= 1")),
-    }
-}
+use stickslip_report::options::at_least_one;
 
 /// `cargo xtask convergence` with `args` (the words after `convergence`).
 ///
 /// Exit status: 0 success, 2 bad arguments, 1 an I/O or rendering error.
 pub fn run_convergence_cli(args: &[String]) -> ExitCode {
-    use clap::{CommandFactory, FromArgMatches, parser::ValueSource};
-    let argv = std::iter::once("cargo xtask convergence".to_string()).chain(args.iter().cloned());
-    let parsed = Args::command()
-        .try_get_matches_from(argv)
-        .and_then(|m| Args::from_arg_matches(&m).map(|a| (a, m)));
-    let (args, matches) = match parsed {
+    let (args, matches) = match stickslip_report::options::parse::<Args>(
+        "cargo xtask convergence",
+        args.iter().cloned(),
+    ) {
         Ok(p) => p,
-        Err(e) => {
-            // --help prints and succeeds; a bad option exits 2 naming it.
-            let _ = e.print();
-            return if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            };
-        }
+        Err(code) => return code,
     };
-    let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+    let given = |id: &str| stickslip_report::options::given(&matches, id);
     let Args {
         max_nodes,
         quick,

@@ -59,14 +59,6 @@ pub struct Options {
     pub work: PathBuf,
 }
 
-/// `--jobs`: an integer >= 1.
-fn jobs_at_least_one(text: &str) -> Result<usize, String> {
-    match text.parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err(format!("{text} is not an integer >= 1")),
-    }
-}
-
 /// `cargo xtask fit-study`'s options.
 #[derive(Debug, clap::Parser)]
 #[command(
@@ -94,7 +86,7 @@ struct Args {
     out: Option<PathBuf>,
     /// Forward runs at a time per fit.
     #[arg(long, value_name = "J", default_value_t = stickslip_run::options::JOBS,
-          value_parser = jobs_at_least_one)]
+          value_parser = stickslip_report::options::at_least_one)]
     jobs: usize,
     /// Keep the sections (and the coverage fits) a previous run of the same size finished.
     #[arg(long)]
@@ -296,19 +288,12 @@ pub fn write(study: &Study, out: &Path, with_json: bool) -> Result<Vec<PathBuf>,
 /// error, 2 bad arguments.
 #[must_use]
 pub fn cli(args: &[String], root: PathBuf) -> ExitCode {
-    let args = match <Args as clap::Parser>::try_parse_from(
-        std::iter::once("cargo xtask fit-study".to_string()).chain(args.iter().cloned()),
+    let args = match stickslip_report::options::parse::<Args>(
+        "cargo xtask fit-study",
+        args.iter().cloned(),
     ) {
-        Ok(a) => a,
-        Err(e) => {
-            // --help prints and succeeds; a bad option exits 2 naming it.
-            let _ = e.print();
-            return if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            };
-        }
+        Ok((a, _)) => a,
+        Err(code) => return code,
     };
     let Args {
         quick,

@@ -21,6 +21,7 @@ pub mod build_timing;
 pub mod fit;
 pub mod fmt;
 pub mod map;
+pub mod options;
 pub mod palette;
 pub mod plot;
 pub mod provenance;

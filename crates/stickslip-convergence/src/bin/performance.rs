@@ -1,9 +1,9 @@
 //! `performance`: the headline benchmarks of `cargo xtask bench` (P1–P8 and T3–T4, reports/performance.*).
 
-use clap::{CommandFactory, FromArgMatches, parser::ValueSource};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use stickslip_convergence::performance::{BenchSettings, measure, write_report};
+use stickslip_report::options::{self, at_least_one};
 
 /// Timed runs per configuration in the report.
 const REPEATS: usize = 5;
@@ -42,30 +42,12 @@ struct Args {
     binary: Option<PathBuf>,
 }
 
-/// An integer >= 1.
-fn at_least_one(text: &str) -> Result<usize, String> {
-    match text.parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err(format!("{text} is not an integer >= 1")),
-    }
-}
-
 fn main() -> ExitCode {
-    let parsed = Args::command()
-        .bin_name("cargo xtask bench")
-        .try_get_matches()
-        .and_then(|m| Args::from_arg_matches(&m).map(|a| (a, m)));
-    let (args, matches) = match parsed {
-        Ok(p) => p,
-        Err(e) => {
-            let _ = e.print();
-            return if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            };
-        }
-    };
+    let (args, matches) =
+        match options::parse::<Args>("cargo xtask bench", std::env::args().skip(1)) {
+            Ok(p) => p,
+            Err(code) => return code,
+        };
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut settings = BenchSettings {
         binary: args
@@ -84,7 +66,7 @@ fn main() -> ExitCode {
     };
     if args.quick {
         settings.quick = true;
-        if matches.value_source("repeats") != Some(ValueSource::CommandLine) {
+        if !options::given(&matches, "repeats") {
             settings.repeats = 1;
         }
         settings.sweep_nodes = vec![125, 250, 500];
