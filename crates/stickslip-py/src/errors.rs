@@ -88,7 +88,7 @@ pub fn start(e: &stickslip_run::driver::StartError) -> PyErr {
     match e {
         StartError::Config(c) => scene(&SceneError::from(c.clone())),
         StartError::Io(io) => PyOSError::new_err(io.to_string()),
-        StartError::State(s) => PyRuntimeError::new_err(s.clone()),
+        StartError::State(_) | StartError::NeverBegan => PyRuntimeError::new_err(e.to_string()),
     }
 }
 

@@ -138,11 +138,11 @@ impl Checkpoint<'_> {
     /// # Errors
     /// What is wrong with `bytes`: another format version ([`format_of`] tells which), wrong
     /// header, truncated, checksum mismatch, undecodable or a field missing.
-    pub fn decode(bytes: &[u8]) -> Result<Checkpoint<'static>, String> {
+    pub fn decode(bytes: &[u8]) -> Result<Checkpoint<'static>, DecodeError> {
         let Some(rest) = bytes.strip_prefix(MAGIC) else {
             return Err(match format_of(bytes) {
-                Some(found) => format!("checkpoint format {found}, this build reads {FORMAT}"),
-                None => "not a stickslip checkpoint (wrong header)".to_string(),
+                Some(found) => DecodeError::Format(found),
+                None => DecodeError::Header,
             });
         };
         let word = |i: usize| -> Option<u64> {
@@ -150,24 +150,25 @@ impl Checkpoint<'_> {
             Some(u64::from_le_bytes(b.try_into().ok()?))
         };
         let (Some(len), Some(sum)) = (word(0), word(1)) else {
-            return Err("truncated header".to_string());
+            return Err(DecodeError::TruncatedHeader);
         };
         let payload = &rest[16..];
         if payload.len() as u64 != len {
-            return Err(format!(
-                "payload has {} bytes, the header says {len} (truncated or extended)",
-                payload.len()
-            ));
+            return Err(DecodeError::Length {
+                found: payload.len(),
+                recorded: len,
+            });
         }
         let found = fnv1a64(FNV1A64_INIT, payload);
         if found != sum {
-            return Err(format!(
-                "payload checksum {found:016x} differs from the recorded {sum:016x} (damaged)"
-            ));
+            return Err(DecodeError::Checksum {
+                found,
+                recorded: sum,
+            });
         }
         ciborium::from_reader::<format3::Payload<'static>, _>(payload)
             .map(Checkpoint::from)
-            .map_err(|e| format!("cannot decode the payload: {e}"))
+            .map_err(|e| DecodeError::Payload(e.to_string()))
     }
 }
 
@@ -272,6 +273,40 @@ impl CheckpointError {
     }
 }
 
+/// What is wrong with a checkpoint file's bytes (see [`Checkpoint::decode`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DecodeError {
+    /// Another format version's header.
+    #[error("checkpoint format {0}, this build reads {FORMAT}")]
+    Format(String),
+    /// Not a checkpoint's header at all.
+    #[error("not a stickslip checkpoint (wrong header)")]
+    Header,
+    /// The header's length and checksum words are cut.
+    #[error("truncated header")]
+    TruncatedHeader,
+    /// The payload is not as long as the header says.
+    #[error("payload has {found} bytes, the header says {recorded} (truncated or extended)")]
+    Length {
+        /// The payload's bytes.
+        found: usize,
+        /// The header's length.
+        recorded: u64,
+    },
+    /// The payload's FNV-1a checksum differs from the header's.
+    #[error("payload checksum {found:016x} differs from the recorded {recorded:016x} (damaged)")]
+    Checksum {
+        /// Computed.
+        found: u64,
+        /// Recorded.
+        recorded: u64,
+    },
+    /// The payload is not a checkpoint's CBOR (a field missing, a value of another type): the
+    /// decoder's message.
+    #[error("cannot decode the payload: {0}")]
+    Payload(String),
+}
+
 /// Path of the checkpoint in `dir`.
 pub fn path(dir: &Path) -> PathBuf {
     dir.join(FILE_NAME)
@@ -369,7 +404,7 @@ pub fn load(dir: &Path) -> Result<Checkpoint<'static>, CheckpointError> {
     if let Some(found) = format_of(&bytes) {
         return Err(CheckpointError::Format { path: file, found });
     }
-    Checkpoint::decode(&bytes).map_err(corrupt)
+    Checkpoint::decode(&bytes).map_err(|e| corrupt(e.to_string()))
 }
 
 /// Whether this build may resume `checkpoint` (read from `dir`): `None` when this build wrote
@@ -546,11 +581,21 @@ mod tests {
         assert!(
             Checkpoint::decode(&flipped)
                 .unwrap_err()
+                .to_string()
                 .contains("checksum")
         );
         let cut = &bytes[..bytes.len() - 1];
-        assert!(Checkpoint::decode(cut).unwrap_err().contains("truncated"));
-        assert!(Checkpoint::decode(b"{}").unwrap_err().contains("header"));
+        assert!(matches!(
+            Checkpoint::decode(cut),
+            Err(DecodeError::Length { .. })
+        ));
+        assert!(
+            Checkpoint::decode(cut)
+                .unwrap_err()
+                .to_string()
+                .contains("truncated")
+        );
+        assert_eq!(Checkpoint::decode(b"{}").unwrap_err(), DecodeError::Header);
         assert!(Checkpoint::decode(&bytes[..MAGIC.len() + 3]).is_err());
     }
 
@@ -563,6 +608,7 @@ mod tests {
         assert!(
             Checkpoint::decode(&old)
                 .unwrap_err()
+                .to_string()
                 .contains("checkpoint format 1, this build reads 3")
         );
         // Format 2 (before the driver followed the stamp's slips): refused as such.
@@ -571,6 +617,7 @@ mod tests {
         assert!(
             Checkpoint::decode(&two)
                 .unwrap_err()
+                .to_string()
                 .contains("checkpoint format 2, this build reads 3")
         );
         assert_eq!(format_of(&sample().encode().unwrap()), None);
@@ -592,7 +639,7 @@ mod tests {
         stepper.retain(|(k, _)| k.as_text() != Some("prev_dt_s"));
         let mut cut = Vec::new();
         ciborium::into_writer(&ciborium::Value::Map(payload), &mut cut).unwrap();
-        let err = Checkpoint::decode(&file_of(&cut)).unwrap_err();
+        let err = Checkpoint::decode(&file_of(&cut)).unwrap_err().to_string();
         assert!(err.contains("prev_dt_s"), "{err}");
     }
 

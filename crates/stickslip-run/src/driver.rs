@@ -373,7 +373,7 @@ impl Driver {
         state: DriverState,
     ) -> Result<Self, StartError> {
         let mut sim = Simulation::new(scene.config.clone())?;
-        sim.restore(sim_state).map_err(StartError::State)?;
+        sim.restore(sim_state)?;
         let warnings = warnings_of(scene, &preflight);
         Ok(Self::assemble(scene, sim, preflight, warnings, state))
     }
@@ -452,7 +452,11 @@ impl Driver {
     ///
     /// # Errors
     /// A state that does not fit this simulation.
-    pub fn rewind(&mut self, sim_state: SimState, state: DriverState) -> Result<(), String> {
+    pub fn rewind(
+        &mut self,
+        sim_state: SimState,
+        state: DriverState,
+    ) -> Result<(), stickslip_core::sim::StateMismatch> {
         self.sim.restore(sim_state)?;
         self.state = state;
         self.failure = None;
@@ -718,7 +722,10 @@ pub enum StartError {
     Config(#[from] ConfigError),
     /// A restored state that does not fit the scene.
     #[error("the saved state does not fit its scene: {0}")]
-    State(String),
+    State(#[from] stickslip_core::sim::StateMismatch),
+    /// The sink ended without the run's output (a run that never began).
+    #[error("the run never began")]
+    NeverBegan,
     /// The sink could not begin.
     #[error(transparent)]
     Io(#[from] io::Error),

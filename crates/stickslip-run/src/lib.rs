@@ -67,8 +67,6 @@ pub fn run_in_memory(
 ) -> Result<(RunOutcome, RunOutput), driver::StartError> {
     let mut sink = MemorySink::new();
     let outcome = run(scene, &mut sink, control)?;
-    let output = sink
-        .into_output()
-        .ok_or_else(|| driver::StartError::State("the run never began".into()))?;
+    let output = sink.into_output().ok_or(driver::StartError::NeverBegan)?;
     Ok((outcome, output))
 }

@@ -41,7 +41,8 @@ mod viscous;
 pub use crate::failure::NumericalFailure;
 pub use adaptive::StepError;
 pub use state::{
-    ControllerMemory, EventBook, PhysicalState, SimState, StepCounters, StepperMemory,
+    ControllerMemory, EventBook, PhysicalState, SimState, StateMismatch, StepCounters,
+    StepperMemory,
 };
 
 use crate::config::{ContactModel, Scheme, SimConfig, Substrate};
@@ -345,11 +346,9 @@ impl Simulation {
     ///
     /// # Errors
     /// If a per-node vector's length or the noise state does not fit.
-    pub fn restore(&mut self, state: SimState) -> Result<(), String> {
+    pub fn restore(&mut self, state: SimState) -> Result<(), StateMismatch> {
         state.check_nodes(self.radii_m.len())?;
-        self.noise
-            .restore(&state.physical.noise)
-            .map_err(|e| e.to_string())?;
+        self.noise.restore(&state.physical.noise)?;
         self.state = state;
         Ok(())
     }

@@ -280,7 +280,7 @@ impl SimState {
     ///
     /// # Errors
     /// The first vector of another length.
-    pub(super) fn check_nodes(&self, nodes: usize) -> Result<(), String> {
+    pub(super) fn check_nodes(&self, nodes: usize) -> Result<(), StateMismatch> {
         let p = &self.physical;
         let s = &self.stepper;
         let e = &self.events;
@@ -309,10 +309,26 @@ impl SimState {
                     .find(|&(_, len)| len != 0 && len != nodes)
             });
         match wrong {
-            Some((name, len)) => Err(format!(
-                "checkpoint has {len} values of {name}, the scene {nodes} nodes"
-            )),
+            Some((name, len)) => Err(StateMismatch::Nodes { name, len, nodes }),
             None => Ok(()),
         }
     }
+}
+
+/// A saved state that does not fit the simulation it is restored into.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StateMismatch {
+    /// A per-node vector of another length than the scene's nodes.
+    #[error("checkpoint has {len} values of {name}, the scene {nodes} nodes")]
+    Nodes {
+        /// The vector's name (`phi`, `u3d_prev`, …).
+        name: &'static str,
+        /// Its length in the state.
+        len: usize,
+        /// The scene's nodes.
+        nodes: usize,
+    },
+    /// The noise generators' state belongs to another source.
+    #[error(transparent)]
+    Noise(#[from] crate::noise::NoiseError),
 }

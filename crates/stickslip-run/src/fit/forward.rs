@@ -31,10 +31,28 @@ pub const MAX_LEVEL: u32 = 3;
 pub enum Run {
     /// It ran to the trace's end: the force over time.
     Done(ModelCurve),
-    /// It failed numerically, was refused, or the scene did not resolve (why, in words).
-    Failed(String),
+    /// It failed numerically, was refused, or the scene did not resolve.
+    Failed(RunFailure),
     /// Interrupted.
     Interrupted,
+}
+
+/// Why a forward run produced no curve.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RunFailure {
+    /// The parameters' overrides did not make a valid scene.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    /// The run could not start (its message: a start error holds an I/O error, which is not
+    /// `Clone`).
+    #[error("{0}")]
+    Start(String),
+    /// The run stopped on a numerical failure, or its preflight refused it.
+    #[error(transparent)]
+    Numerical(#[from] stickslip_core::sim::NumericalFailure),
+    /// It stopped as failed or refused without a recorded failure.
+    #[error("the run failed")]
+    Unrecorded,
 }
 
 /// The scene and settings every forward run of a fit starts from.
@@ -151,7 +169,7 @@ impl Forward {
     fn run_overrides(&self, overrides: &[String], interrupt: Option<&AtomicBool>) -> Run {
         match self.base.with_overrides(overrides) {
             Ok(scene) => run_scene(&scene, interrupt),
-            Err(e) => Run::Failed(e.to_string()),
+            Err(e) => Run::Failed(e.into()),
         }
     }
 
@@ -197,15 +215,13 @@ fn run_scene(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
     };
     let outcome = match crate::driver::run(scene, &mut NullSink, &mut control) {
         Ok(o) => o,
-        Err(e) => return Run::Failed(e.to_string()),
+        Err(e) => return Run::Failed(RunFailure::Start(e.to_string())),
     };
     match outcome.stop {
         StopReason::Interrupted => Run::Interrupted,
-        StopReason::Failure | StopReason::Refused => Run::Failed(
-            outcome
-                .failure
-                .map_or_else(|| "the run failed".to_string(), |f| f.to_string()),
-        ),
+        StopReason::Failure | StopReason::Refused => {
+            Run::Failed(outcome.failure.map_or(RunFailure::Unrecorded, Into::into))
+        }
         _ => Run::Done(curve),
     }
 }

@@ -5,7 +5,7 @@
 //! batch returns nothing and every later one is skipped, so the optimiser stops with the best
 //! model it has.
 
-use super::forward::{Forward, Run};
+use super::forward::{Forward, Run, RunFailure};
 use super::misfit::{Compared, Target};
 use super::params::{Param, TIME_SHIFT};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -134,7 +134,7 @@ impl<'a, 'p> Problem<'a, 'p> {
     }
 
     /// One run's comparison with the data (`finer`: at a tenth of the tolerance).
-    fn run(&self, z: &[f64], finer: bool) -> Option<Result<Compared, String>> {
+    fn run(&self, z: &[f64], finer: bool) -> Option<Result<Compared, RunFailure>> {
         run_one(
             (self.forward, self.params, self.target),
             (self.interrupt, self.level),
@@ -223,7 +223,8 @@ impl<'a, 'p> Problem<'a, 'p> {
             };
             let (residuals, failed) = match r {
                 Ok(c) => (c.residuals, None),
-                Err(why) => {
+                Err(failure) => {
+                    let why = failure.to_string();
                     self.failed_runs += 1;
                     self.first_failure.get_or_insert_with(|| why.clone());
                     (self.target.failed(), Some(why))
@@ -269,7 +270,7 @@ fn run_one(
     (interrupt, level): (Option<&AtomicBool>, u32),
     z: &[f64],
     finer: bool,
-) -> Option<Result<Compared, String>> {
+) -> Option<Result<Compared, RunFailure>> {
     let run = if finer {
         forward.noise_run(params, z, level, interrupt)
     } else {

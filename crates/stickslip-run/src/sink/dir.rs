@@ -503,6 +503,7 @@ fn start_error(dir: &Path, e: StartError) -> RunError {
     match e {
         StartError::Config(c) => RunError::Config(c),
         StartError::State(s) => RunError::Checkpoint(CheckpointError::corrupt(dir, s)),
+        StartError::NeverBegan => RunError::Checkpoint(CheckpointError::corrupt(dir, e)),
         StartError::Io(source) => RunError::Io {
             path: dir.to_path_buf(),
             source,

@@ -158,13 +158,24 @@ fn remove_if_present(path: &Path, dir: bool) -> io::Result<()> {
     }
 }
 
+/// Why a `sweep.json` that exists cannot be read as a sweep's lock.
+#[derive(Debug, thiserror::Error)]
+enum Unreadable {
+    /// Not a lock's JSON (cut short, edited, emptied).
+    #[error(transparent)]
+    Json(#[from] serde_json::Error),
+    /// Not text, or larger than a lock can be.
+    #[error(transparent)]
+    Text(io::Error),
+}
+
 /// Reads `DIR/sweep.json`: `Ok(None)` when there is none.
-fn read_lock(dir: &Path) -> Result<Option<Result<SweepLock, String>>, SweepRunError> {
+fn read_lock(dir: &Path) -> Result<Option<Result<SweepLock, Unreadable>>, SweepRunError> {
     match crate::bounded::read_text(&dir.join(SWEEP_FILE), crate::bounded::SWEEP_LOCK) {
         Ok(text) => Ok(Some(
-            serde_json::from_str::<SweepLock>(&text).map_err(|e| e.to_string()),
+            serde_json::from_str::<SweepLock>(&text).map_err(Unreadable::from),
         )),
-        Err(e) if e.kind() == io::ErrorKind::InvalidData => Ok(Some(Err(e.to_string()))),
+        Err(e) if e.kind() == io::ErrorKind::InvalidData => Ok(Some(Err(Unreadable::Text(e)))),
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(io_err(dir)(e)),
     }
@@ -224,7 +235,7 @@ pub fn prepare(sweep: &Sweep, dir: &Path, force: bool) -> Result<Prepared, Sweep
                 for f in [CSV_FILE, JSON_FILE] {
                     remove_if_present(&dir.join(f), false).map_err(io_err(dir))?;
                 }
-                prepared.repaired = Some(why);
+                prepared.repaired = Some(why.to_string());
             }
             None => {}
         }

@@ -101,18 +101,23 @@ pub fn merge_command(binary: &Path, dir: &Path) -> String {
 ///
 /// # Errors
 /// The first bad argument, escaped, with what is allowed.
-pub fn check_extra(extra: &[String]) -> Result<(), String> {
+pub fn check_extra(extra: &[String]) -> Result<(), BadSbatchArg> {
     match extra
         .iter()
         .find(|a| a.is_empty() || a.chars().any(|c| c.is_control() || c == '"' || c == '\\'))
     {
         None => Ok(()),
-        Some(bad) => Err(format!(
-            "--sbatch-arg {bad:?} is invalid; allowed: one non-empty #SBATCH argument on one \
-             line, without control characters (newlines, tabs, …), `\"` or `\\`"
-        )),
+        Some(bad) => Err(BadSbatchArg(bad.clone())),
     }
 }
+
+/// An extra `#SBATCH` argument that one script line cannot carry (see [`check_extra`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "--sbatch-arg {0:?} is invalid; allowed: one non-empty #SBATCH argument on one line, \
+     without control characters (newlines, tabs, …), `\"` or `\\`"
+)]
+pub struct BadSbatchArg(pub String);
 
 /// An `#SBATCH` argument as written in the script: plain when it is one word of safe
 /// characters, else in double quotes (sbatch splits its lines at spaces outside them).
