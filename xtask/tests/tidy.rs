@@ -174,6 +174,81 @@ fn no_source_file_is_far_over_a_thousand_lines() {
     );
 }
 
+#[test]
+fn the_engine_files_stay_small() {
+    // The time loop's modules (problem, steppers, the adaptive loop) each hold one thing; a
+    // file far over 600 lines there is two things.
+    let root = workspace_root();
+    let offenders: Vec<String> = sources(&root, "crates/stickslip-core/src/sim")
+        .into_iter()
+        .filter(|(_, text)| text.lines().count() > 660)
+        .map(|(p, text)| format!("{p} ({} lines)", text.lines().count()))
+        .collect();
+    assert!(
+        offenders.is_empty(),
+        "split by responsibility: {offenders:?}"
+    );
+}
+
+/// The functions of `text` longer than `max` lines, as "name (lines)": a function starts at a
+/// line `fn name` (after any visibility) and ends at the first line that is its indentation
+/// followed by `}` (rustfmt's layout).
+fn long_functions(text: &str, max: usize) -> Vec<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let indent = &line[..line.len() - trimmed.len()];
+        let signature = [
+            "fn ",
+            "pub fn ",
+            "pub(crate) fn ",
+            "pub(super) fn ",
+            "const fn ",
+        ]
+        .iter()
+        .find_map(|p| trimmed.strip_prefix(p));
+        let Some(rest) = signature else { continue };
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let close = format!("{indent}}}");
+        if let Some(len) = lines[i + 1..].iter().position(|l| *l == close)
+            && len + 2 > max
+        {
+            out.push(format!("{name} ({} lines)", len + 2));
+        }
+    }
+    out
+}
+
+#[test]
+fn no_core_function_is_over_120_lines() {
+    let root = workspace_root();
+    let mut offenders = Vec::new();
+    for (path, text) in sources(&root, "crates/stickslip-core/src") {
+        for f in long_functions(&text, 120) {
+            offenders.push(format!("{path}: {f}"));
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "a core function over 120 lines does several things: {offenders:?}"
+    );
+}
+
+#[test]
+fn the_function_length_check_finds_a_long_function() {
+    let body = "    let x = 1;\n".repeat(125);
+    let text = format!("/// Doc.\npub fn long() {{\n{body}}}\n\nfn short() {{\n}}\n");
+    assert_eq!(
+        long_functions(&text, 120),
+        vec!["long (127 lines)".to_string()]
+    );
+    assert!(long_functions(&text, 130).is_empty());
+}
+
 /// The modules a crate root or a `mod.rs` declares (`mod x;` or `pub mod x;`, tests aside).
 fn declared_modules(file: &Path) -> Vec<String> {
     std::fs::read_to_string(file).map_or_else(|_| Vec::new(), |t| modules_in(&t))

@@ -215,6 +215,32 @@ impl SimConfig {
     /// # Errors
     /// A [`ConfigError`] naming the scene key, value and allowed range.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.validate_film()?;
+        self.validate_contact()?;
+        match self.drive {
+            Drive::Spring(s) => {
+                bounds::STIFFNESS.check(s.stiffness_n_per_m)?;
+                bounds::MASS.check(s.mass_kg)?;
+                bounds::VELOCITY.check(s.velocity_m_per_s)?;
+                bounds::DAMPING.check(s.damping_n_s_per_m)?;
+            }
+            Drive::Rigid(r) => {
+                bounds::VELOCITY.check(r.velocity_m_per_s)?;
+            }
+        }
+        self.validate_time()?;
+        let e = &self.events;
+        bounds::EVENT_MERGE_GAP.check(e.merge_gap_s)?;
+        bounds::EVENT_RECOVERY.check(e.recovery_factor)?;
+        let n = &self.numerics;
+        bounds::COUPLING_TOL.check(n.coupling_tol)?;
+        bounds::RUNAWAY_STRESS_FACTOR.check(n.runaway_stress_factor)?;
+        bounds::PHI_ERROR_FLOOR.check(n.phi_error_floor)?;
+        self.check_derived()
+    }
+
+    /// The lubricant's, the noise's and the temperature's values (see [`SimConfig::validate`]).
+    fn validate_film(&self) -> Result<(), ConfigError> {
         let l = &self.lubricant;
         bounds::TAU_MAX.check(l.tau_max_pa)?;
         bounds::EPS_MAX.check(l.eps_max)?;
@@ -257,6 +283,11 @@ impl SimConfig {
                 bounds::T_RELAX.check(t_relax_s)?;
             }
         }
+        Ok(())
+    }
+
+    /// The contact's values and its grid (see [`SimConfig::validate`]).
+    fn validate_contact(&self) -> Result<(), ConfigError> {
         let c = &self.contact;
         bounds::RADIUS.check(c.radius_m)?;
         bounds::FILM_THICKNESS.check(c.film_thickness_m)?;
@@ -298,17 +329,11 @@ impl SimConfig {
                 })?;
             }
         }
-        match self.drive {
-            Drive::Spring(s) => {
-                bounds::STIFFNESS.check(s.stiffness_n_per_m)?;
-                bounds::MASS.check(s.mass_kg)?;
-                bounds::VELOCITY.check(s.velocity_m_per_s)?;
-                bounds::DAMPING.check(s.damping_n_s_per_m)?;
-            }
-            Drive::Rigid(r) => {
-                bounds::VELOCITY.check(r.velocity_m_per_s)?;
-            }
-        }
+        Ok(())
+    }
+
+    /// The time stepping's values (see [`SimConfig::validate`]).
+    fn validate_time(&self) -> Result<(), ConfigError> {
         let t = &self.time;
         bounds::END.check(t.end_s)?;
         if !(t.dt_s.is_finite() && t.dt_s > 0.0 && t.dt_s <= t.end_s) {
@@ -354,14 +379,7 @@ impl SimConfig {
                 ));
             }
         }
-        let e = &self.events;
-        bounds::EVENT_MERGE_GAP.check(e.merge_gap_s)?;
-        bounds::EVENT_RECOVERY.check(e.recovery_factor)?;
-        let n = &self.numerics;
-        bounds::COUPLING_TOL.check(n.coupling_tol)?;
-        bounds::RUNAWAY_STRESS_FACTOR.check(n.runaway_stress_factor)?;
-        bounds::PHI_ERROR_FLOOR.check(n.phi_error_floor)?;
-        self.check_derived()
+        Ok(())
     }
 
     /// The film's derived numbers finite and > 0 (b, and the contact's coupling a/(h0·G*)),

@@ -271,132 +271,11 @@ impl Preflight {
             Drive::Spring(s) => Some(2.0 * PI / s.omega_rad_per_s()),
             Drive::Rigid(_) => None,
         };
-        let euler_number = (config.time.scheme == Scheme::Literal).then(|| {
-            if l.is_first_order() {
-                let phi = derived.phi0;
-                config.time.dt_s * l.gamma_per_pa_s * phi * (2.0 * derived.b_pa * phi - l.cubic_pa)
-            } else {
-                config.time.dt_s
-                    * 2.0
-                    * l.gamma_per_pa_s
-                    * derived.a_coeff_pa.max(0.0)
-                    * derived.b_pa
-                    / l.a_pa
-            }
-        });
-        if let Some(number) = euler_number.filter(|&n| n > EULER_STABILITY_LIMIT) {
-            findings.push(Finding {
-                severity: Severity::Warning,
-                key: "time.dt".into(),
-                message: format!(
-                    "time.dt x {} = {number:.3} > {EULER_STABILITY_LIMIT}: the literal \
-                     scheme's explicit Euler is beyond its stability limit; the run may fail \
-                     (exit 3) or finish with wrong numbers. Use time.dt < {:e} s or \
-                     time.scheme = \"accurate\".",
-                    if l.is_first_order() {
-                        "gamma*phi0*(2*b*phi0 - b3)"
-                    } else {
-                        "2*gamma*A*b/a"
-                    },
-                    EULER_STABILITY_LIMIT * config.time.dt_s / number
-                ),
-            });
-        }
-        if config.time.scheme == Scheme::Literal && lagged_sweep_contraction >= 1.0 {
-            findings.push(Finding {
-                severity: Severity::Refusal,
-                key: "time.scheme".into(),
-                message: lagged_sweep_message(lagged_sweep_contraction),
-            });
-        }
+        let euler_number =
+            literal_findings(config, &derived, lagged_sweep_contraction, &mut findings);
         let stamp_travel_m = free_stamp_position_m(&config.drive, end);
-        let first_onset_estimate_s = if !l.starts_solid(derived.a_coeff_pa) {
-            findings.push(Finding {
-                severity: Severity::Note,
-                key: "temperature.A0".into(),
-                message: if l.is_first_order() {
-                    format!(
-                        "A = {:e} Pa <= 0 and lubricant.cubic^2 = {:e} Pa^2 < -4*b*A*b/a = {:e} \
-                         Pa^2: not even a metastable solid exists, the film is molten from the \
-                         start (complete melting, F = 0, smooth sliding)",
-                        derived.a_coeff_pa,
-                        l.cubic_pa * l.cubic_pa,
-                        -4.0 * derived.b_pa * derived.a_coeff_pa * derived.b_pa / l.a_pa
-                    )
-                } else {
-                    format!(
-                        "A = {:e} Pa <= 0: the film is molten from the start (complete melting, \
-                         F = 0, smooth sliding)",
-                        derived.a_coeff_pa
-                    )
-                },
-            });
-            Some(0.0)
-        } else {
-            if derived.a_coeff_pa <= 0.0 {
-                findings.push(Finding {
-                    severity: Severity::Note,
-                    key: "temperature.A0".into(),
-                    message: format!(
-                        "A = {:e} Pa <= 0, but the first-order film starts as a metastable solid \
-                         (phi0 = {:e}): it melts once at eps_melt = {:e} and, with the liquid \
-                         stable at every strain, does not re-solidify without noise",
-                        derived.a_coeff_pa,
-                        derived.phi0,
-                        l.melting_strain(derived.a_coeff_pa)
-                    ),
-                });
-            }
-            // With the contact's spring the stamp is held back by it; without one (a preflight
-            // from the configuration alone) the free stamp's advance is all there is. Neither
-            // depends on time.end: the search runs on past it.
-            let onset = match contact {
-                Some(k) => linear_onset(config, k),
-                None => first_crossing(config),
-            };
-            match onset {
-                Some(t) if t <= end => {}
-                Some(t) => findings.push(Finding {
-                    severity: Severity::Warning,
-                    key: "time.end".into(),
-                    message: format!(
-                        "nothing melts within time.end = {end:e} s: the first melting comes at about \
-                         {t:.3e} s (first_onset_estimate{}). Lengthen time.end to about {:.2e} s, \
-                         or raise drive.velocity.",
-                        if contact.is_some() {
-                            ", the stamp held back by the contact's stiffness"
-                        } else {
-                            ""
-                        },
-                        1.2 * t
-                    ),
-                }),
-                // The free stamp's motion overflowed (a dashpot or speed at the edge of the
-                // doubles): nothing is known of when it melts, and saying "never" would be
-                // wrong; check names the inputs.
-                None if !stamp_travel_m.is_finite() => {}
-                None => {
-                    let a_end = config.temperature.a_coeff_pa(end);
-                    findings.push(Finding {
-                        severity: Severity::Warning,
-                        key: "time.end".into(),
-                        message: format!(
-                            "nothing can melt: the drive never advances the stamp the {}*h0 = {:e} m the \
-                             film needs (free stamp at time.end: {:e} m). Raise drive.velocity or \
-                             the temperature.",
-                            if l.is_first_order() {
-                                "eps_melt"
-                            } else {
-                                "eps_c"
-                            },
-                            l.melting_strain(a_end) * c.film_thickness_m,
-                            stamp_travel_m.abs(),
-                        ),
-                    });
-                }
-            }
-            onset
-        };
+        let first_onset_estimate_s =
+            first_onset(config, &derived, (contact, stamp_travel_m), &mut findings);
         if let Some(period) = spring_period_s.filter(|&p| end > 0.25 * p) {
             findings.push(Finding {
                 severity: Severity::Note,
@@ -502,6 +381,155 @@ fn crossing(end: f64, gap: impl Fn(f64) -> f64) -> Option<f64> {
 
 /// How many times past time.end the onset search doubles its horizon (to end·2^40 ≈ 1e12·end).
 const CROSSING_DOUBLINGS: i32 = 40;
+
+/// The literal scheme's findings (explicit Euler's stability number against its limit, the
+/// lagged sweep's contraction `rho`): its Euler number, `None` for the accurate scheme.
+fn literal_findings(
+    config: &SimConfig,
+    derived: &Derived,
+    rho: f64,
+    findings: &mut Vec<Finding>,
+) -> Option<f64> {
+    let l = &config.lubricant;
+    let lagged_sweep_contraction = rho;
+    let euler_number = (config.time.scheme == Scheme::Literal).then(|| {
+        if l.is_first_order() {
+            let phi = derived.phi0;
+            config.time.dt_s * l.gamma_per_pa_s * phi * (2.0 * derived.b_pa * phi - l.cubic_pa)
+        } else {
+            config.time.dt_s * 2.0 * l.gamma_per_pa_s * derived.a_coeff_pa.max(0.0) * derived.b_pa
+                / l.a_pa
+        }
+    });
+    if let Some(number) = euler_number.filter(|&n| n > EULER_STABILITY_LIMIT) {
+        findings.push(Finding {
+            severity: Severity::Warning,
+            key: "time.dt".into(),
+            message: format!(
+                "time.dt x {} = {number:.3} > {EULER_STABILITY_LIMIT}: the literal \
+                     scheme's explicit Euler is beyond its stability limit; the run may fail \
+                     (exit 3) or finish with wrong numbers. Use time.dt < {:e} s or \
+                     time.scheme = \"accurate\".",
+                if l.is_first_order() {
+                    "gamma*phi0*(2*b*phi0 - b3)"
+                } else {
+                    "2*gamma*A*b/a"
+                },
+                EULER_STABILITY_LIMIT * config.time.dt_s / number
+            ),
+        });
+    }
+    if config.time.scheme == Scheme::Literal && lagged_sweep_contraction >= 1.0 {
+        findings.push(Finding {
+            severity: Severity::Refusal,
+            key: "time.scheme".into(),
+            message: lagged_sweep_message(lagged_sweep_contraction),
+        });
+    }
+    euler_number
+}
+
+/// The first onset's estimate, s (`contact`: the contact as a spring when known, else the free
+/// stamp's advance alone; `stamp_travel_m`: the free stamp's position at time.end), with the
+/// findings that go with it: a film molten from the start, a metastable one, nothing melting
+/// within time.end or at all.
+fn first_onset(
+    config: &SimConfig,
+    derived: &Derived,
+    (contact, stamp_travel_m): (Option<ContactSpring>, f64),
+    findings: &mut Vec<Finding>,
+) -> Option<f64> {
+    let l = &config.lubricant;
+    let c = &config.contact;
+    let end = config.time.end_s;
+    if !l.starts_solid(derived.a_coeff_pa) {
+        findings.push(Finding {
+            severity: Severity::Note,
+            key: "temperature.A0".into(),
+            message: if l.is_first_order() {
+                format!(
+                    "A = {:e} Pa <= 0 and lubricant.cubic^2 = {:e} Pa^2 < -4*b*A*b/a = {:e} \
+                         Pa^2: not even a metastable solid exists, the film is molten from the \
+                         start (complete melting, F = 0, smooth sliding)",
+                    derived.a_coeff_pa,
+                    l.cubic_pa * l.cubic_pa,
+                    -4.0 * derived.b_pa * derived.a_coeff_pa * derived.b_pa / l.a_pa
+                )
+            } else {
+                format!(
+                    "A = {:e} Pa <= 0: the film is molten from the start (complete melting, \
+                         F = 0, smooth sliding)",
+                    derived.a_coeff_pa
+                )
+            },
+        });
+        Some(0.0)
+    } else {
+        if derived.a_coeff_pa <= 0.0 {
+            findings.push(Finding {
+                severity: Severity::Note,
+                key: "temperature.A0".into(),
+                message: format!(
+                    "A = {:e} Pa <= 0, but the first-order film starts as a metastable solid \
+                         (phi0 = {:e}): it melts once at eps_melt = {:e} and, with the liquid \
+                         stable at every strain, does not re-solidify without noise",
+                    derived.a_coeff_pa,
+                    derived.phi0,
+                    l.melting_strain(derived.a_coeff_pa)
+                ),
+            });
+        }
+        // With the contact's spring the stamp is held back by it; without one (a preflight
+        // from the configuration alone) the free stamp's advance is all there is. Neither
+        // depends on time.end: the search runs on past it.
+        let onset = match contact {
+            Some(k) => linear_onset(config, k),
+            None => first_crossing(config),
+        };
+        match onset {
+            Some(t) if t <= end => {}
+            Some(t) => findings.push(Finding {
+                severity: Severity::Warning,
+                key: "time.end".into(),
+                message: format!(
+                    "nothing melts within time.end = {end:e} s: the first melting comes at about \
+                         {t:.3e} s (first_onset_estimate{}). Lengthen time.end to about {:.2e} s, \
+                         or raise drive.velocity.",
+                    if contact.is_some() {
+                        ", the stamp held back by the contact's stiffness"
+                    } else {
+                        ""
+                    },
+                    1.2 * t
+                ),
+            }),
+            // The free stamp's motion overflowed (a dashpot or speed at the edge of the
+            // doubles): nothing is known of when it melts, and saying "never" would be
+            // wrong; check names the inputs.
+            None if !stamp_travel_m.is_finite() => {}
+            None => {
+                let a_end = config.temperature.a_coeff_pa(end);
+                findings.push(Finding {
+                        severity: Severity::Warning,
+                        key: "time.end".into(),
+                        message: format!(
+                            "nothing can melt: the drive never advances the stamp the {}*h0 = {:e} m the \
+                             film needs (free stamp at time.end: {:e} m). Raise drive.velocity or \
+                             the temperature.",
+                            if l.is_first_order() {
+                                "eps_melt"
+                            } else {
+                                "eps_c"
+                            },
+                            l.melting_strain(a_end) * c.film_thickness_m,
+                            stamp_travel_m.abs(),
+                        ),
+                    });
+            }
+        }
+        onset
+    }
+}
 
 #[cfg(test)]
 mod tests {

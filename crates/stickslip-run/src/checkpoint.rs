@@ -480,7 +480,7 @@ mod tests {
             &["contact.nodes=8"],
         )
         .unwrap();
-        let mut sim = Simulation::new(scene.config.clone()).unwrap();
+        let sim = Simulation::new(scene.config.clone()).unwrap();
         let preflight = sim.preflight();
         Checkpoint {
             build: Cow::Borrowed(BUILD_ID),

@@ -319,7 +319,7 @@ impl Driver {
     /// # Errors
     /// The engine's rejection of the configuration, or the sink's I/O error.
     pub fn start(scene: &ResolvedScene, sink: &mut dyn Sink) -> Result<Self, StartError> {
-        let mut sim = Simulation::new(scene.config.clone())?;
+        let sim = Simulation::new(scene.config.clone())?;
         let preflight = sim.preflight();
         let warnings = warnings_of(scene, &preflight);
         let failure = preflight.refusal();

@@ -1,90 +1,244 @@
 //! The accurate step: the exact Landau step per node under an exponentially weighted strain,
 //! melting located inside the step, the coupling solved, and the step's local error estimated.
 //! The film's kinetics come from [`super::film`]: the second-order film's, or the first-order
-//! film's when b₃ > 0, chosen once when the simulation is built ([`super::stepper`]).
+//! film's when b₃ > 0, chosen once when the simulation is built (`stepper_for`).
 
+use super::drive_step;
 use super::error_estimate;
 use super::film::Film;
-use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, Simulation, StepError, V_FLOOR, X_FLOOR};
+use super::problem::{Contact, Problem};
+use super::stepper::{StepError, StepReport, Stepper};
+use super::substrate::SubstrateSolver;
+use super::viscous::Viscous;
+use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, SimState, V_FLOOR, X_FLOOR};
+use crate::config::Substrate;
 use crate::drive::{Drive, DriveState, Integrator};
+use crate::noise::NoiseSource;
+use std::f64::consts::PI;
 
-impl Simulation {
-    /// One accurate step of `dt_s` with the film's kinetics `film` (the `Accurate` stepper's).
-    pub(super) fn step_accurate_with<F: Film>(
+/// The accurate scheme with the film's kinetics `F`: its coupling solver, the film's viscous
+/// stress when `lubricant.viscosity` > 0, and its per-node scratch.
+pub(super) struct Accurate<F> {
+    film: F,
+    substrate: SubstrateSolver,
+    /// `None` for η = 0, which then costs nothing and changes no bit.
+    viscous: Option<Viscous>,
+    scratch: NodeScratch,
+}
+
+/// Per node, what the accurate step's passes hand each other. The exponentials of all nodes
+/// are taken in vectorised loops ([`crate::vexp::exp_expm1_all`]): their arguments, e^x and
+/// e^x − 1; the film's φ at the step's end; the predicted u3D change over the step, m; the
+/// frozen strain's place θ on the step's strain ramp. For the error estimate after the
+/// coupling solve (see [`error_estimate`]): the start's defect term h·w0·D(0) (or a melting
+/// node's whole estimate), the end's gain h·w1·(−2γ·a·y1), the effective strain, and
+/// 1/(2·max(y1, thr²)).
+struct NodeScratch {
+    arg: Vec<f64>,
+    exp: Vec<f64>,
+    expm1: Vec<f64>,
+    phi1: Vec<f64>,
+    du3d: Vec<f64>,
+    theta: Vec<f64>,
+    est_base: Vec<f64>,
+    est_gain: Vec<f64>,
+    est_eps_eff: Vec<f64>,
+    est_norm: Vec<f64>,
+}
+
+impl NodeScratch {
+    fn new(n: usize) -> Self {
+        Self {
+            arg: vec![0.0; n],
+            exp: vec![0.0; n],
+            expm1: vec![0.0; n],
+            phi1: vec![0.0; n],
+            du3d: vec![0.0; n],
+            theta: vec![0.0; n],
+            est_base: vec![0.0; n],
+            est_gain: vec![0.0; n],
+            est_eps_eff: vec![0.0; n],
+            est_norm: vec![0.0; n],
+        }
+    }
+}
+
+/// What the film's step at one node ends with: φ and u0 at the step's end, the melting's
+/// place θ in the step when the node melted, and where its last exact path starts (φ, strain,
+/// offset and length in the step, s), to locate its crossing of the recovery level.
+type NodeEnd = (f64, f64, Option<f64>, (f64, f64, f64, f64));
+
+impl<F: Film> Accurate<F> {
+    /// The stepper of `problem` with the film's kinetics `film`.
+    pub fn new(problem: &Problem, film: F) -> Self {
+        let n = problem.nodes();
+        let c = problem.config.contact;
+        let elastic = c.substrate == Substrate::Elastic;
+        let substrate = SubstrateSolver::new(problem);
+        let eta = problem.config.lubricant.viscosity_pa_s;
+        let viscous = (eta > 0.0).then(|| {
+            // The contact's area as the force quadrature integrates a uniform stress (πa0² up
+            // to rounding), and κ·C's spectral radius at unit film stiffness.
+            let (area_m2, unit) = match &problem.contact {
+                Contact::Radial(ops) => {
+                    let area = ops.force_3d_n(&vec![1.0; n]);
+                    let unit = if problem.coupling_solver().is_some() {
+                        problem.contraction_with(&vec![1.0; n])
+                    } else {
+                        0.0
+                    };
+                    (area, unit)
+                }
+                Contact::Homogeneous { area_m2, .. } => (*area_m2, 0.0),
+            };
+            let drag = eta * area_m2 / c.film_thickness_m;
+            let relaxation = if elastic {
+                eta * PI * c.radius_m / (2.0 * c.g_eff_pa * c.film_thickness_m)
+            } else {
+                0.0
+            };
+            Viscous::new(eta, (drag, relaxation), unit, n)
+        });
+        Self {
+            film,
+            substrate,
+            viscous,
+            scratch: NodeScratch::new(n),
+        }
+    }
+
+    /// The force the drive's kicks carry: F, or with viscosity its part outside the spring's
+    /// flow.
+    fn kick_force_n(&self, state: &SimState) -> f64 {
+        match &self.viscous {
+            None => state.physical.force_n,
+            Some(v) => v.kick_force_n(state),
+        }
+    }
+}
+
+impl<F: Film + Send + Sync> Stepper for Accurate<F> {
+    fn step(
         &mut self,
-        film: &F,
+        problem: &Problem,
+        state: &mut SimState,
+        noise: &mut NoiseSource,
         dt_s: f64,
-    ) -> Result<(), NumericalFailure> {
-        let t0 = self.state.physical.drive.t_s;
-        let a_mid = self.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
-        let params = self.config.lubricant;
-        let a = params.a_pa;
-        let two_gamma = 2.0 * params.gamma_per_pa_s;
-        let thr = self.config.melt_threshold;
-        let h0 = self.config.contact.film_thickness_m;
-        self.viscous_step_start(dt_s);
+    ) -> Result<StepReport, NumericalFailure> {
+        let t0 = state.physical.drive.t_s;
+        let a_mid = problem.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
+        let thr = problem.config.melt_threshold;
+        if let Some(v) = self.viscous.as_mut() {
+            v.step_start(problem, state, dt_s);
+        }
         // The force the drive's kicks carry: F, or with viscosity its part outside the spring's
-        // flow.
-        let drive_before = (self.state.physical.drive, self.kick_force_n());
-        let dx = self.drive_first_half(dt_s);
+        // flow (the drag `drag` the flow takes).
+        let drag = self.viscous.as_ref().map(|v| v.flow_drag_n_s_per_m);
+        let drive_before = (state.physical.drive, self.kick_force_n(state));
+        let (dx, anchor) = drive_step::open(
+            problem,
+            &mut state.physical.drive,
+            drive_before.1,
+            drag,
+            dt_s,
+        );
         // The substrate's change over this step, predicted from its last values (the coupling
         // solve below corrects u3D itself; only the strain seen by φ uses it).
         let predictor = SubstratePredictor::new(
-            &self.state.stepper,
+            &state.stepper,
             dt_s,
-            self.config.time.adaptive.is_some(),
-            BEND_NOISE_FACTOR * self.coupling_abs_rms_m(t0),
+            problem.config.time.adaptive.is_some(),
+            BEND_NOISE_FACTOR * problem.coupling_abs_rms_m(t0),
         );
-        let mut first_melt = 1.0_f64;
-        // The film's recovery level at the step's end: the last node to cross it upwards,
-        // located on its path, ends an open event (see `events`).
-        let a_end = self.config.temperature.a_coeff_pa(t0 + dt_s);
-        let solid_phi_end = params.solid_phi(0.0, a_end);
-        let recovery_phi = self.config.events.recovery_phi(thr, solid_phi_end);
-        // The error norm's φ scale: φ itself, but not below the melt threshold nor below
-        // `numerics.phi_error_floor`·φ_s (squared: the norm divides y = φ²'s error).
-        let phi_scale = thr.max(self.config.numerics.phi_error_floor * solid_phi_end);
-        let y_scale_min = phi_scale * phi_scale;
-        let mut recovered_s = f64::NEG_INFINITY;
-        let n = self.state.physical.phi.len();
-        // The per-node step in passes, so that each pass's exponentials are taken for all
-        // nodes in one vectorised loop (`vexp`) rather than by a library call per node; the
-        // arithmetic per node is the same as in one pass. (a) The weight θ's argument −λΔt.
+        self.film_passes(problem, state, &predictor, (a_mid, dx, dt_s));
+        let (first_melt, recovered_s) = self.node_ends(problem, state, (t0, a_mid, dx, dt_s));
+        noise.apply(&mut state.physical.phi, dt_s);
+        for (u0, &phi) in state.physical.u0_m.iter_mut().zip(&state.physical.phi) {
+            if phi < thr {
+                *u0 = 0.0;
+            }
+        }
+        let coupling_rms_m =
+            self.substrate
+                .solve(problem, state, self.viscous.as_mut(), (t0 + dt_s, dt_s, dx))?;
+        state.stepper.prev_dt_s = state.stepper.last_dt_s;
+        state.stepper.last_dt_s = dt_s;
+        problem.update_strain_and_stress(&mut state.physical);
+        if let Some(v) = &self.viscous {
+            v.add_stress(problem, state, dt_s, dx);
+        }
+        state.physical.force_n = problem.force_3d_n(&state.physical.tau_pa);
+        let kick_after = self.kick_force_n(state);
+        drive_step::close(
+            problem,
+            &mut state.physical.drive,
+            kick_after,
+            drag,
+            (dt_s, &anchor),
+        );
+        let error = self.step_error(problem, state, dt_s, drive_before, coupling_rms_m);
+        Ok(StepReport {
+            error,
+            first_melt_fraction: first_melt,
+            recovered_at_s: recovered_s,
+            coupling_rms_m,
+        })
+    }
+}
+
+impl<F: Film> Accurate<F> {
+    /// The film's step at every node up to φ1 (the passes (a)–(c)): the per-node step in
+    /// passes, so that each pass's exponentials are taken for all nodes in one vectorised loop
+    /// (`vexp`) rather than by a library call per node; the arithmetic per node is the same as
+    /// in one pass.
+    fn film_passes(
+        &mut self,
+        problem: &Problem,
+        state: &SimState,
+        predictor: &SubstratePredictor,
+        (a_mid, dx, dt_s): (f64, f64, f64),
+    ) {
+        let params = problem.config.lubricant;
+        let thr = problem.config.melt_threshold;
+        let h0 = problem.config.contact.film_thickness_m;
+        let (film, sc, p) = (&self.film, &mut self.scratch, &state.physical);
+        let n = p.phi.len();
+        // (a) The weight θ's argument −λΔt.
         for i in 0..n {
-            let phi0 = self.state.physical.phi[i];
-            let eps0 = self.state.physical.eps[i];
+            let phi0 = p.phi[i];
+            let eps0 = p.eps[i];
             let lambda = film.rate(params.bernoulli_c_pa(eps0, a_mid), phi0, phi0 * phi0);
-            self.node_arg[i] = -(lambda * dt_s);
-            self.node_du3d[i] = predictor.du3d(
-                self.state.physical.u3d_m[i],
-                self.state.stepper.u3d_prev_m[i],
-                self.state.stepper.u3d_prev2_m.get(i).copied(),
+            sc.arg[i] = -(lambda * dt_s);
+            sc.du3d[i] = predictor.du3d(
+                p.u3d_m[i],
+                state.stepper.u3d_prev_m[i],
+                state.stepper.u3d_prev2_m.get(i).copied(),
             );
         }
-        crate::vexp::exp_expm1_all(&self.node_arg, &mut self.node_exp, &mut self.node_expm1);
+        crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
         // (b) The effective strain, then the film's step at every node.
         for i in 0..n {
-            let phi0 = self.state.physical.phi[i];
+            let phi0 = p.phi[i];
             let solid0 = phi0 >= thr;
-            let du3d = self.node_du3d[i];
+            let du3d = sc.du3d[i];
             let du0 = if solid0 { dx } else { 0.0 };
-            let eps0 = self.state.physical.eps[i];
+            let eps0 = p.eps[i];
             let eps1 = eps0 + (du0 - du3d) / h0;
             // Frozen strain for the exact step: the weight θ(z) makes the step exact for a
             // linearised φ² relaxing at rate λ towards a target that moves linearly over the
             // step — ½ (midpoint, second order) for slow relaxation, → 1 (the end-of-step
             // strain, no lag) for the stiff stick phase where φ is slaved to ε.
-            let theta = linear_forcing_weight_from(-self.node_arg[i], self.node_exp[i]);
-            self.node_theta[i] = theta;
-            self.est_eps_eff[i] = eps0 + theta * (eps1 - eps0);
+            let theta = linear_forcing_weight_from(-sc.arg[i], sc.exp[i]);
+            sc.theta[i] = theta;
+            sc.est_eps_eff[i] = eps0 + theta * (eps1 - eps0);
         }
         film.step_all(
-            &self.state.physical.phi,
-            &self.est_eps_eff,
+            &p.phi,
+            &sc.est_eps_eff,
             a_mid,
             dt_s,
-            &mut self.node_phi1,
-            (&mut self.node_exp, &mut self.node_expm1),
+            &mut sc.phi1,
+            (&mut sc.exp, &mut sc.expm1),
         );
         // (b′) The ramp correction (`numerics.film_step = "ramp"`): the frozen step's φ1
         // corrected to first order in the coefficient's change along the strain ramp; the
@@ -92,12 +246,12 @@ impl Simulation {
         if F::RAMP {
             let coefficients = film.ramp_coefficients();
             super::ramp::correct_all(super::ramp::RampPass {
-                phi0: &self.state.physical.phi,
-                du3d_m: &self.node_du3d,
-                eps_eff: &self.est_eps_eff,
-                e_w: &self.node_exp,
-                phi1: &mut self.node_phi1,
-                theta: &mut self.node_theta,
+                phi0: &p.phi,
+                du3d_m: &sc.du3d,
+                eps_eff: &sc.est_eps_eff,
+                e_w: &sc.exp,
+                phi1: &mut sc.phi1,
+                theta: &mut sc.theta,
                 threshold: thr,
                 dx_m: dx,
                 h0_m: h0,
@@ -109,91 +263,81 @@ impl Simulation {
         // (c) The error estimate's propagator exponent z (see `error_estimate`), clamped as
         // `defect_weights` clamps it, and e^(−z).
         for i in 0..n {
-            let phi0 = self.state.physical.phi[i];
-            let phi1 = self.node_phi1[i];
-            let c_eff = params.bernoulli_c_pa(self.est_eps_eff[i], a_mid);
+            let phi0 = p.phi[i];
+            let phi1 = sc.phi1[i];
+            let c_eff = params.bernoulli_c_pa(sc.est_eps_eff[i], a_mid);
             let z = film.exponent(phi0 * phi0, phi1 * phi1, phi0, phi1, c_eff, dt_s);
-            self.node_arg[i] = -z.max(-40.0);
+            sc.arg[i] = -z.max(-40.0);
         }
-        crate::vexp::exp_expm1_all(&self.node_arg, &mut self.node_exp, &mut self.node_expm1);
-        // (d) Everything else, node by node.
-        for i in 0..n {
-            let phi0 = self.state.physical.phi[i];
+        crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
+    }
+
+    /// (d) Everything else, node by node: the error estimate's pieces, melting located in the
+    /// step, φ and u0 at the step's end. The fraction of the step at which the first node
+    /// melted (1: none), and the latest located recovery crossing, s (−∞: none).
+    fn node_ends(
+        &mut self,
+        problem: &Problem,
+        state: &mut SimState,
+        (t0, a_mid, dx, dt_s): (f64, f64, f64, f64),
+    ) -> (f64, f64) {
+        let params = problem.config.lubricant;
+        let (a, two_gamma) = (params.a_pa, 2.0 * params.gamma_per_pa_s);
+        let thr = problem.config.melt_threshold;
+        let h0 = problem.config.contact.film_thickness_m;
+        // The film's recovery level at the step's end: the last node to cross it upwards,
+        // located on its path, ends an open event (see `events`).
+        let a_end = problem.config.temperature.a_coeff_pa(t0 + dt_s);
+        let solid_phi_end = params.solid_phi(0.0, a_end);
+        let recovery_phi = problem.config.events.recovery_phi(thr, solid_phi_end);
+        // The error norm's φ scale: φ itself, but not below the melt threshold nor below
+        // `numerics.phi_error_floor`·φ_s (squared: the norm divides y = φ²'s error).
+        let phi_scale = thr.max(problem.config.numerics.phi_error_floor * solid_phi_end);
+        let y_scale_min = phi_scale * phi_scale;
+        let mut first_melt = 1.0_f64;
+        let mut recovered_s = f64::NEG_INFINITY;
+        for i in 0..state.physical.phi.len() {
+            let phi0 = state.physical.phi[i];
             let solid0 = phi0 >= thr;
-            let du3d = self.node_du3d[i];
+            let sc = &mut self.scratch;
             // u0 is held at 0 while melted, so only solid nodes see the stamp's advance.
             let du0 = if solid0 { dx } else { 0.0 };
-            let eps0 = self.state.physical.eps[i];
-            let eps1 = eps0 + (du0 - du3d) / h0;
+            let eps0 = state.physical.eps[i];
+            let eps1 = eps0 + (du0 - sc.du3d[i]) / h0;
             let y0 = phi0 * phi0;
-            let eps_eff = self.est_eps_eff[i];
-            let phi1 = self.node_phi1[i];
+            let eps_eff = sc.est_eps_eff[i];
+            let phi1 = sc.phi1[i];
             // The error estimate's pieces (see `error_estimate`): the defect at the start now,
             // at the end once the coupling solve has given the end strain.
             let y1 = phi1 * phi1;
-            let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
-            let (w0, w1) = error_estimate::defect_weights_from(
-                -self.node_arg[i],
-                (self.node_exp[i], self.node_expm1[i]),
-            );
-            self.est_base[i] =
-                dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
-            self.est_gain[i] = dt_s * w1 * (-two_gamma * a * y1);
+            let (w0, w1) =
+                error_estimate::defect_weights_from(-sc.arg[i], (sc.exp[i], sc.expm1[i]));
+            sc.est_base[i] = dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
+            sc.est_gain[i] = dt_s * w1 * (-two_gamma * a * y1);
             if F::RAMP {
                 // The ramp step's error: its second-order remainder, and the end strain's
                 // prediction error (the defect at the end against ε1, the ramp's end).
-                self.est_base[i] = y1 * self.node_theta[i];
-                self.est_eps_eff[i] = eps1;
+                sc.est_base[i] = y1 * sc.theta[i];
+                sc.est_eps_eff[i] = eps1;
             }
-            self.est_norm[i] = 0.5 / y1.max(y_scale_min);
-            let u0 = self.state.physical.u0_m[i];
-            // `path`: where the node's last exact path starts (φ, strain, offset and length in
-            // the step, s), to locate its crossing of the recovery level.
+            sc.est_norm[i] = 0.5 / y1.max(y_scale_min);
+            let u0 = state.physical.u0_m[i];
             let whole = (phi0, eps_eff, 0.0, dt_s);
-            let (phi_end, u0_end, melted_at, path) = match (solid0, phi1 >= thr) {
+            let (phi_end, u0_end, melted_at, path): NodeEnd = match (solid0, phi1 >= thr) {
                 (true, true) => (phi1, u0 + dx, None, whole),
                 (false, true) => {
-                    let theta = film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
+                    let theta = self.film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
                     (phi1, (1.0 - theta) * dx, None, whole)
                 }
                 (false, false) => (phi1, 0.0, None, whole),
-                (true, false) => {
-                    // The film melts at θ: u0 drops to 0 there, and the node carries on from
-                    // φ = thr under the strain of a melted node, −u3D/h0. Below εc that strain
-                    // makes φ grow at once: melting is instantaneous and u0 accumulates again
-                    // from θ on. Continuing the decay to the step's end instead would leave φ
-                    // far below thr by an amount set by Δt, and the recovery with it.
-                    let theta = film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
-                    // The estimate covers the solid part of the path, up to the crossing, with
-                    // the strain there predicted (no solved value exists at θ).
-                    let ys = thr * thr;
-                    let h_c = theta * dt_s;
-                    let eps_c = eps0 + theta * (eps1 - eps0);
-                    let zc = film.exponent(y0, ys, phi0, thr, c_eff, h_c);
-                    let (w0c, w1c) = error_estimate::defect_weights(zc);
-                    self.est_base[i] = h_c
-                        * (w0c * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0))
-                            + w1c * (-two_gamma * a * ys * (eps_eff * eps_eff - eps_c * eps_c)));
-                    self.est_gain[i] = 0.0;
-                    self.est_norm[i] = 0.5 / ys.max(y_scale_min);
-                    let rest_s = (1.0 - theta) * dt_s;
-                    let u3d = self.state.physical.u3d_m[i];
-                    let eps_a = -(u3d + theta * du3d) / h0;
-                    let c_a = params.bernoulli_c_pa(eps_a, a_mid);
-                    if film.regrows(thr, c_a) {
-                        let eps_b = ((1.0 - theta) * dx - (u3d + du3d)) / h0;
-                        let lambda = film.rate(c_a, thr, thr * thr);
-                        let eps_rest =
-                            eps_a + linear_forcing_weight(lambda * rest_s) * (eps_b - eps_a);
-                        let phi2 = film.step(thr, eps_rest, a_mid, rest_s);
-                        let u0_end = if phi2 >= thr { (1.0 - theta) * dx } else { 0.0 };
-                        let path = (thr, eps_rest, theta * dt_s, rest_s);
-                        (phi2, u0_end, Some(theta), path)
-                    } else {
-                        let phi2 = film.step(thr, eps_a, a_mid, rest_s);
-                        (phi2, 0.0, Some(theta), (thr, eps_a, theta * dt_s, rest_s))
-                    }
-                }
+                (true, false) => self.melting_node(
+                    problem,
+                    state,
+                    i,
+                    (a_mid, dx, dt_s),
+                    (eps_eff, eps1),
+                    y_scale_min,
+                ),
             };
             if let Some(theta) = melted_at {
                 first_melt = first_melt.min(theta);
@@ -202,7 +346,9 @@ impl Simulation {
             // φ = 0 is a fixed point and the node could never re-solidify.
             let (phi_from, eps_path, offset_s, len_s) = path;
             if phi_from < recovery_phi && phi_end >= recovery_phi {
-                let f = film.crossing(phi_from, phi_end, recovery_phi, eps_path, a_mid, len_s);
+                let f = self
+                    .film
+                    .crossing(phi_from, phi_end, recovery_phi, eps_path, a_mid, len_s);
                 recovered_s = recovered_s.max(t0 + offset_s + f * len_s);
             }
             let phi_end = if phi0 > 0.0 {
@@ -210,70 +356,156 @@ impl Simulation {
             } else {
                 phi_end
             };
-            self.state.events.melted_in_step[i] = melted_at.is_some();
+            state.events.melted_in_step[i] = melted_at.is_some();
             if let Some(theta) = melted_at {
-                self.state.events.last_melt_s[i] = t0 + theta * dt_s;
+                state.events.last_melt_s[i] = t0 + theta * dt_s;
             }
-            self.state.physical.u0_m[i] = u0_end;
-            self.state.physical.phi[i] = phi_end;
+            state.physical.u0_m[i] = u0_end;
+            state.physical.phi[i] = phi_end;
         }
-        self.first_melt_fraction = first_melt;
-        self.recovered_at_s = recovered_s;
-        self.noise.apply(&mut self.state.physical.phi, dt_s);
-        for (u0, &phi) in self
-            .state
-            .physical
-            .u0_m
-            .iter_mut()
-            .zip(&self.state.physical.phi)
-        {
-            if phi < thr {
-                *u0 = 0.0;
-            }
-        }
-        self.solve_coupling(self.state.counters.step + 1, t0 + dt_s, dt_s, dx)?;
-        self.state.stepper.prev_dt_s = self.state.stepper.last_dt_s;
-        self.state.stepper.last_dt_s = dt_s;
-        self.update_strain_and_stress();
-        self.add_viscous_stress(dt_s, dx);
-        self.state.physical.force_n = self.force_3d();
-        self.drive_second_half(dt_s);
-        self.estimate_step_error(dt_s, drive_before);
-        Ok(())
+        (first_melt, recovered_s)
     }
 
-    /// The local error of the accurate step just taken (see [`error_estimate`]), in units of scales
-    /// that follow the state: φ relative to max(φ, threshold, `numerics.phi_error_floor`·φ_s) per
-    /// node, ε relative to the melting
-    /// strain (εc(t); ε₊(t) for the first-order film), X to
-    /// max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0). V's scale is its own size, not V0: a
-    /// spring-driven stamp creeps at V ≪ V0 before the first slip, and an error in V is an error in
-    /// X that grows with time.
-    fn estimate_step_error(&mut self, dt_s: f64, (before, f_before): (DriveState, f64)) {
-        // The kicks' force at the step's end (F itself without viscosity).
-        let f_after = self.kick_force_n();
-        let (s, memory) = (&self.state.physical, &self.state.stepper);
+    /// Node `i`, solid at the step's start, melts within it at θ: u0 drops to 0 there, and
+    /// the node carries on from φ = thr under the strain of a melted node, −u3D/h0. Below εc
+    /// that strain makes φ grow at once: melting is instantaneous and u0 accumulates again
+    /// from θ on. Continuing the decay to the step's end instead would leave φ far below thr
+    /// by an amount set by Δt, and the recovery with it.
+    fn melting_node(
+        &mut self,
+        problem: &Problem,
+        state: &SimState,
+        i: usize,
+        (a_mid, dx, dt_s): (f64, f64, f64),
+        (eps_eff, eps1): (f64, f64),
+        y_scale_min: f64,
+    ) -> NodeEnd {
+        let params = problem.config.lubricant;
+        let (a, two_gamma) = (params.a_pa, 2.0 * params.gamma_per_pa_s);
+        let thr = problem.config.melt_threshold;
+        let h0 = problem.config.contact.film_thickness_m;
+        let (film, sc) = (&self.film, &mut self.scratch);
+        let phi0 = state.physical.phi[i];
+        let eps0 = state.physical.eps[i];
+        // `eps_eff`: the step's effective strain, passed in (the ramp step's estimate has
+        // already put the end strain in its place in the scratch).
+        let (y0, phi1, du3d) = (phi0 * phi0, sc.phi1[i], sc.du3d[i]);
+        let c_eff = params.bernoulli_c_pa(eps_eff, a_mid);
+        let theta = film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
+        // The estimate covers the solid part of the path, up to the crossing, with the strain
+        // there predicted (no solved value exists at θ).
+        let ys = thr * thr;
+        let h_c = theta * dt_s;
+        let eps_c = eps0 + theta * (eps1 - eps0);
+        let zc = film.exponent(y0, ys, phi0, thr, c_eff, h_c);
+        let (w0c, w1c) = error_estimate::defect_weights(zc);
+        sc.est_base[i] = h_c
+            * (w0c * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0))
+                + w1c * (-two_gamma * a * ys * (eps_eff * eps_eff - eps_c * eps_c)));
+        sc.est_gain[i] = 0.0;
+        sc.est_norm[i] = 0.5 / ys.max(y_scale_min);
+        let rest_s = (1.0 - theta) * dt_s;
+        let u3d = state.physical.u3d_m[i];
+        let eps_a = -(u3d + theta * du3d) / h0;
+        let c_a = params.bernoulli_c_pa(eps_a, a_mid);
+        if film.regrows(thr, c_a) {
+            let eps_b = ((1.0 - theta) * dx - (u3d + du3d)) / h0;
+            let lambda = film.rate(c_a, thr, thr * thr);
+            let eps_rest = eps_a + linear_forcing_weight(lambda * rest_s) * (eps_b - eps_a);
+            let phi2 = film.step(thr, eps_rest, a_mid, rest_s);
+            let u0_end = if phi2 >= thr { (1.0 - theta) * dx } else { 0.0 };
+            let path = (thr, eps_rest, theta * dt_s, rest_s);
+            (phi2, u0_end, Some(theta), path)
+        } else {
+            let phi2 = film.step(thr, eps_a, a_mid, rest_s);
+            (phi2, 0.0, Some(theta), (thr, eps_a, theta * dt_s, rest_s))
+        }
+    }
+
+    /// The local error of the accurate step just taken (see [`error_estimate`]), in units of
+    /// scales that follow the state: φ relative to max(φ, threshold,
+    /// `numerics.phi_error_floor`·φ_s) per node, ε relative to the melting strain (εc(t); ε₊(t)
+    /// for the first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0). V's scale is
+    /// its own size, not V0: a spring-driven stamp creeps at V ≪ V0 before the first slip, and
+    /// an error in V is an error in X that grows with time. `coupling_rms_m`: the coupling
+    /// solve's residual, which shifts the strain as the stamp's position error does.
+    fn step_error(
+        &mut self,
+        problem: &Problem,
+        state: &mut SimState,
+        dt_s: f64,
+        before: (DriveState, f64),
+        coupling_rms_m: f64,
+    ) -> StepError {
+        let sc = &self.scratch;
+        let s = &state.physical;
         let mut phi_err = 0.0_f64;
         for i in 0..s.phi.len() {
-            let (eps_eff, eps_end) = (self.est_eps_eff[i], s.eps[i]);
-            let e_y = self.est_base[i] + self.est_gain[i] * (eps_eff * eps_eff - eps_end * eps_end);
-            phi_err = phi_err.max(e_y.abs() * self.est_norm[i]);
+            let (eps_eff, eps_end) = (sc.est_eps_eff[i], s.eps[i]);
+            let e_y = sc.est_base[i] + sc.est_gain[i] * (eps_eff * eps_eff - eps_end * eps_end);
+            phi_err = phi_err.max(e_y.abs() * sc.est_norm[i]);
         }
-        let drive = match (&self.config.drive, self.config.integrator) {
+        let drive = self.drive_error(problem, state, dt_s, before);
+        // The viscous coupling's backward-Euler error in u3D shifts the strain as the stamp's
+        // position error does (0 without viscosity, and then not taken).
+        let eps_shift_m = match &self.viscous {
+            Some(v) => drive.x_m.max(v.step_end(problem, state, dt_s)),
+            None => drive.x_m,
+        };
+        // The coupling solve's residual shifts the strain as much (see
+        // `Problem::coupling_abs_rms_m`).
+        let eps_shift_m = eps_shift_m.max(coupling_rms_m);
+        let config = &problem.config;
+        let s = &state.physical;
+        let a_now = config.temperature.a_coeff_pa(s.drive.t_s);
+        let eps_c = config.lubricant.melting_strain(a_now);
+        let eps_scale = if eps_c > 0.0 {
+            eps_c
+        } else {
+            config.lubricant.eps_max
+        };
+        let h0 = config.contact.film_thickness_m;
+        let v0 = config.drive.velocity_m_per_s().abs();
+        StepError {
+            phi: phi_err,
+            eps: eps_shift_m / (h0 * eps_scale),
+            x: drive.x_m / s.drive.x_m.abs().max(X_FLOOR * h0),
+            v: drive.v_m_per_s
+                / s.drive
+                    .v_m_per_s
+                    .abs()
+                    .max(V_FLOOR * v0)
+                    .max(f64::MIN_POSITIVE),
+        }
+    }
+
+    /// The stamp's local error over the step, from the drive's state and kick force `before`
+    /// it and the state now.
+    fn drive_error(
+        &self,
+        problem: &Problem,
+        state: &mut SimState,
+        dt_s: f64,
+        (before, f_before): (DriveState, f64),
+    ) -> error_estimate::DriveError {
+        // The kicks' force at the step's end (F itself without viscosity).
+        let f_after = self.kick_force_n(state);
+        let (s, memory) = (&state.physical, &mut state.stepper);
+        match (&problem.config.drive, problem.config.integrator) {
             (Drive::Rigid(_), _) => error_estimate::DriveError::default(),
             (Drive::Spring(sp), integrator @ (Integrator::Verlet | Integrator::Split)) => {
                 // Verlet's remainder on the acceleration's change over the step; with the split
                 // integrator only the friction force's kicks carry an error (a = −F/m).
+                let d = &s.drive;
                 let change = if integrator == Integrator::Split {
                     // The kicks carry F − k·X (the flow takes the contact's stiffness k).
-                    let k = self.flow_stiffness_n_per_m;
-                    -((f_after - k * s.drive.x_m) - (f_before - k * before.x_m)) / sp.mass_kg
+                    let k = problem.flow_stiffness_n_per_m;
+                    -((f_after - k * d.x_m) - (f_before - k * before.x_m)) / sp.mass_kg
                 } else if let Some(v) = &self.viscous {
                     // The viscous drag as a dashpot on the absolute velocity (see
-                    // `viscous_drive_half`).
+                    // `drive_step::viscous_half`).
                     let loaded = sp.with_drag(v.flow_drag_n_s_per_m);
                     let offset = v.flow_drag_n_s_per_m * sp.velocity_m_per_s;
-                    let d = &s.drive;
                     loaded.acceleration_m_per_s2(d.t_s, d.x_m, d.v_m_per_s, f_after + offset)
                         - loaded.acceleration_m_per_s2(
                             before.t_s,
@@ -282,7 +514,6 @@ impl Simulation {
                             f_before + offset,
                         )
                 } else {
-                    let d = &s.drive;
                     sp.acceleration_m_per_s2(d.t_s, d.x_m, d.v_m_per_s, f_after)
                         - sp.acceleration_m_per_s2(
                             before.t_s,
@@ -297,7 +528,7 @@ impl Simulation {
                     memory.prev_dt_s,
                     memory.accel_change_prev_m_per_s2,
                 );
-                self.state.stepper.accel_change_prev_m_per_s2 = change;
+                memory.accel_change_prev_m_per_s2 = change;
                 est
             }
             (Drive::Spring(sp), Integrator::Rk4) => {
@@ -319,43 +550,12 @@ impl Simulation {
                     }
                 }
             }
-        };
-        // The viscous coupling's backward-Euler error in u3D shifts the strain as the stamp's
-        // position error does (0 without viscosity, and then not taken).
-        let eps_shift_m = if self.viscous.is_some() {
-            drive.x_m.max(self.viscous_step_end(dt_s))
-        } else {
-            drive.x_m
-        };
-        // The coupling solve's residual shifts the strain as much (see
-        // `Simulation::coupling_abs_rms_m`).
-        let eps_shift_m = eps_shift_m.max(self.last_coupling_rms_m);
-        let s = &self.state.physical;
-        let a_now = self.config.temperature.a_coeff_pa(s.drive.t_s);
-        let eps_c = self.config.lubricant.melting_strain(a_now);
-        let eps_scale = if eps_c > 0.0 {
-            eps_c
-        } else {
-            self.config.lubricant.eps_max
-        };
-        let h0 = self.config.contact.film_thickness_m;
-        let v0 = self.config.drive.velocity_m_per_s().abs();
-        self.last_error = StepError {
-            phi: phi_err,
-            eps: eps_shift_m / (h0 * eps_scale),
-            x: drive.x_m / s.drive.x_m.abs().max(X_FLOOR * h0),
-            v: drive.v_m_per_s
-                / s.drive
-                    .v_m_per_s
-                    .abs()
-                    .max(V_FLOOR * v0)
-                    .max(f64::MIN_POSITIVE),
-        };
+        }
     }
 }
 
 /// The quadratic prediction of u3D is used only where its bend is at least this many times
-/// the coupling solve's absolute residual floor (`Simulation::coupling_abs_rms_m`): u3D is
+/// the coupling solve's absolute residual floor (`Problem::coupling_abs_rms_m`): u3D is
 /// solved only to that floor, and the quadratic through three such values amplifies their
 /// noise about fourfold. Measured with the ramp step: the SFA contact (sfa.toml, 0 → 0.11 s,
 /// its long stick on the h0 = 1 nm film) in 6646 + 1266 rejected steps against 18 056 + 2989

@@ -13,25 +13,15 @@
 //! is close to the peak stress times the area.
 
 use super::coupling::{CouplingSolver, CouplingTolerance};
-use super::{Contact, Simulation};
+use super::problem::{Contact, Problem};
 use crate::config::Substrate;
 use crate::preflight::ContactSpring;
 
-impl Simulation {
+impl Problem {
     /// The contact as a linear spring at t = 0 (see the module docs); none when the film
-    /// starts molten or nothing can melt (no melting strain). Computed once (it depends on the
-    /// configuration and the operators alone): the split integrator's flow and the preflight
-    /// both ask for it.
-    pub fn contact_spring(&mut self) -> Option<ContactSpring> {
-        if let Some(known) = self.contact_spring_at_start {
-            return known;
-        }
-        let spring = self.linear_contact_spring();
-        self.contact_spring_at_start = Some(spring);
-        spring
-    }
-
-    fn linear_contact_spring(&self) -> Option<ContactSpring> {
+    /// starts molten or nothing can melt (no melting strain). It depends on the configuration
+    /// and the operators alone: [`Problem::new`] computes it once.
+    pub(super) fn linear_contact_spring(&self) -> Option<ContactSpring> {
         let c = &self.config;
         let l = &c.lubricant;
         let a_coeff = c.temperature.a_coeff_pa(0.0);
@@ -48,7 +38,7 @@ impl Simulation {
         let secant_pa = peak / eps_m;
         let phi_sq = secant_pa / l.a_pa;
         let rigid = c.contact.substrate == Substrate::Rigid;
-        let n = self.state.physical.phi.len();
+        let n = self.nodes();
         // Strain per unit stamp displacement at each node, and the force per unit X.
         let (max_strain, force) = match &self.contact {
             Contact::Homogeneous {
@@ -60,7 +50,7 @@ impl Simulation {
                 let tau = k_film / (1.0 + compliance * k_film);
                 (tau / secant_pa, tau * area_m2)
             }
-            Contact::Radial { ops, .. } => {
+            Contact::Radial(ops) => {
                 let mut u = vec![0.0; n];
                 if !rigid {
                     let sq = vec![phi_sq; n];
@@ -98,7 +88,7 @@ impl Simulation {
         })
     }
 
-    /// The contact's spring for the first-onset estimate: [`Simulation::contact_spring`] with
+    /// The contact's spring for the first-onset estimate: [`Problem::contact_spring`] with
     /// its melting point moved to the quasi-static fold of the radial contact on an elastic
     /// substrate, where the film is not linear. Each node's film follows its equilibrium branch
     /// φ_eq(ε), whose stress a·φ_eq²·ε peaks below the melting strain; the substrate spreads
@@ -108,8 +98,8 @@ impl Simulation {
     /// (tests/onset_estimate.rs). X_f is bracketed by bisection on X, each X solved by the
     /// fixed point φ² ← φ_eq(ε(φ²))² from the unloaded film, which descends monotonically to
     /// the stable branch while it exists and loses a node to φ = 0 past the fold.
-    pub fn onset_spring(&mut self) -> Option<ContactSpring> {
-        let linear = self.contact_spring()?;
+    pub(super) fn onset_spring(&self) -> Option<ContactSpring> {
+        let linear = self.contact_spring?;
         let c = &self.config;
         let l = c.lubricant;
         let a_coeff = c.temperature.a_coeff_pa(0.0);
@@ -118,10 +108,10 @@ impl Simulation {
         if c.contact.substrate == Substrate::Rigid {
             return Some(linear);
         }
-        let Contact::Radial { ops, .. } = &self.contact else {
+        let Contact::Radial(ops) = &self.contact else {
             return Some(linear);
         };
-        let n = self.state.physical.phi.len();
+        let n = self.nodes();
         if n > FOLD_NODES {
             // The fold's sweeps on a fine grid would cost a run's start-up several times over:
             // the same contact on the accurate scheme's graded grid of FOLD_NODES nodes, whose
@@ -132,9 +122,9 @@ impl Simulation {
             coarse.contact.grid = crate::grid::Grading::Edge { power: 3.0 };
             coarse.time.scheme = crate::config::Scheme::Accurate;
             coarse.numerics.operator = None;
-            return Simulation::new(coarse)
+            return Problem::new(coarse)
                 .ok()
-                .and_then(|mut s| s.onset_spring())
+                .and_then(|p| p.onset_spring())
                 .or(Some(linear));
         }
         let phi0_sq = l.solid_phi(0.0, a_coeff).powi(2);
@@ -213,9 +203,9 @@ impl Simulation {
         })
     }
 
-    /// φ² at t = 0 (the first node's), against which ρ0 was computed.
+    /// φ² at t = 0, against which ρ0 was computed.
     fn phi0_sq(&self) -> f64 {
-        self.state.physical.phi.first().map_or(0.0, |p| p * p)
+        self.phi_init * self.phi_init
     }
 }
 

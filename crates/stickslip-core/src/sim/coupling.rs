@@ -223,22 +223,7 @@ impl CouplingSolver {
                 converged: true,
             };
         }
-        let (r_norm, u_norm) = {
-            let mut guard = self.scratch.lock().expect("coupling scratch poisoned");
-            let Scratch { dx, q, x, y } = &mut *guard;
-            for i in 0..n {
-                x[i] = u0[i] - u3d[i];
-            }
-            apply_k(ops, phi_sq, kappa, x, dx, q, y);
-            let (mut rr, mut uu) = (0.0, 0.0);
-            for i in 0..n {
-                let r = y[i] - u3d[i];
-                self.rhs[i] = r;
-                rr += r * r;
-                uu += u3d[i] * u3d[i];
-            }
-            (rr.sqrt(), uu.sqrt())
-        };
+        let (r_norm, u_norm) = self.guess_residual(ops, (phi_sq, kappa), u0, u3d);
         if r_norm <= (rel_tol * u_norm).max(abs_norm) || r_norm == 0.0 {
             let relax = 1.0 / (1.0 + 0.5 * rho.max(0.0));
             for (i, u) in u3d.iter_mut().enumerate() {
@@ -261,6 +246,43 @@ impl CouplingSolver {
         } else {
             rel_tol.max(abs_norm / r_norm).min(0.5)
         };
+        self.correct(ops, (phi_sq, kappa), u3d, (r_norm, target, rho))
+    }
+
+    /// The guess's residual r = K·(u0 − u) − u into `rhs`: ‖r‖ and ‖u‖.
+    fn guess_residual(
+        &mut self,
+        ops: &MdrOperators,
+        (phi_sq, kappa): (&[f64], f64),
+        u0: &[f64],
+        u3d: &[f64],
+    ) -> (f64, f64) {
+        let mut guard = self.scratch.lock().expect("coupling scratch poisoned");
+        let Scratch { dx, q, x, y } = &mut *guard;
+        for i in 0..self.n {
+            x[i] = u0[i] - u3d[i];
+        }
+        apply_k(ops, phi_sq, kappa, x, dx, q, y);
+        let (mut rr, mut uu) = (0.0, 0.0);
+        for i in 0..self.n {
+            let r = y[i] - u3d[i];
+            self.rhs[i] = r;
+            rr += r * r;
+            uu += u3d[i] * u3d[i];
+        }
+        (rr.sqrt(), uu.sqrt())
+    }
+
+    /// BiCGSTAB on (I + K)·δ = r (the residual of norm `r_norm` in `rhs`) to `target`
+    /// relative to ‖r‖, and u3d += δ (see [`CouplingSolver::solve`]).
+    fn correct(
+        &mut self,
+        ops: &MdrOperators,
+        (phi_sq, kappa): (&[f64], f64),
+        u3d: &mut [f64],
+        (r_norm, target, rho): (f64, f64, f64),
+    ) -> CouplingReport {
+        let n = self.n;
         // BiCGSTAB's inner products square the residual: a film melted to φ ≈ 0.01 leaves
         // ‖r‖ ≈ 1e-150 m, whose squares underflow and turn the iteration into 0/0 (hard case
         // 4b). The system is linear, so solve for r/2^e with 2^e ≈ ‖r‖: scaling by a power of

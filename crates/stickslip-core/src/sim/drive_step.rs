@@ -5,114 +5,120 @@
 //! so its closing kick carries only F's departure from that; Verlet and RK4 kick with F (or,
 //! with viscosity, with its part outside the drag the drive takes as a dashpot).
 
-use super::Simulation;
-use crate::drive::{Drive, Integrator};
+use super::problem::Problem;
+use crate::drive::{Drive, DriveState, FlowAnchor, Integrator};
 
-impl Simulation {
-    pub(super) fn drive_first_half(&mut self, dt_s: f64) -> f64 {
-        let x0 = self.state.physical.drive.x_m;
-        if let Some(v) = &self.viscous {
-            let f = self.kick_force_n();
-            let drag = v.flow_drag_n_s_per_m;
-            self.viscous_drive_half(dt_s, f, drag, true);
-            return self.state.physical.drive.x_m - x0;
-        }
-        let f = self.state.physical.force_n;
-        let k = self.flow_stiffness_n_per_m;
-        match (&self.config.drive, self.config.integrator) {
-            (Drive::Spring(s), Integrator::Verlet) => {
-                s.half_kick(&mut self.state.physical.drive, f, dt_s);
-                s.drift(&mut self.state.physical.drive, dt_s);
-            }
-            (Drive::Spring(s), Integrator::Split) if k > 0.0 => {
-                self.flow_anchor =
-                    s.loaded_split_open(&mut self.state.physical.drive, dt_s, k, 0.0, f);
-            }
-            (Drive::Spring(s), Integrator::Split) => {
-                s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
-                s.spring_flow(&mut self.state.physical.drive, dt_s);
-            }
-            (d, integrator) => d.step(integrator, &mut self.state.physical.drive, dt_s, f),
-        }
-        self.state.physical.drive.x_m - x0
+/// The opening half of the stamp's step of `dt_s` with the kick force `kick_n` (F; with
+/// viscosity, F less the drag `viscous_drag` the flow takes): the stamp's advance, m, and where
+/// the split flow linearised the kick force (the closing half's anchor).
+pub(super) fn open(
+    problem: &Problem,
+    drive: &mut DriveState,
+    kick_n: f64,
+    viscous_drag: Option<f64>,
+    dt_s: f64,
+) -> (f64, FlowAnchor) {
+    let x0 = drive.x_m;
+    let mut anchor = FlowAnchor::default();
+    if let Some(drag) = viscous_drag {
+        viscous_half(problem, drive, (dt_s, kick_n, drag), &mut anchor, true);
+        return (drive.x_m - x0, anchor);
     }
-
-    pub(super) fn drive_second_half(&mut self, dt_s: f64) {
-        if let Some(v) = &self.viscous {
-            let f = self.kick_force_n();
-            let drag = v.flow_drag_n_s_per_m;
-            self.viscous_drive_half(dt_s, f, drag, false);
-            return;
+    let f = kick_n;
+    let k = problem.flow_stiffness_n_per_m;
+    match (&problem.config.drive, problem.config.integrator) {
+        (Drive::Spring(s), Integrator::Verlet) => {
+            s.half_kick(drive, f, dt_s);
+            s.drift(drive, dt_s);
         }
-        match (&self.config.drive, self.config.integrator) {
-            (Drive::Spring(s), Integrator::Verlet) => {
-                s.closing_half_kick(
-                    &mut self.state.physical.drive,
-                    self.state.physical.force_n,
-                    dt_s,
-                );
-            }
-            (Drive::Spring(s), Integrator::Split) => {
-                let f = self.state.physical.force_n;
-                if self.flow_stiffness_n_per_m > 0.0 {
-                    s.loaded_split_close(
-                        &mut self.state.physical.drive,
-                        dt_s,
-                        &self.flow_anchor,
-                        f,
-                    );
-                } else {
-                    s.friction_half_kick(&mut self.state.physical.drive, f, dt_s);
-                }
-            }
-            _ => {}
+        (Drive::Spring(s), Integrator::Split) if k > 0.0 => {
+            anchor = s.loaded_split_open(drive, dt_s, k, 0.0, f);
         }
+        (Drive::Spring(s), Integrator::Split) => {
+            s.friction_half_kick(drive, f, dt_s);
+            s.spring_flow(drive, dt_s);
+        }
+        (d, integrator) => d.step(integrator, drive, dt_s, f),
     }
+    (drive.x_m - x0, anchor)
+}
 
-    /// A half of the stamp's step (the first when `first`) with the part c = `drag` of the
-    /// film's viscous drag that the flow takes, the kicks carrying `kick_n` = F − c·Ẋ (Ẋ of the
-    /// viscous stress; docs/model.md#viscosity): split, the drag inside the spring's exact
-    /// flow; Verlet and RK4, the drag as a dashpot on the absolute velocity,
-    /// −c·Ẋ = c·(V0 − Ẋ) − c·V0 (Verlet's closing kick implicit in it); the rigid drive as
-    /// without viscosity.
-    fn viscous_drive_half(&mut self, dt_s: f64, kick_n: f64, drag: f64, first: bool) {
-        let state = &mut self.state.physical.drive;
-        match (&self.config.drive, self.config.integrator) {
-            (Drive::Spring(s), Integrator::Split) => {
-                let k = self.flow_stiffness_n_per_m;
-                if first && k > 0.0 {
-                    // As without viscosity: the flow carries the kick force linearised at the
-                    // step's start, and the opening kick is 0.
-                    self.flow_anchor = s.loaded_split_open(state, dt_s, k, drag, kick_n);
-                } else if first {
-                    s.friction_half_kick(state, kick_n, dt_s);
-                    s.spring_flow_with_drag(state, dt_s, drag);
-                } else if k > 0.0 {
-                    s.loaded_split_close(state, dt_s, &self.flow_anchor, kick_n);
-                } else {
-                    s.friction_half_kick(state, kick_n, dt_s);
-                }
+/// The closing half of the stamp's step (see [`open`]) with the kick force of the step's end.
+pub(super) fn close(
+    problem: &Problem,
+    drive: &mut DriveState,
+    kick_n: f64,
+    viscous_drag: Option<f64>,
+    (dt_s, anchor): (f64, &FlowAnchor),
+) {
+    if let Some(drag) = viscous_drag {
+        let mut anchor = *anchor;
+        viscous_half(problem, drive, (dt_s, kick_n, drag), &mut anchor, false);
+        return;
+    }
+    match (&problem.config.drive, problem.config.integrator) {
+        (Drive::Spring(s), Integrator::Verlet) => {
+            s.closing_half_kick(drive, kick_n, dt_s);
+        }
+        (Drive::Spring(s), Integrator::Split) => {
+            if problem.flow_stiffness_n_per_m > 0.0 {
+                s.loaded_split_close(drive, dt_s, anchor, kick_n);
+            } else {
+                s.friction_half_kick(drive, kick_n, dt_s);
             }
-            (Drive::Spring(s), Integrator::Verlet) => {
-                let loaded = s.with_drag(drag);
+        }
+        _ => {}
+    }
+}
+
+/// A half of the stamp's step (the first when `first`) with the part c = `drag` of the
+/// film's viscous drag that the flow takes, the kicks carrying `kick_n` = F − c·Ẋ (Ẋ of the
+/// viscous stress; docs/model.md#viscosity): split, the drag inside the spring's exact
+/// flow; Verlet and RK4, the drag as a dashpot on the absolute velocity,
+/// −c·Ẋ = c·(V0 − Ẋ) − c·V0 (Verlet's closing kick implicit in it); the rigid drive as
+/// without viscosity.
+fn viscous_half(
+    problem: &Problem,
+    state: &mut DriveState,
+    (dt_s, kick_n, drag): (f64, f64, f64),
+    anchor: &mut FlowAnchor,
+    first: bool,
+) {
+    match (&problem.config.drive, problem.config.integrator) {
+        (Drive::Spring(s), Integrator::Split) => {
+            let k = problem.flow_stiffness_n_per_m;
+            if first && k > 0.0 {
+                // As without viscosity: the flow carries the kick force linearised at the
+                // step's start, and the opening kick is 0.
+                *anchor = s.loaded_split_open(state, dt_s, k, drag, kick_n);
+            } else if first {
+                s.friction_half_kick(state, kick_n, dt_s);
+                s.spring_flow_with_drag(state, dt_s, drag);
+            } else if k > 0.0 {
+                s.loaded_split_close(state, dt_s, anchor, kick_n);
+            } else {
+                s.friction_half_kick(state, kick_n, dt_s);
+            }
+        }
+        (Drive::Spring(s), Integrator::Verlet) => {
+            let loaded = s.with_drag(drag);
+            let f = kick_n + drag * s.velocity_m_per_s;
+            if first {
+                loaded.half_kick(state, f, dt_s);
+                loaded.drift(state, dt_s);
+            } else {
+                loaded.closing_half_kick(state, f, dt_s);
+            }
+        }
+        (Drive::Spring(s), Integrator::Rk4) => {
+            if first {
                 let f = kick_n + drag * s.velocity_m_per_s;
-                if first {
-                    loaded.half_kick(state, f, dt_s);
-                    loaded.drift(state, dt_s);
-                } else {
-                    loaded.closing_half_kick(state, f, dt_s);
-                }
+                s.with_drag(drag).rk4_step(state, dt_s, f);
             }
-            (Drive::Spring(s), Integrator::Rk4) => {
-                if first {
-                    let f = kick_n + drag * s.velocity_m_per_s;
-                    s.with_drag(drag).rk4_step(state, dt_s, f);
-                }
-            }
-            (d @ Drive::Rigid(_), integrator) => {
-                if first {
-                    d.step(integrator, state, dt_s, kick_n);
-                }
+        }
+        (d @ Drive::Rigid(_), integrator) => {
+            if first {
+                d.step(integrator, state, dt_s, kick_n);
             }
         }
     }

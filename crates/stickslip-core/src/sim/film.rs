@@ -4,7 +4,7 @@
 //! and whether a film regrows from one.
 //!
 //! The accurate step is generic over [`Film`]; the implementation is picked once, when the
-//! simulation is built (b₃ = 0 or not, [`super::stepper`]), so the second-order film runs
+//! simulation is built (b₃ = 0 or not, `stepper_for` in `sim/mod.rs`), so the second-order film runs
 //! exactly the arithmetic it always ran.
 
 use super::error_estimate;

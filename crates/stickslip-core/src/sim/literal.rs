@@ -1,23 +1,44 @@
 //! The paper's literal step: explicit Euler for φ, u0 reset once per step, one lagged sweep
 //! of the elastic coupling, plain sums.
 
-use super::{Contact, NumericalFailure, Simulation};
+use super::drive_step;
+use super::problem::{Contact, Problem};
+use super::stepper::{StepReport, Stepper};
+use super::{NumericalFailure, SimState};
 use crate::config::Substrate;
 use crate::landau::{first_order, second_order_rhs};
+use crate::noise::NoiseSource;
 
-impl Simulation {
-    /// One literal step of `dt_s` (the `Literal` stepper's).
-    pub(super) fn step_literal(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
-        let t0 = self.state.physical.drive.t_s;
-        let a_coeff = self.config.temperature.a_coeff_pa(t0);
-        let params = self.config.lubricant;
-        let thr = self.config.melt_threshold;
-        for (was_solid, &phi) in self
-            .state
+/// The paper's literal scheme, with its scratch: the stresses' transform for the lagged sweep.
+pub(super) struct Literal {
+    q: Vec<f64>,
+}
+
+impl Literal {
+    pub fn new(problem: &Problem) -> Self {
+        Self {
+            q: vec![0.0; problem.nodes()],
+        }
+    }
+}
+
+impl Stepper for Literal {
+    fn step(
+        &mut self,
+        problem: &Problem,
+        state: &mut SimState,
+        noise: &mut NoiseSource,
+        dt_s: f64,
+    ) -> Result<StepReport, NumericalFailure> {
+        let t0 = state.physical.drive.t_s;
+        let a_coeff = problem.config.temperature.a_coeff_pa(t0);
+        let params = problem.config.lubricant;
+        let thr = problem.config.melt_threshold;
+        for (was_solid, &phi) in state
             .events
             .melted_in_step
             .iter_mut()
-            .zip(&self.state.physical.phi)
+            .zip(&state.physical.phi)
         {
             *was_solid = phi >= thr;
         }
@@ -27,12 +48,12 @@ impl Simulation {
         // side is chosen once per step: the second-order film's as it always was, or the
         // first-order one's (b₃ > 0).
         let overshoot = if params.cubic_pa == 0.0 {
-            self.euler_phi(dt_s, |phi, eps| {
+            euler_phi(state, dt_s, |phi, eps| {
                 second_order_rhs(phi, eps, a_coeff, &params)
             })
         } else {
             let (b, b3, g) = (params.b_pa(), params.cubic_pa, params.gamma_per_pa_s);
-            self.euler_phi(dt_s, |phi, eps| {
+            euler_phi(state, dt_s, |phi, eps| {
                 first_order::rhs(phi, params.bernoulli_c_pa(eps, a_coeff), b, b3, g)
             })
         };
@@ -40,7 +61,7 @@ impl Simulation {
             let b = params.b_pa();
             // |∂rhs/∂φ| = γ·|a·ε² + 3b·φ² − 2b₃·φ − A·b/a| at the node's state before the step
             // (which noise may have pushed far from equilibrium).
-            let eps = self.state.physical.eps[node];
+            let eps = state.physical.eps[node];
             let stiffness = params.gamma_per_pa_s
                 * (params.a_pa * eps * eps + 3.0 * b * phi_before * phi_before
                     - 2.0 * params.cubic_pa * phi_before
@@ -51,7 +72,10 @@ impl Simulation {
             } else {
                 "gamma*|a*eps^2 + 3*b*phi^2 - 2*b3*phi - A*b/a|"
             };
-            let noisy = if matches!(self.config.noise, crate::noise::NoiseKind::Gaussian { .. }) {
+            let noisy = if matches!(
+                problem.config.noise,
+                crate::noise::NoiseKind::Gaussian { .. }
+            ) {
                 " (phi before the step came from the noise kick of the step before; reduce \
                  lubricant.noise.sigma or time.dt)"
             } else {
@@ -59,11 +83,11 @@ impl Simulation {
             };
             return Err(NumericalFailure {
                 t_s: t0 + dt_s,
-                step: self.state.counters.step + 1,
+                step: state.counters.step + 1,
                 node,
-                r_m: self.radii_m[node],
+                r_m: problem.radii_m[node],
                 quantity: "phi",
-                value: self.state.physical.phi[node],
+                value: state.physical.phi[node],
                 diagnosis: format!(
                     "explicit Euler overshot below 0 (Eq. 8 keeps phi >= 0): phi before the \
                      step = {phi_before:e}{noisy}; dt x stiffness = {:.3} with stiffness \
@@ -74,70 +98,63 @@ impl Simulation {
                 ),
             });
         }
-        self.noise.apply(&mut self.state.physical.phi, dt_s);
-        self.first_melt_fraction = 1.0;
-        self.recovered_at_s = f64::NEG_INFINITY;
-        let dx = self.drive_first_half(dt_s);
-        for i in 0..self.state.physical.phi.len() {
-            let melted = self.state.physical.phi[i] < thr;
-            let newly = melted && self.state.events.melted_in_step[i];
-            self.state.events.melted_in_step[i] = newly;
+        noise.apply(&mut state.physical.phi, dt_s);
+        let (dx, anchor) = drive_step::open(
+            problem,
+            &mut state.physical.drive,
+            state.physical.force_n,
+            None,
+            dt_s,
+        );
+        for i in 0..state.physical.phi.len() {
+            let melted = state.physical.phi[i] < thr;
+            let newly = melted && state.events.melted_in_step[i];
+            state.events.melted_in_step[i] = newly;
             if newly {
-                self.state.events.last_melt_s[i] = t0 + dt_s;
+                state.events.last_melt_s[i] = t0 + dt_s;
             }
-            let u0 = &mut self.state.physical.u0_m[i];
+            let u0 = &mut state.physical.u0_m[i];
             *u0 = if melted { 0.0 } else { *u0 + dx };
         }
-        self.update_strain_and_stress();
+        problem.update_strain_and_stress(&mut state.physical);
         // One lagged sweep: the substrate answers the stress just computed, for the next step.
-        match &self.contact {
-            Contact::Radial { ops, .. } => {
-                if self.config.contact.substrate == Substrate::Elastic {
-                    ops.compliance(
-                        &self.state.physical.tau_pa,
-                        &mut self.scratch_q,
-                        &mut self.state.physical.u3d_m,
-                    );
-                    let inv_g = 1.0 / self.config.contact.g_eff_pa;
-                    self.state
-                        .physical
-                        .u3d_m
-                        .iter_mut()
-                        .for_each(|u| *u *= inv_g);
+        let p = &mut state.physical;
+        match &problem.contact {
+            Contact::Radial(ops) => {
+                if problem.config.contact.substrate == Substrate::Elastic {
+                    ops.compliance(&p.tau_pa, &mut self.q, &mut p.u3d_m);
+                    let inv_g = 1.0 / problem.config.contact.g_eff_pa;
+                    p.u3d_m.iter_mut().for_each(|u| *u *= inv_g);
                 }
             }
             Contact::Homogeneous {
                 compliance_m_per_pa,
                 ..
             } => {
-                self.state.physical.u3d_m[0] = compliance_m_per_pa * self.state.physical.tau_pa[0];
+                p.u3d_m[0] = compliance_m_per_pa * p.tau_pa[0];
             }
         }
-        self.state.physical.force_n = self.force_3d();
-        self.drive_second_half(dt_s);
-        Ok(())
+        p.force_n = problem.force_3d_n(&p.tau_pa);
+        drive_step::close(problem, &mut p.drive, p.force_n, None, (dt_s, &anchor));
+        Ok(StepReport::default())
     }
 }
 
-impl Simulation {
-    /// φ ← φ + Δt·rhs(φ, ε) at every node (explicit Euler); the first node where φ turned
-    /// negative or NaN, with its φ before the step.
-    fn euler_phi(&mut self, dt_s: f64, rhs: impl Fn(f64, f64) -> f64) -> Option<(usize, f64)> {
-        let mut overshoot: Option<(usize, f64)> = None;
-        for (i, (phi, &eps)) in self
-            .state
-            .physical
-            .phi
-            .iter_mut()
-            .zip(&self.state.physical.eps)
-            .enumerate()
-        {
-            let before = *phi;
-            *phi += dt_s * rhs(before, eps);
-            if overshoot.is_none() && (phi.is_nan() || *phi < 0.0) {
-                overshoot = Some((i, before));
-            }
+/// φ ← φ + Δt·rhs(φ, ε) at every node (explicit Euler); the first node where φ turned
+/// negative or NaN, with its φ before the step.
+fn euler_phi(
+    state: &mut SimState,
+    dt_s: f64,
+    rhs: impl Fn(f64, f64) -> f64,
+) -> Option<(usize, f64)> {
+    let mut overshoot: Option<(usize, f64)> = None;
+    let p = &mut state.physical;
+    for (i, (phi, &eps)) in p.phi.iter_mut().zip(&p.eps).enumerate() {
+        let before = *phi;
+        *phi += dt_s * rhs(before, eps);
+        if overshoot.is_none() && (phi.is_nan() || *phi < 0.0) {
+            overshoot = Some((i, before));
         }
-        overshoot
     }
+    overshoot
 }

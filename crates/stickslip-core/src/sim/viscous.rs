@@ -13,7 +13,8 @@
 //! With η = 0 nothing here is built or called, and every step is the paper's film's
 //! arithmetic unchanged.
 
-use super::Simulation;
+use super::SimState;
+use super::problem::Problem;
 use crate::config::Substrate;
 
 /// What the viscous stress needs besides the state.
@@ -27,7 +28,7 @@ pub(super) struct Viscous {
     /// The drag this step's spring flow takes, c_v·(1 − J), N·s/m: J ≈ ∂u̇3D/∂Ẋ, the share of
     /// the stamp's velocity the substrate follows through the film (0 on a rigid substrate,
     /// → 1 for a film too viscous to shear within the step), estimated at the step's start
-    /// for the one-node contact of the mean φ² (see [`Simulation::viscous_step_start`]).
+    /// for the one-node contact of the mean φ² (see [`Viscous::step_start`]).
     pub flow_drag_n_s_per_m: f64,
     /// Spectral radius of κ·C (the compliance at unit film stiffness; radial elastic contacts):
     /// κ·C·diag(w) has its spectrum within [0, this·max w], the coupling solve's bound.
@@ -134,18 +135,12 @@ impl Viscous {
     }
 }
 
-impl Simulation {
+impl Viscous {
     /// The force the drive's kicks carry: F itself without viscosity; with it F − c·Ẋ (the Ẋ
     /// of the viscous stress, c the step's flow drag), the part of the film's force the
     /// spring's flow does not take (on a rigid substrate c = c_v and this is F_el).
-    pub(super) fn kick_force_n(&self) -> f64 {
-        match &self.viscous {
-            None => self.state.physical.force_n,
-            Some(v) => {
-                self.state.physical.force_n
-                    - v.flow_drag_n_s_per_m * self.state.stepper.viscous_v_m_per_s
-            }
-        }
+    pub(super) fn kick_force_n(&self, state: &SimState) -> f64 {
+        state.physical.force_n - self.flow_drag_n_s_per_m * state.stepper.viscous_v_m_per_s
     }
 
     /// Before a step of `dt_s`: the film's shear rate r = Ẋ − u̇3D per node at the step's
@@ -161,21 +156,19 @@ impl Simulation {
     /// kicks gave the substrate's rate back). On the one-node contact of compliance C per
     /// stress, the coupling gives J = (k/(1 + k))·(β/w) with β = η·α0/(a·Δt), w = φ² + β,
     /// k = C·a·w/h0; a radial contact uses it with the mean φ² and C = πa0/(2G*).
-    pub(super) fn viscous_step_start(&mut self, dt_s: f64) {
-        let Some(v) = self.viscous.as_mut() else {
-            return;
-        };
-        let s = &self.state.physical;
-        let a = self.config.lubricant.a_pa;
-        let h0 = self.config.contact.film_thickness_m;
+    pub(super) fn step_start(&mut self, problem: &Problem, state: &SimState, dt_s: f64) {
+        let v = self;
+        let s = &state.physical;
+        let a = problem.config.lubricant.a_pa;
+        let h0 = problem.config.contact.film_thickness_m;
         let mut y_mean = 0.0;
         for i in 0..s.phi.len() {
             let y = s.phi[i] * s.phi[i];
             let tau_v = s.tau_pa[i] - a * y * s.eps[i];
             v.rate_before[i] = h0 * tau_v / v.eta_pa_s;
-            y_mean += self.area_weights[i] * y;
+            y_mean += problem.area_weights[i] * y;
         }
-        let last = self.state.stepper.last_dt_s;
+        let last = state.stepper.last_dt_s;
         let alpha0 = if last > 0.0 && dt_s <= 2.0 * last {
             let omega = dt_s / last;
             (1.0 + 2.0 * omega) / (1.0 + omega)
@@ -192,14 +185,12 @@ impl Simulation {
 
     /// After ε and τ of the step's end (Eqs. 11–12): τ gains η·α0/(Δt·h0)·(g − u3D), and the
     /// stamp's history is kept (ΔX/Δt, and the Ẋ of the stress for the kicks).
-    pub(super) fn add_viscous_stress(&mut self, dt_s: f64, dx_m: f64) {
-        let Some(v) = self.viscous.as_ref() else {
-            return;
-        };
-        let h0 = self.config.contact.film_thickness_m;
-        let (p, memory) = (&mut self.state.physical, &mut self.state.stepper);
+    pub(super) fn add_stress(&self, problem: &Problem, state: &mut SimState, dt_s: f64, dx_m: f64) {
+        let v = self;
+        let h0 = problem.config.contact.film_thickness_m;
+        let (p, memory) = (&mut state.physical, &mut state.stepper);
         let k = v.eta_pa_s * v.alpha0 / (dt_s * h0);
-        let elastic = self.config.contact.substrate == Substrate::Elastic;
+        let elastic = problem.config.contact.substrate == Substrate::Elastic;
         for i in 0..p.phi.len() {
             let u = if elastic { p.u3d_m[i] } else { 0.0 };
             p.tau_pa[i] += k * (v.g[i] - u);
@@ -224,12 +215,10 @@ impl Simulation {
     /// quasi-static film u3D ≈ t_v·r behind r's error, t_v·|Δr|/2 or t_v·Δt²·|r''|/3; the
     /// smaller of the two at the worst node (r'' from the last two steps' changes). 0 on a
     /// rigid substrate, where u3D ≡ 0.
-    pub(super) fn viscous_step_end(&mut self, dt_s: f64) -> f64 {
-        let Some(v) = self.viscous.as_ref() else {
-            return 0.0;
-        };
-        let (p, memory) = (&self.state.physical, &mut self.state.stepper);
-        let elastic = self.config.contact.substrate == Substrate::Elastic;
+    pub(super) fn step_end(&self, problem: &Problem, state: &mut SimState, dt_s: f64) -> f64 {
+        let v = self;
+        let (p, memory) = (&state.physical, &mut state.stepper);
+        let elastic = problem.config.contact.substrate == Substrate::Elastic;
         let n = p.phi.len();
         let mut worst = 0.0_f64;
         if elastic {

@@ -258,23 +258,7 @@ impl HodlrOperator {
                 None => dense_block(entries, t.lo, t.hi),
             })
             .collect();
-        let mut out = Self {
-            n,
-            triangle,
-            rel_tol,
-            norm_estimate: 0.0,
-            error_bound: 0.0,
-            skeleton_error: 0.0,
-            data: Vec::new(),
-            single_leaf: false,
-            leaf_in: Vec::new(),
-            up: Vec::new(),
-            down: Vec::new(),
-            leaf_out: Vec::new(),
-            x_coeff_len: 0,
-            y_coeff_len: 0,
-            profile: Vec::new(),
-        };
+        let mut out = Self::unpacked(n, triangle, rel_tol);
         if n <= LEAF_MAX_ROWS {
             // One dense leaf: exact, no bases.
             let none = || Bases {
@@ -295,42 +279,14 @@ impl HodlrOperator {
             return out;
         }
 
-        // 1. Skeletons from sampled entries, at a threshold well below the final one
-        //    (scaled by a cheap lower bound of ‖A‖₂, so never looser than intended).
-        let skeleton_threshold = SKELETON_REL_TOL * rel_tol * entries.norm_lower_bound();
-        // Independent passes: run side by side where threads are free (same bits either way).
-        let (row_skel, col_skel) = rayon::join(
-            || SkeletonPass::new(entries, &tree, row_side, false, skeleton_threshold).run(),
-            || SkeletonPass::new(entries, &tree, col_side, true, skeleton_threshold).run(),
-        );
-        let mut couplings = vec![Mat::zeros(0, 0); nodes];
-        for (id, node) in tree.iter().enumerate() {
-            if let Some((a, b)) = node.children {
-                let (target, source) = if target_is_second { (b, a) } else { (a, b) };
-                couplings[id] = entry_block(
-                    entries,
-                    &row_skel.index[target],
-                    &col_skel.index[source],
-                    true,
-                );
-            }
-        }
-        out.skeleton_error = error_bound(
+        // 1. Skeletons from sampled entries (see `skeletons`).
+        let (mut rows, mut cols, mut couplings, skeleton_error) = skeletons(
+            entries,
             &tree,
-            &row_skel.residual,
-            &col_skel.residual,
-            target_is_second,
+            (row_side, col_side, target_is_second),
+            rel_tol,
         );
-        // Only the interpolation matrices go on (the skeleton indices are spent).
-        let mut rows = Bases {
-            rank: row_skel.rank,
-            factor: row_skel.factor,
-        };
-        let mut cols = Bases {
-            rank: col_skel.rank,
-            factor: col_skel.factor,
-        };
-        drop((row_skel.index, col_skel.index));
+        out.skeleton_error = skeleton_error;
 
         // 2. Orthonormal bases (couplings absorb the triangular factors), the norm, and
         //    the truncation to rel_tol·ν of the small factors.
@@ -386,6 +342,27 @@ impl HodlrOperator {
             &couplings,
         );
         out
+    }
+
+    /// An operator of size `n` with nothing packed yet (what [`Self::build`] fills).
+    fn unpacked(n: usize, triangle: Triangle, rel_tol: f64) -> Self {
+        Self {
+            n,
+            triangle,
+            rel_tol,
+            norm_estimate: 0.0,
+            error_bound: 0.0,
+            skeleton_error: 0.0,
+            data: Vec::new(),
+            single_leaf: false,
+            leaf_in: Vec::new(),
+            up: Vec::new(),
+            down: Vec::new(),
+            leaf_out: Vec::new(),
+            x_coeff_len: 0,
+            y_coeff_len: 0,
+            profile: Vec::new(),
+        }
     }
 
     /// Matrix size N.
@@ -519,4 +496,54 @@ fn entry_block<E: OperatorEntries + ?Sized>(
         }
     }
     block
+}
+
+/// Step 1 of [`HodlrOperator::build`]: the row and column skeletons from sampled entries, at a
+/// threshold well below the final one (scaled by a cheap lower bound of ‖A‖₂, so never looser
+/// than intended): the interpolation bases, the couplings between skeletons, and the bound of
+/// the skeletons' error.
+fn skeletons<E: OperatorEntries + Sync + ?Sized>(
+    entries: &E,
+    tree: &[TreeNode],
+    (row_side, col_side, target_is_second): (Side, Side, bool),
+    rel_tol: f64,
+) -> (Bases, Bases, Vec<Mat<f64>>, f64) {
+    let nodes = tree.len();
+    // 1. Skeletons from sampled entries, at a threshold well below the final one
+    //    (scaled by a cheap lower bound of ‖A‖₂, so never looser than intended).
+    let skeleton_threshold = SKELETON_REL_TOL * rel_tol * entries.norm_lower_bound();
+    // Independent passes: run side by side where threads are free (same bits either way).
+    let (row_skel, col_skel) = rayon::join(
+        || SkeletonPass::new(entries, tree, row_side, false, skeleton_threshold).run(),
+        || SkeletonPass::new(entries, tree, col_side, true, skeleton_threshold).run(),
+    );
+    let mut couplings = vec![Mat::zeros(0, 0); nodes];
+    for (id, node) in tree.iter().enumerate() {
+        if let Some((a, b)) = node.children {
+            let (target, source) = if target_is_second { (b, a) } else { (a, b) };
+            couplings[id] = entry_block(
+                entries,
+                &row_skel.index[target],
+                &col_skel.index[source],
+                true,
+            );
+        }
+    }
+    let skeleton_error = error_bound(
+        tree,
+        &row_skel.residual,
+        &col_skel.residual,
+        target_is_second,
+    );
+    // Only the interpolation matrices go on (the skeleton indices are spent).
+    let rows = Bases {
+        rank: row_skel.rank,
+        factor: row_skel.factor,
+    };
+    let cols = Bases {
+        rank: col_skel.rank,
+        factor: col_skel.factor,
+    };
+    drop((row_skel.index, col_skel.index));
+    (rows, cols, couplings, skeleton_error)
 }
