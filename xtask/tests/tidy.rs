@@ -249,6 +249,58 @@ fn the_function_length_check_finds_a_long_function() {
     assert!(long_functions(&text, 130).is_empty());
 }
 
+/// Whether `text` holds a string literal that starts `"section.key=` (lower-case words).
+fn has_setting_literal(text: &str) -> bool {
+    text.split('"').skip(1).step_by(2).any(|literal| {
+        let Some((path, _)) = literal.split_once('=') else {
+            return false;
+        };
+        let mut parts = path.split('.');
+        let word = |w: Option<&str>| {
+            w.is_some_and(|w| {
+                !w.is_empty() && w.chars().all(|c| c.is_ascii_lowercase() || c == '_')
+            })
+        };
+        word(parts.next()) && word(parts.next()) && parts.next().is_none()
+    })
+}
+
+#[test]
+fn settings_in_code_go_through_the_key_registry() {
+    // Code sets a scene key with `Key::set` (typed, checked against the registry), not with
+    // `"section.key=value"` text; tests may spell the command line's text.
+    let root = workspace_root();
+    let mut offenders = Vec::new();
+    for dir in ["crates", "validation", "maps", "xtask/src"] {
+        for (path, text) in sources(&root, dir) {
+            if path.contains("/tests/") || path.contains("/benches/") {
+                continue;
+            }
+            let code = text.split("#[cfg(test)]").next().unwrap_or("");
+            for (i, line) in code.lines().enumerate() {
+                let trimmed = line.trim_start();
+                if !trimmed.starts_with("//") && has_setting_literal(line) {
+                    offenders.push(format!("{path}:{}", i + 1));
+                }
+            }
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "set keys with Key::set: {offenders:?}"
+    );
+}
+
+#[test]
+fn the_setting_check_finds_a_setting_literal() {
+    assert!(has_setting_literal(r#"let s = "contact.nodes=200";"#));
+    assert!(has_setting_literal(r#"f("x", "drive.damping=1e-3")"#));
+    assert!(!has_setting_literal(
+        r#"let s = "contact.nodes"; let t = "a = b";"#
+    ));
+    assert!(!has_setting_literal(r#"let s = "{path}={value}";"#));
+}
+
 /// The modules a crate root or a `mod.rs` declares (`mod x;` or `pub mod x;`, tests aside).
 fn declared_modules(file: &Path) -> Vec<String> {
     std::fs::read_to_string(file).map_or_else(|_| Vec::new(), |t| modules_in(&t))

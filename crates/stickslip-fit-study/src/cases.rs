@@ -4,6 +4,7 @@
 //! starts), so every fit has to move.
 
 use serde::{Deserialize, Serialize};
+use stickslip_run::keys;
 
 /// fig2's drive-spring scene at N = 100 and the h0 = 1 nm SFA contact, under
 /// `validation/scenes/`.
@@ -60,11 +61,11 @@ impl Case {
 
     /// The case's contact.nodes as its settings give it ("?" when they do not).
     #[must_use]
-    pub fn nodes(&self) -> &str {
-        self.settings
-            .iter()
-            .find_map(|s| s.strip_prefix("contact.nodes="))
-            .unwrap_or("?")
+    pub fn nodes(&self) -> String {
+        keys::contact::NODES
+            .value_in(&self.settings)
+            .and_then(|v| v.as_integer())
+            .map_or_else(|| "?".to_string(), |n| n.to_string())
     }
 
     /// The true value of `key`.
@@ -199,8 +200,8 @@ impl Sizes {
 
 fn common(nodes: usize) -> Vec<String> {
     vec![
-        format!("contact.nodes={nodes}"),
-        "output.profile_times=[]".to_string(),
+        keys::contact::NODES.set(nodes as i64).to_string(),
+        keys::output::PROFILE_TIMES.set(Vec::new()).to_string(),
     ]
 }
 
@@ -319,8 +320,8 @@ pub fn first_slip(sizes: &Sizes) -> Case {
 #[must_use]
 pub fn viscous(sizes: &Sizes) -> Case {
     let mut settings = common(sizes.sfa_nodes);
-    settings.push(format!("drive.damping={SFA_DAMPING:e}"));
-    settings.push("lubricant.viscosity=3".into());
+    settings.push(keys::drive::DAMPING.set(SFA_DAMPING).to_string());
+    settings.push(keys::lubricant::VISCOSITY.set(3.0).to_string());
     case(
         ("viscous", "the damped, viscous SFA contact", SFA),
         settings,

@@ -318,6 +318,39 @@ impl Driver {
     ///
     /// # Errors
     /// The engine's rejection of the configuration, or the sink's I/O error.
+    ///
+    /// # Example
+    /// ```
+    /// use stickslip_run::{Control, Driver, MemorySink, Scene, StopReason};
+    /// const SCENE: &str = r#"
+    /// name = "example"
+    /// [lubricant]
+    /// tau_max = 1e6
+    /// eps_max = 1
+    /// a = 1e6
+    /// gamma = 10
+    /// [contact]
+    /// radius = 2e-5
+    /// film_thickness = 1e-7
+    /// g_eff = 1e9
+    /// nodes = 20
+    /// [drive]
+    /// stiffness = 500
+    /// mass = 0.1
+    /// velocity = 1
+    /// [time]
+    /// end = 2e-4
+    /// [output]
+    /// profile_times = []
+    /// "#;
+    /// let scene = Scene::from_toml_str(SCENE, &[] as &[&str]).unwrap();
+    /// let mut sink = MemorySink::new();
+    /// let driver = Driver::start(&scene, &mut sink).unwrap();
+    /// // The preflight is known before the first step.
+    /// assert!(driver.preflight().refusal().is_none());
+    /// let outcome = driver.run_to_end(&mut sink, &mut Control::default()).unwrap();
+    /// assert_eq!(outcome.stop, StopReason::End);
+    /// ```
     pub fn start(scene: &ResolvedScene, sink: &mut dyn Sink) -> Result<Self, StartError> {
         let sim = Simulation::new(scene.config.clone())?;
         let preflight = sim.preflight();

@@ -61,6 +61,38 @@ pub use sink::read::read_run;
 ///
 /// # Errors
 /// [`driver::StartError`] when the run cannot start.
+///
+/// # Example
+/// ```
+/// use stickslip_run::{Control, Scene, StopReason, run_in_memory};
+/// const SCENE: &str = r#"
+/// name = "example"
+/// [lubricant]
+/// tau_max = 1e6
+/// eps_max = 1
+/// a = 1e6
+/// gamma = 10
+/// [contact]
+/// radius = 2e-5
+/// film_thickness = 1e-7
+/// g_eff = 1e9
+/// nodes = 20
+/// [drive]
+/// stiffness = 500
+/// mass = 0.1
+/// velocity = 1
+/// [time]
+/// end = 2e-4
+/// [output]
+/// profile_times = []
+/// "#;
+/// let scene = Scene::from_toml_str(SCENE, &[] as &[&str]).unwrap();
+/// let (outcome, output) = run_in_memory(&scene, &mut Control::default()).unwrap();
+/// assert_eq!(outcome.stop, StopReason::End);
+/// // The series, as series.csv would hold it: the last row at time.end.
+/// let t_s = &output.series.t_s;
+/// assert!((t_s[t_s.len() - 1] - 2e-4).abs() < 1e-12);
+/// ```
 pub fn run_in_memory(
     scene: &ResolvedScene,
     control: &mut Control<'_>,

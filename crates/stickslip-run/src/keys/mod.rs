@@ -197,9 +197,37 @@ impl<T: KeyValue> Key<T> {
     }
 
     /// A typed override of this key (for code; `--set` takes text).
+    ///
+    /// # Example
+    /// ```
+    /// use stickslip_run::keys::{contact, time};
+    ///
+    /// let nodes = contact::NODES.set(400);
+    /// // The command line's text for the same value.
+    /// assert_eq!(nodes.to_string(), "contact.nodes=400");
+    /// assert_eq!(time::TOLERANCE.set(1e-6).to_string(), "time.tolerance=1e-6");
+    /// // Applied to a scene's table without text.
+    /// let mut table = toml::Table::new();
+    /// nodes.apply(&mut table);
+    /// assert_eq!(table["contact"]["nodes"].as_integer(), Some(400));
+    /// ```
     #[must_use]
     pub fn set(&self, value: T) -> Setting {
         Setting::new(self.path, value.to_toml())
+    }
+
+    /// The value `settings` (`--set` texts, as a record keeps them) give this key, read by
+    /// the scene's own override parser: the last one that sets it; `None` when none does or
+    /// the text does not parse.
+    #[must_use]
+    pub fn value_in(&self, settings: &[String]) -> Option<toml::Value> {
+        let mut root = toml::Table::new();
+        for text in settings {
+            let _ = crate::scene::overrides::apply_override(&mut root, text);
+        }
+        let mut parts = self.path.split('.');
+        let section = root.get(parts.next()?)?.as_table()?;
+        section.get(parts.next()?).cloned()
     }
 
     /// Allowed values in words: the range, then the rules between keys.

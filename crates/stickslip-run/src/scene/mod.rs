@@ -170,6 +170,39 @@ impl Scene {
     ///
     /// # Errors
     /// The first problem, as a [`SceneError`] naming key, value and allowed range.
+    ///
+    /// # Example
+    /// ```
+    /// use stickslip_run::Scene;
+    /// const SCENE: &str = r#"
+    /// name = "example"
+    /// [lubricant]
+    /// tau_max = 1e6
+    /// eps_max = 1
+    /// a = 1e6
+    /// gamma = 10
+    /// [contact]
+    /// radius = 2e-5
+    /// film_thickness = 1e-7
+    /// g_eff = 1e9
+    /// nodes = 20
+    /// [drive]
+    /// stiffness = 500
+    /// mass = 0.1
+    /// velocity = 1
+    /// [time]
+    /// end = 2e-4
+    /// [output]
+    /// profile_times = []
+    /// "#;
+    /// let scene = Scene::from_toml_str(SCENE, &["contact.nodes=40"]).unwrap();
+    /// assert_eq!(scene.config.contact.nodes, 40);
+    /// // Defaults are filled in: the accurate scheme's time step, in s.
+    /// assert_eq!(scene.config.time.dt_s, 1e-8);
+    /// // A value out of range names the key, the value and what is allowed.
+    /// let err = Scene::from_toml_str(SCENE, &["contact.radius=-1"]).unwrap_err();
+    /// assert!(err.to_string().contains("contact.radius"));
+    /// ```
     pub fn from_toml_str<S: AsRef<str>>(
         text: &str,
         overrides: &[S],
