@@ -6,6 +6,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 use stickslip_core::sim::events::MeltingEvent;
 use stickslip_report::stats::{cv, diffs};
+use stickslip_run::schema::Table;
 use stickslip_run::schema::events::Events;
 use stickslip_run::schema::probes::Probes;
 use stickslip_run::schema::profiles::Profiles;

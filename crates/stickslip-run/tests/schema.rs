@@ -2,6 +2,7 @@
 //! memory equals the same run written to a directory and read back through the schema.
 
 use crate::common;
+use stickslip_run::schema::Table;
 
 use stickslip_run::schema::events::Events;
 use stickslip_run::schema::probes::Probes;

@@ -7,6 +7,7 @@ use crate::common::{bin, run, scene, texts};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
+use stickslip_run::schema::Table;
 
 const TAU_MAX: f64 = 1.15e6;
 

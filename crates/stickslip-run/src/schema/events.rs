@@ -1,9 +1,9 @@
 //! events.csv: one row per melting event (the columns of docs/reference.md, section events.csv).
 
 use super::csv::{NumericCsv, opt, write_cells, write_num, write_opt};
+use super::table::Table;
 use super::{Column, SchemaError};
 use std::io::{self, Write};
-use std::path::Path;
 use stickslip_core::sim::events::MeltingEvent;
 
 /// File name.
@@ -128,12 +128,12 @@ impl Events {
             .map(|(c, f)| (c.name, self.0.iter().map(f).collect()))
             .collect()
     }
+}
 
-    /// Writes the file's text.
-    ///
-    /// # Errors
-    /// Those of the writer.
-    pub fn write(&self, w: &mut impl Write) -> io::Result<()> {
+impl Table for Events {
+    const FILE: &'static str = FILE;
+
+    fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
         let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
         writeln!(w, "{}", names.join(","))?;
         for e in &self.0 {
@@ -153,20 +153,8 @@ impl Events {
         Ok(())
     }
 
-    /// The file's text.
-    #[must_use]
-    pub fn to_csv(&self) -> String {
-        let mut out = Vec::new();
-        let _ = self.write(&mut out);
-        String::from_utf8(out).unwrap_or_default()
-    }
-
-    /// Parses the text of events.csv.
-    ///
-    /// # Errors
-    /// [`SchemaError`] if a column is missing or a cell is not a number.
-    pub fn parse(text: &str) -> Result<Self, SchemaError> {
-        let csv = NumericCsv::parse(text, FILE)?;
+    /// A file written before `melted_area` existed reads it as NaN.
+    fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
         let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
         csv.expect_header(&names[..COLUMNS_BEFORE_MELTED_AREA], FILE)?;
         let has_melted_area = csv
@@ -203,13 +191,5 @@ impl Events {
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self(events))
-    }
-
-    /// Reads `dir/events.csv`.
-    ///
-    /// # Errors
-    /// As [`Events::parse`], or if the file cannot be read.
-    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
-        Self::parse(&super::read_text(dir, FILE)?)
     }
 }

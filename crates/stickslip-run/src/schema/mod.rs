@@ -1,4 +1,5 @@
-//! The output files of a run, one Rust type per file with its writer and its reader:
+//! The output files of a run, one Rust type per file with its writer and its reader (the CSV
+//! files through one trait, [`Table`]):
 //! [`series::Series`] (series.csv), [`events::Events`] (events.csv), [`profiles::Profiles`]
 //! (profiles.csv), [`probes::Probes`] (probes.csv) and [`run_info::RunInfo`] (run.json).
 //! [`RunOutput`] holds all five, read from a directory or collected in memory.
@@ -15,6 +16,9 @@ pub mod profiles;
 pub mod run_info;
 pub mod series;
 pub mod slips;
+pub mod table;
+
+pub use table::Table;
 
 use std::collections::BTreeMap;
 use std::path::Path;

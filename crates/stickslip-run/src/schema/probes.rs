@@ -4,9 +4,9 @@
 //! and recovers within a step — so sampled φ rarely shows it; `t_melt` dates it.
 
 use super::csv::{NumericCsv, write_row};
+use super::table::Table;
 use super::{Column, SchemaError};
 use std::io::{self, Write};
-use std::path::Path;
 
 /// File name.
 pub const FILE: &str = "probes.csv";
@@ -187,26 +187,23 @@ impl Probes {
     pub fn write_values(w: &mut impl Write, row: &[f64]) -> io::Result<()> {
         write_row(w, row)
     }
+}
 
-    /// The whole table as CSV text.
-    #[must_use]
-    pub fn to_csv(&self) -> String {
-        let mut out = Vec::new();
-        let _ = Self::write_header(&mut out, &self.radii_m);
+impl Table for Probes {
+    const FILE: &'static str = FILE;
+
+    fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
+        Self::write_header(w, &self.radii_m)?;
         let cols = self.columns();
         for i in 0..self.len() {
             let values: Vec<f64> = cols.iter().map(|(_, c)| c[i]).collect();
-            let _ = write_row(&mut out, &values);
+            write_row(w, &values)?;
         }
-        String::from_utf8(out).unwrap_or_default()
+        Ok(())
     }
 
-    /// Parses the text of probes.csv (the radii from the `phi@<r>` names).
-    ///
-    /// # Errors
-    /// [`SchemaError`] if the header is not `t, phi@…, t_melt@…` or a cell is not a number.
-    pub fn parse(text: &str) -> Result<Self, SchemaError> {
-        let csv = NumericCsv::parse(text, FILE)?;
+    /// The radii from the `phi@<r>` names; the header must be `t, phi@…, t_melt@…`.
+    fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
         csv.expect_header(&[TIME.name], FILE)?;
         let n = (csv.header.len() - 1) / 2;
         let radii_m = csv.header[1..=n]
@@ -232,14 +229,6 @@ impl Probes {
             p.push(row);
         }
         Ok(p)
-    }
-
-    /// Reads `dir/probes.csv`.
-    ///
-    /// # Errors
-    /// As [`Probes::parse`], or if the file cannot be read.
-    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
-        Self::parse(&super::read_text(dir, FILE)?)
     }
 }
 

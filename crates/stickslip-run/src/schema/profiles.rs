@@ -1,9 +1,9 @@
 //! profiles.csv: one block of rows (one per node) per recorded profile time.
 
 use super::csv::{NumericCsv, write_row};
+use super::table::{Table, read_columns, write_columns};
 use super::{Column, SchemaError};
 use std::io::{self, Write};
-use std::path::Path;
 use stickslip_core::sim::SimState;
 
 /// File name.
@@ -253,40 +253,20 @@ impl Profiles {
         }
         Ok(())
     }
+}
 
-    /// The whole table as CSV text.
-    #[must_use]
-    pub fn to_csv(&self) -> String {
-        let mut out = Vec::new();
-        let _ = Self::write_header(&mut out);
-        let cols = self.columns();
-        for i in 0..self.len() {
-            let values: Vec<f64> = cols.iter().map(|(_, c)| c[i]).collect();
-            let _ = write_row(&mut out, &values);
-        }
-        String::from_utf8(out).unwrap_or_default()
-    }
+impl Table for Profiles {
+    const FILE: &'static str = FILE;
 
-    /// Parses the text of profiles.csv.
-    ///
-    /// # Errors
-    /// [`SchemaError`] if a column is missing or a cell is not a number.
-    pub fn parse(text: &str) -> Result<Self, SchemaError> {
-        let csv = NumericCsv::parse(text, FILE)?;
+    fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
         let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        csv.expect_header(&names, FILE)?;
-        let mut p = Self::default();
-        for (i, col) in p.columns_mut().into_iter().enumerate() {
-            *col = csv.rows.iter().map(|r| r[i]).collect();
-        }
-        Ok(p)
+        write_columns(w, &names, &self.columns().map(|(_, c)| c))
     }
 
-    /// Reads `dir/profiles.csv`.
-    ///
-    /// # Errors
-    /// As [`Profiles::parse`], or if the file cannot be read.
-    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
-        Self::parse(&super::read_text(dir, FILE)?)
+    fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
+        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        let mut p = Self::default();
+        read_columns(&csv, &names, &mut p.columns_mut(), FILE)?;
+        Ok(p)
     }
 }

@@ -2,9 +2,9 @@
 //! series.csv).
 
 use super::csv::{NumericCsv, write_row};
+use super::table::{Table, read_columns, write_columns};
 use super::{Column, SchemaError};
 use std::io::{self, Write};
-use std::path::Path;
 use stickslip_core::sim::Observables;
 
 /// File name.
@@ -192,48 +192,27 @@ impl Series {
         write_row(w, &row(o))
     }
 
-    /// The whole table as CSV text.
-    #[must_use]
-    pub fn to_csv(&self) -> String {
-        let mut out = Vec::new();
-        // Writing to a Vec cannot fail.
-        let _ = Self::write_header(&mut out);
-        let cols = self.columns();
-        for i in 0..self.len() {
-            let values: Vec<f64> = cols.iter().map(|(_, c)| c[i]).collect();
-            let _ = write_row(&mut out, &values);
-        }
-        String::from_utf8(out).unwrap_or_default()
-    }
-
-    /// Parses the text of series.csv.
-    ///
-    /// # Errors
-    /// [`SchemaError`] if a column is missing or a cell is not a number.
-    pub fn parse(text: &str) -> Result<Self, SchemaError> {
-        let csv = NumericCsv::parse(text, FILE)?;
-        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        csv.expect_header(&names, FILE)?;
-        let mut s = Self::default();
-        for (i, col) in s.columns_mut().into_iter().enumerate() {
-            *col = csv.rows.iter().map(|r| r[i]).collect();
-        }
-        Ok(s)
-    }
-
-    /// Reads `dir/series.csv`.
-    ///
-    /// # Errors
-    /// As [`Series::parse`], or if the file cannot be read.
-    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
-        Self::parse(&super::read_text(dir, FILE)?)
-    }
-
     /// Index range of the rows with t in [t0, t1].
     #[must_use]
     pub fn window(&self, t0: f64, t1: f64) -> std::ops::Range<usize> {
         let a = self.t_s.partition_point(|&t| t < t0);
         let b = self.t_s.partition_point(|&t| t <= t1);
         a..b.max(a)
+    }
+}
+
+impl Table for Series {
+    const FILE: &'static str = FILE;
+
+    fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
+        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        write_columns(w, &names, &self.columns().map(|(_, c)| c))
+    }
+
+    fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
+        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        let mut s = Self::default();
+        read_columns(&csv, &names, &mut s.columns_mut(), FILE)?;
+        Ok(s)
     }
 }

@@ -2,10 +2,10 @@
 //! columns of docs/reference.md, section slips.csv).
 
 use super::csv::{NumericCsv, write_cells};
+use super::table::Table;
 use super::{Column, SchemaError};
 use crate::slips::Slip;
 use std::io::{self, Write};
-use std::path::Path;
 
 /// File name.
 pub const FILE: &str = "slips.csv";
@@ -102,12 +102,14 @@ impl Slips {
             .map(|(c, f)| (c.name, self.0.iter().map(f).collect()))
             .collect()
     }
+}
 
-    /// Writes the file's text.
-    ///
-    /// # Errors
-    /// Those of the writer.
-    pub fn write(&self, w: &mut impl Write) -> io::Result<()> {
+impl Table for Slips {
+    const FILE: &'static str = FILE;
+    /// A directory written before slips existed has none, and reads as no slips.
+    const OPTIONAL: bool = true;
+
+    fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
         let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
         writeln!(w, "{}", names.join(","))?;
         for s in &self.0 {
@@ -131,12 +133,8 @@ impl Slips {
         Ok(())
     }
 
-    /// Parses the text of slips.csv (the derived columns are recomputed, not read).
-    ///
-    /// # Errors
-    /// [`SchemaError`] if a column is missing or a cell is not a number.
-    pub fn parse(text: &str) -> Result<Self, SchemaError> {
-        let csv = NumericCsv::parse(text, FILE)?;
+    /// The derived columns are recomputed, not read.
+    fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
         let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
         csv.expect_header(&names, FILE)?;
         let count = |v: f64, what: &str, line: usize| {
@@ -169,18 +167,6 @@ impl Slips {
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self(slips))
     }
-
-    /// Reads `dir/slips.csv`; a directory written before slips existed has none, and reads as
-    /// no slips.
-    ///
-    /// # Errors
-    /// As [`Slips::parse`], or if the file exists but cannot be read.
-    pub fn read(dir: &Path) -> Result<Self, SchemaError> {
-        if !dir.join(FILE).exists() {
-            return Ok(Self::default());
-        }
-        Self::parse(&super::read_text(dir, FILE)?)
-    }
 }
 
 #[cfg(test)]
@@ -212,7 +198,7 @@ mod tests {
             },
         ]);
         let mut text = Vec::new();
-        slips.write(&mut text).unwrap();
+        slips.write_to(&mut text).unwrap();
         let text = String::from_utf8(text).unwrap();
         assert_eq!(Slips::parse(&text).unwrap(), slips);
         assert_eq!(slips.columns()[5].1[0], slips.0[0].drop_n());

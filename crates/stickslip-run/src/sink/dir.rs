@@ -21,6 +21,7 @@ use crate::checkpoint::{self, Checkpoint, CheckpointError, StreamPositions};
 use crate::driver::{Control, Driver, RunStart, Sink, Snapshot, StartError};
 use crate::outcome::{RunOutcome, StopReason};
 use crate::scene::ResolvedScene;
+use crate::schema::Table;
 use crate::schema::events::Events;
 use crate::schema::probes::Probes;
 use crate::schema::profiles::Profiles;
@@ -476,10 +477,10 @@ impl Sink for DirSink {
         // The events so far (the last one may still be open when interrupted); an ended run's
         // events are complete.
         let mut text = Vec::new();
-        Events(outcome.events.clone()).write(&mut text)?;
+        Events(outcome.events.clone()).write_to(&mut text)?;
         write_atomic(&self.dir, schema::events::FILE, &text)?;
         let mut text = Vec::new();
-        Slips(outcome.slips.clone()).write(&mut text)?;
+        Slips(outcome.slips.clone()).write_to(&mut text)?;
         write_atomic(&self.dir, schema::slips::FILE, &text)?;
         if let Some(info) = &mut self.info {
             info.finish(outcome);

@@ -15,6 +15,7 @@ use crate::atomic::StreamPosition;
 use crate::checkpoint::{self, Checkpoint};
 use crate::driver::{Snapshot, warnings_of};
 use crate::outcome::{RunStatus, StopReason};
+use crate::schema::Table;
 use crate::schema::events::Events;
 use crate::schema::probes::Probes;
 use crate::schema::profiles::Profiles;
