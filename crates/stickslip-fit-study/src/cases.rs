@@ -62,8 +62,7 @@ impl Case {
     /// The case's contact.nodes as its settings give it ("?" when they do not).
     #[must_use]
     pub fn nodes(&self) -> String {
-        keys::contact::NODES
-            .value_in(&self.settings)
+        stickslip_run::scene::overrides::value_in(keys::contact::NODES.path, &self.settings)
             .and_then(|v| v.as_integer())
             .map_or_else(|| "?".to_string(), |n| n.to_string())
     }

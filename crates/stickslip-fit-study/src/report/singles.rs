@@ -299,10 +299,12 @@ pub(super) fn viscous_section(st: &Study, rows: &mut Vec<Row>, out: &mut String)
         out,
         "The SFA contact with a dashpot on the drive (`drive.damping` = {} N·s/m, known) and \
          a viscous film, fitted for {}; the target: each 95 % interval holds the truth.\n",
-        stickslip_run::keys::drive::DAMPING
-            .value_in(&f.case.settings)
-            .and_then(|v| v.as_float())
-            .map_or("–".into(), |v| sig(v, 4)),
+        stickslip_run::scene::overrides::value_in(
+            stickslip_run::keys::drive::DAMPING.path,
+            &f.case.settings,
+        )
+        .and_then(|v| v.as_float())
+        .map_or("–".into(), |v| sig(v, 4)),
         f.case
             .truth
             .iter()

@@ -216,20 +216,6 @@ impl<T: KeyValue> Key<T> {
         Setting::new(self.path, value.to_toml())
     }
 
-    /// The value `settings` (`--set` texts, as a record keeps them) give this key, read by
-    /// the scene's own override parser: the last one that sets it; `None` when none does or
-    /// the text does not parse.
-    #[must_use]
-    pub fn value_in(&self, settings: &[String]) -> Option<toml::Value> {
-        let mut root = toml::Table::new();
-        for text in settings {
-            let _ = crate::scene::overrides::apply_override(&mut root, text);
-        }
-        let mut parts = self.path.split('.');
-        let section = root.get(parts.next()?)?.as_table()?;
-        section.get(parts.next()?).cloned()
-    }
-
     /// Allowed values in words: the range, then the rules between keys.
     #[must_use]
     pub fn allowed(&self) -> String {

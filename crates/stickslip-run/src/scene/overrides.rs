@@ -70,3 +70,17 @@ pub fn apply_override(root: &mut toml::Table, arg: &str) -> Result<(), SceneErro
     table.insert(last.to_string(), value);
     Ok(())
 }
+
+/// The value `settings` (`--set` texts, as a record keeps them) give the key at `path`
+/// (`section.key`), read by this parser: the last one that sets it; `None` when none does or
+/// the text does not parse.
+#[must_use]
+pub fn value_in(path: &str, settings: &[String]) -> Option<toml::Value> {
+    let mut root = toml::Table::new();
+    for text in settings {
+        let _ = apply_override(&mut root, text);
+    }
+    let mut parts = path.split('.');
+    let section = root.get(parts.next()?)?.as_table()?;
+    section.get(parts.next()?).cloned()
+}
