@@ -453,51 +453,6 @@ impl SimConfig {
             ContactModel::Homogeneous => 1,
         }
     }
-
-    /// The fig2 scene of the paper (docs/model.md#the-papers-scenes) with the given scheme,
-    /// floor noise φ ≥ 1e-6.
-    pub fn fig2(scheme: Scheme) -> Self {
-        let lubricant = LandauParams {
-            tau_max_pa: 1e6,
-            eps_max: 1.0,
-            a_pa: 1e6,
-            gamma_per_pa_s: 10.0,
-            cubic_pa: 0.0,
-            viscosity_pa_s: 0.0,
-        };
-        Self {
-            lubricant,
-            melt_threshold: 0.01,
-            noise: NoiseKind::Floor { floor: 1e-6 },
-            temperature: Temperature::Constant {
-                a_coeff_pa: lubricant.a_coeff_default_pa(),
-            },
-            contact: ContactConfig {
-                radius_m: 2e-5,
-                film_thickness_m: 1e-7,
-                g_eff_pa: 1e9,
-                nodes: 2000,
-                grid: crate::grid::Grading::Uniform,
-                model: ContactModel::Radial,
-                substrate: Substrate::Elastic,
-            },
-            drive: Drive::Spring(crate::drive::SpringDrive {
-                stiffness_n_per_m: 500.0,
-                mass_kg: 0.1,
-                velocity_m_per_s: 1.0,
-                damping_n_s_per_m: 0.0,
-            }),
-            integrator: Integrator::Split,
-            time: TimeConfig {
-                end_s: 1.3e-3,
-                dt_s: 1e-8,
-                scheme,
-                adaptive: None,
-            },
-            numerics: NumericsConfig::default(),
-            events: EventConfig::default(),
-        }
-    }
 }
 
 /// Derived parameters reported by `stickslip check` and in `run.json`.

@@ -1,11 +1,11 @@
 //! The step loop allocates nothing: allocations counted per thread (the allocation-counter
 //! crate's global allocator) over fixed and adaptive accurate steps of fig2 after warm-up.
 
-use stickslip_core::config::{AdaptiveConfig, Scheme, SimConfig};
+use stickslip_core::config::{AdaptiveConfig, Scheme};
 use stickslip_core::sim::Simulation;
 
 fn fig2(nodes: usize, adaptive: bool) -> Simulation {
-    let mut c = SimConfig::fig2(Scheme::Accurate);
+    let mut c = crate::scenes::fig2(Scheme::Accurate);
     c.contact.nodes = nodes;
     if adaptive {
         c.time.adaptive = Some(AdaptiveConfig {

@@ -13,5 +13,7 @@ mod mdr_pairs;
 mod mdr_properties;
 mod models;
 mod noise;
+mod preflight;
+mod scenes;
 mod sim_first_order;
 mod sim_state;

@@ -24,7 +24,7 @@ fn film() -> LandauParams {
 
 /// One node, rigid drive at `v0`, rigid substrate: ε = V0·(t − t_reset)/h0 while solid.
 fn one_node(v0: f64, end: f64, dt: f64, tolerance: Option<f64>) -> SimConfig {
-    let mut c = SimConfig::fig2(Scheme::Accurate);
+    let mut c = crate::scenes::fig2(Scheme::Accurate);
     c.lubricant = film();
     c.contact.model = ContactModel::Homogeneous;
     c.contact.substrate = Substrate::Rigid;

@@ -6,7 +6,7 @@ use stickslip_core::noise::NoiseKind;
 use stickslip_core::sim::Simulation;
 
 fn small_fig2(scheme: Scheme, nodes: usize) -> SimConfig {
-    let mut c = SimConfig::fig2(scheme);
+    let mut c = crate::scenes::fig2(scheme);
     c.contact.nodes = nodes;
     c.time.dt_s = 2e-8;
     c
@@ -42,6 +42,8 @@ fn one_step_advances_the_noise_generators_in_the_state() {
     // The precondition of resuming gaussian runs: the state a checkpoint saves must follow the
     // noise generators, or a resumed run replays the noise from its start.
     let mut c = small_fig2(Scheme::Accurate, 10);
+    // Gaussian noise is drawn per step: fixed steps (the scene's default is adaptive).
+    c.time.adaptive = None;
     c.noise = NoiseKind::Gaussian {
         sigma_per_sqrt_s: 1.0,
         seed: 1,

@@ -101,11 +101,14 @@ pub struct Observables {
 ///
 /// # Example
 /// ```
-/// use stickslip_core::config::{Scheme, SimConfig};
 /// use stickslip_core::sim::Simulation;
 ///
-/// let mut config = SimConfig::fig2(Scheme::Accurate);
-/// config.contact.nodes = 20;
+/// // A configuration comes from a scene (the run library reads and checks it): here the
+/// // paper's fig2 at 20 nodes.
+/// let fig2 = include_str!("../../../../validation/scenes/fig2.toml");
+/// let config = stickslip_run::scene::Scene::from_toml_str(fig2, &["contact.nodes=20"])
+///     .unwrap()
+///     .config;
 /// let mut sim = Simulation::new(config).unwrap();
 /// for _ in 0..10 {
 ///     sim.step(1e-6).unwrap();
