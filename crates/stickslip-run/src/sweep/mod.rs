@@ -2,6 +2,7 @@
 //! in-process run reduced to its summary and regime (docs/model.md#regimes-and-friction-maps).
 //!
 //! - [`file`]: SWEEP.toml as written and its errors (each naming the key and its line);
+//! - [`file_keys`]: the sweep file's keys in one table (the reference's rows, held to the reader);
 //! - this module: the resolved [`Sweep`] (axes, points, every point's scene validated before
 //!   anything runs, or, beyond [`MAX_POINTS`], each axis value at once and each point when
 //!   it runs), its limits and its identity ([`Sweep::fingerprint`]);
@@ -30,6 +31,7 @@
 pub mod checks;
 pub mod exec;
 pub mod file;
+pub mod file_keys;
 pub mod lock;
 pub mod map;
 pub mod merge;

@@ -4,7 +4,7 @@
 
 use super::map::{LEVEL_COLUMN, SUMMARY_COLUMNS};
 use super::record::PointStatus;
-use super::refine::{MAX_AXES, ON_REGIME, columns};
+use super::refine::{MAX_AXES, ON_REGIME};
 use super::{HARD_MAX_POINTS, MAX_POINTS};
 use crate::layout::sweep::{CHECKS_DIR, CSV_FILE, JSON_FILE};
 use crate::summary::{Regime, RegimeThresholds};
@@ -91,94 +91,8 @@ pub fn markdown() -> String {
          the same integer, are refused.\n\n",
     );
     out.push_str("### Sweep file\n\n| key | meaning |\n|---|---|\n");
-    let rows: [(&str, String); 15] = [
-        ("name", "name of the sweep (required)".into()),
-        (
-            "scene",
-            "the base scene file, relative to the sweep file (required)".into(),
-        ),
-        (
-            "[set]",
-            "`\"section.key\" = value` applied to every point, like `--set`".into(),
-        ),
-        (
-            "[[axis]] key",
-            "a scene key (`section.key`, see Scene keys); one axis per key".into(),
-        ),
-        (
-            "[[axis]] values",
-            "the axis values: numbers, or words for a choice key".into(),
-        ),
-        (
-            "[[axis]] range",
-            format!(
-                "instead of `values`: `{{ from, to, count, scale }}`, `scale` `\"linear\"` \
-                 (default) or `\"log\"` (from and to > 0), 1 ≤ count ≤ {MAX_POINTS} (per axis, \
-                 also with `--allow-large`), from ≠ to when count > 1"
-            ),
-        ),
-        (
-            "[regime] stick_slip_recovery",
-            format!(
-                "R at or above which two or more events are `stick_slip` (default {})",
-                t.stick_slip_recovery
-            ),
-        ),
-        (
-            "[regime] smooth_recovery",
-            format!(
-                "R below which two or more events are `smooth` (default {}); in between: \
-                 `partial`",
-                t.smooth_recovery
-            ),
-        ),
-        (
-            "[regime] sliding_fraction",
-            format!(
-                "share of the time after the first onset with no solid node at or above which \
-                 the run is `sliding` (default {})",
-                t.sliding_fraction
-            ),
-        ),
-        (
-            "[refine] levels",
-            "levels of adaptive refinement, an integer ≥ 0 (0 = none); see Refinement below".into(),
-        ),
-        (
-            "[refine] on",
-            format!(
-                "what splits a cell: `\"{ON_REGIME}\"` (default: corners of different regime) \
-                 or a numeric map.csv column: {}",
-                columns()
-                    .iter()
-                    .map(|c| format!("`{c}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        ),
-        (
-            "[refine] threshold",
-            "with `on` a column (required then, and only then), > 0: a cell splits when two of \
-             its corners' values a, b have \\|a − b\\| > threshold · max(\\|a\\|, \\|b\\|)"
-                .into(),
-        ),
-        (
-            "[verify] sample",
-            "spot checks: a share of the map's points, 0 < sample ≤ 1, spread evenly in point \
-             order, rerun at 2N and at a tenth of the tolerance; see Spot checks below"
-                .into(),
-        ),
-        (
-            "[verify] points",
-            "or a number of points ≥ 1 (not both)".into(),
-        ),
-        (
-            "[verify] boundaries",
-            "also every point next to a regime boundary (default true)".into(),
-        ),
-    ];
-    for (key, meaning) in rows {
-        out.push_str(&format!("| `{key}` | {meaning} |\n"));
+    for key in super::file_keys::registry() {
+        out.push_str(&format!("| `{}` | {} |\n", key.label(), key.meaning));
     }
     out.push_str(&format!(
         "\nMore than {MAX_POINTS} points need `--allow-large` (`allow_large=True` in Python); \
