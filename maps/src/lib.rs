@@ -32,9 +32,9 @@ pub mod viscous;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use stickslip_report::plot::{Panel, render_svg};
-use stickslip_run::sweep::exec::{self, Merge, SweepOptions};
-use stickslip_run::sweep::map::{MapJson, MapRow};
-use stickslip_run::sweep::{Sweep, value_number};
+use stickslip_studies::sweep::exec::{self, Merge, SweepOptions};
+use stickslip_studies::sweep::map::{MapJson, MapRow};
+use stickslip_studies::sweep::{Sweep, value_number};
 
 /// A check of a map: what physics says, the measured value, the verdict.
 #[derive(Debug, Clone, PartialEq)]
@@ -169,10 +169,16 @@ pub fn run_map(file: &Path, dir: &Path, jobs: usize, resume: bool) -> Result<Map
         return Err(format!("{}: {missing} points missing", sweep.name));
     }
     if let Some(spot) = &sweep.verify {
-        let checks =
-            stickslip_run::sweep::spot::run_checks(&sweep, spot, dir, jobs, None, &mut |_, _| {})
-                .map_err(|e| e.to_string())?
-                .ok_or_else(|| format!("{}: spot checks interrupted", sweep.name))?;
+        let checks = stickslip_studies::sweep::spot::run_checks(
+            &sweep,
+            spot,
+            dir,
+            jobs,
+            None,
+            &mut |_, _| {},
+        )
+        .map_err(|e| e.to_string())?
+        .ok_or_else(|| format!("{}: spot checks interrupted", sweep.name))?;
         println!(
             "maps: {}: {} spot checks ({} found done), {} changed regime, {:.1} s",
             sweep.name, checks.checked, checks.skipped, checks.changed, checks.wall_s
@@ -339,6 +345,7 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         steady::section(&steady_map)?,
         viscous::section(&viscous_map, opts.jobs)?,
     ];
+    let mut files = stickslip_report::files::ReportFiles::create(&reports)?;
     for s in &sections {
         let cols = 2;
         let svg = render_svg(
@@ -347,8 +354,7 @@ pub fn run(opts: &Options) -> Result<bool, String> {
             stickslip_report::map::PANEL_PX.0,
             stickslip_report::map::PANEL_PX.1,
         )?;
-        stickslip_report::write_atomic(&reports.join(&s.figure.0), svg.as_bytes())
-            .map_err(|e| format!("{}: {e}", s.figure.0))?;
+        files.put(&s.figure.0, svg)?;
     }
     let maps = [
         &rigid_map,
@@ -365,8 +371,7 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         .zip(maps)
         .collect();
     let md = markdown(&sections, &spot_checks_markdown(&titled));
-    stickslip_report::write_atomic(&reports.join("maps.md"), md.as_bytes())
-        .map_err(|e| format!("maps.md: {e}"))?;
+    files.put("maps.md", md)?;
     let all = sections.iter().flat_map(|s| &s.checks).all(|c| c.pass);
     for s in &sections {
         for c in &s.checks {

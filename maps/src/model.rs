@@ -11,7 +11,7 @@ use stickslip_report::fmt::sig;
 use stickslip_report::map::panels;
 use stickslip_report::palette::GREY;
 use stickslip_report::plot::Series;
-use stickslip_run::sweep::map::MapRow;
+use stickslip_studies::sweep::map::MapRow;
 
 const H: &str = stickslip_run::keys::contact::FILM_THICKNESS.path;
 const G: &str = stickslip_run::keys::contact::G_EFF.path;

@@ -17,7 +17,7 @@ use crate::{Check, Map, Section};
 use stickslip_report::fmt::sig;
 use stickslip_report::map::panels;
 use stickslip_run::summary::Regime;
-use stickslip_run::sweep::map::MapRow;
+use stickslip_studies::sweep::map::MapRow;
 
 /// The stiff limit: cells whose first-order substrate share ρ₊ is at most this must agree.
 /// Reason: the one-node and the radial contact differ only through the substrate's share of

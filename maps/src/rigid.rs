@@ -19,9 +19,9 @@ use stickslip_report::map::panels;
 use stickslip_report::palette::DARK;
 use stickslip_report::plot::{Marker, Series};
 use stickslip_run::ResolvedScene;
-use stickslip_run::boundary;
 use stickslip_run::summary::Regime;
-use stickslip_run::sweep::refine::agreement;
+use stickslip_studies::boundary;
+use stickslip_studies::sweep::refine::agreement;
 
 const V: &str = stickslip_run::keys::drive::VELOCITY.path;
 const A: &str = "temperature.A0";

@@ -27,8 +27,8 @@ use stickslip_report::palette::DARK;
 use stickslip_report::plot::{Marker, Series};
 use stickslip_report::stats::log_log_slope;
 use stickslip_run::ResolvedScene;
-use stickslip_run::boundary::{self, Boundary};
 use stickslip_run::summary::Regime;
+use stickslip_studies::boundary::{self, Boundary};
 
 const E: &str = stickslip_run::keys::lubricant::EPS_MELT.path;
 const V: &str = stickslip_run::keys::drive::VELOCITY.path;
@@ -276,7 +276,7 @@ pub fn section(map: &Map) -> Result<Section, String> {
     let inside = crit
         .iter()
         .filter(|(_, b, (lo, hi))| {
-            b.below.regime == stickslip_run::boundary::Label::Film(Regime::StickSlip)
+            b.below.regime == stickslip_studies::boundary::Label::Film(Regime::StickSlip)
                 && b.value >= *lo
                 && b.value <= *hi
         })

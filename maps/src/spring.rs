@@ -9,7 +9,7 @@ use stickslip_report::map::panels;
 use stickslip_report::palette::GREY;
 use stickslip_report::plot::Series;
 use stickslip_run::summary::Regime;
-use stickslip_run::sweep::map::MapRow;
+use stickslip_studies::sweep::map::MapRow;
 
 const K: &str = stickslip_run::keys::drive::STIFFNESS.path;
 const V: &str = stickslip_run::keys::drive::VELOCITY.path;

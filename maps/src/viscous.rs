@@ -12,11 +12,11 @@ use crate::{Check, Map, Section};
 use std::f64::consts::PI;
 use stickslip_report::fmt::sig;
 use stickslip_report::map::panels;
-use stickslip_run::boundary::Scale;
-use stickslip_run::boundary::scan::{Scan, ScanOptions, scan};
 use stickslip_run::cycles::StampRegime;
 use stickslip_run::summary::{Regime, RegimeThresholds};
-use stickslip_run::sweep::map::MapRow;
+use stickslip_studies::boundary::Scale;
+use stickslip_studies::boundary::scan::{Scan, ScanOptions, scan};
+use stickslip_studies::sweep::map::MapRow;
 
 const K: &str = stickslip_run::keys::drive::STIFFNESS.path;
 const ETA: &str = stickslip_run::keys::lubricant::VISCOSITY.path;
@@ -84,7 +84,7 @@ struct Critical {
 
 impl Critical {
     /// The change from `stick_slip` below to `steady_sliding` above, if found.
-    fn change(&self) -> Option<&stickslip_run::boundary::scan::Change> {
+    fn change(&self) -> Option<&stickslip_studies::boundary::scan::Change> {
         self.scan.changes.iter().find(|c| {
             c.below.regime.name() == StampRegime::StickSlip.name()
                 && c.above.regime.name() == StampRegime::SteadySliding.name()

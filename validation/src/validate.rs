@@ -8,7 +8,8 @@ use crate::report::{Outcome, Resolution, claims_table_text, compare, index_md, s
 use crate::runner::{Runner, run_all_with, specs as specs_list};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use stickslip_report::{binary, write_atomic};
+use stickslip_report::binary;
+use stickslip_report::files::ReportFiles;
 
 /// What `validate` should do.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,10 +22,6 @@ pub struct Options {
     pub jobs: usize,
     /// Only run the hard cases and write `reports/hard-cases.md` (`--hard-only`).
     pub hard_only: bool,
-}
-
-fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    write_atomic(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Runs the validation. `Ok(true)` when every claim passes and verify covers every known error
@@ -115,22 +112,17 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         );
         return Ok(all_pass && diffs.is_empty());
     }
-    std::fs::create_dir_all(&reports).map_err(|e| format!("{}: {e}", reports.display()))?;
+    let mut files = ReportFiles::create(&reports)?;
     let mut figures = crate::figures::all(&runs);
     figures.extend(crate::figures_first_order::all(&runs));
     for fig in &figures {
         match &fig.svg {
-            Ok(svg) => write(&reports.join(fig.file), svg.as_bytes())?,
+            Ok(svg) => files.put(fig.file, svg)?,
             Err(e) => println!("figure {} not drawn: {e}", fig.file),
         }
     }
-    write(
-        &reports.join("index.md"),
-        index_md(&outcome, &figures).as_bytes(),
-    )?;
-    let mut json = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
-    json.push('\n');
-    write(&reports.join("summary.json"), json.as_bytes())?;
+    files.put("index.md", index_md(&outcome, &figures))?;
+    files.put_json("summary.json", &summary)?;
     hard_cases(&bin, root)?;
     println!(
         "validate: wrote reports/index.md, reports/summary.json, reports/hard-cases.md and {} \

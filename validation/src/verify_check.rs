@@ -1,9 +1,9 @@
 //! `stickslip verify` checked against known errors: verify runs a scene at a coarse N through
 //! the binary (`stickslip verify … --jobs 1`, a [`Task`] in the runner's pool), its verify.json
-//! is read back through the run library's type (`stickslip_run::verify::VerifyReport`), and
+//! is read back through the run library's type (`stickslip_studies::verify::VerifyReport`), and
 //! each continuous quantity's value is compared with the same quantity of a much finer run of
 //! the same scene (a [`RunSpec`] of the run list, read through the schema; the names and
-//! values through `stickslip_run::verify::numbers`, as verify computes them). The true error
+//! values through `stickslip_studies::verify::numbers`, as verify computes them). The true error
 //! is |value − reference|; a quantity is covered when verify's uncertainty is at least the true
 //! error, or verify says it is not converged (or changed between levels): saying so is honest.
 //! Every quantity must be covered for `cargo xtask validate` to pass.
@@ -24,7 +24,7 @@ use std::sync::Mutex;
 use stickslip_report::binary::invoke;
 use stickslip_report::fmt;
 use stickslip_run::keys::contact;
-use stickslip_run::verify::{Level, Verdict, VerifyReport, numbers};
+use stickslip_studies::verify::{Level, Verdict, VerifyReport, numbers};
 
 /// N at which verify runs each subject (its levels: N, 2N, 4N, and N at two finer
 /// tolerances).

@@ -5,7 +5,7 @@
 use std::path::Path;
 use stickslip_core::drive::Drive;
 use stickslip_run::Scene;
-use stickslip_run::verify::Verdict;
+use stickslip_studies::verify::Verdict;
 use stickslip_validation::verify_check::{
     SUBJECTS, SceneCheck, VerifyCheck, all_covered, compare, markdown, sentence, to_json,
 };

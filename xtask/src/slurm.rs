@@ -19,7 +19,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
-use stickslip_run::sweep::map::MapTable;
+use stickslip_studies::sweep::map::MapTable;
 
 /// The sweep the check runs.
 const SWEEP: &str = "maps/slurm-check.toml";
@@ -344,7 +344,7 @@ fn check_refined(
         ))
         .is_ok_and(|s| s.trim().is_empty())
     })?;
-    let lock = stickslip_run::sweep::exec::load_lock(&out).map_err(|e| e.to_string())?;
+    let lock = stickslip_studies::sweep::exec::load_lock(&out).map_err(|e| e.to_string())?;
     let levels = lock.sweep.refine.as_ref().map_or(0, |r| r.levels as usize);
     println!(
         "slurm-check: the refined sweep's {} arrays ran in {:.1} s",
@@ -411,7 +411,7 @@ fn check_array(dir: &Path, out: &Path) -> Result<(), String> {
         ));
     }
     let kept = std::fs::read_dir(out.join("runs")).map_or(0, Iterator::count);
-    let points = stickslip_run::sweep::exec::load_lock(out)
+    let points = stickslip_studies::sweep::exec::load_lock(out)
         .map_err(|e| e.to_string())?
         .sweep
         .points;

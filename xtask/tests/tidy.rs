@@ -150,10 +150,34 @@ fn the_driver_knows_no_files_and_checkpoints_know_no_sink() {
 #[test]
 fn the_run_library_has_no_command_line_code() {
     let root = workspace_root();
-    let manifest = std::fs::read_to_string(root.join("crates/stickslip-run/Cargo.toml")).unwrap();
-    for dep in ["clap", "indicatif", "signal-hook", "pyo3"] {
-        assert!(!manifest.contains(dep), "stickslip-run depends on {dep}");
+    for krate in ["stickslip-run", "stickslip-studies"] {
+        let manifest =
+            std::fs::read_to_string(root.join(format!("crates/{krate}/Cargo.toml"))).unwrap();
+        for dep in ["clap", "indicatif", "signal-hook", "pyo3"] {
+            assert!(!manifest.contains(dep), "{krate} depends on {dep}");
+        }
     }
+}
+
+#[test]
+fn the_one_run_library_knows_no_study() {
+    // One run below, the studies made of many runs above: the run library neither depends on
+    // the studies (not even for its tests) nor names their code.
+    let root = workspace_root();
+    let manifest = std::fs::read_to_string(root.join("crates/stickslip-run/Cargo.toml")).unwrap();
+    assert!(
+        !manifest.contains("stickslip-studies"),
+        "stickslip-run depends on the studies"
+    );
+    let naming: Vec<String> = sources(&root, "crates/stickslip-run")
+        .into_iter()
+        .filter(|(_, text)| text.contains("stickslip_studies"))
+        .map(|(path, _)| path)
+        .collect();
+    assert!(
+        naming.is_empty(),
+        "these run-library files name the studies: {naming:?}"
+    );
 }
 
 #[test]

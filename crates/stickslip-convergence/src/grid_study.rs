@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use stickslip_run::driver::{Control, NullSink};
 use stickslip_run::keys::{Setting, contact, time, words::GridChoice};
-use stickslip_run::verify::celik;
 use stickslip_run::{ResolvedScene, Scene};
+use stickslip_studies::verify::celik;
 
 /// One contact of the study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -25,7 +25,7 @@
 //! called, and reports are made with `stickslip-report`.
 
 /// Celik et al.'s three-grid procedure (the run library's, which `stickslip verify` uses too).
-pub use stickslip_run::verify::celik;
+pub use stickslip_studies::verify::celik;
 pub mod fig2;
 pub mod grid_study;
 pub mod noise;

@@ -8,7 +8,7 @@ use crate::jacobian;
 use crate::prepared::{Prepared, prepare};
 use crate::record::{CoverageRun, Curves, FitSummary, JacobianCheck, SingleFit, WidthRun};
 use std::path::Path;
-use stickslip_run::fit::{FitOutcome, MisfitKind};
+use stickslip_studies::fit::{FitOutcome, MisfitKind};
 
 /// The CPU time of this process so far (user and system, all threads), s: from
 /// `/proc/self/stat` in clock ticks of 1/100 s; none where unreadable.

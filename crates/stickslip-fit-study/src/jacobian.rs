@@ -7,11 +7,11 @@
 
 use crate::prepared::Prepared;
 use crate::record::{JacobianCheck, JacobianColumn};
-use stickslip_run::fit::forward::Forward;
-use stickslip_run::fit::misfit::Target;
-use stickslip_run::fit::params::Param;
-use stickslip_run::fit::problem::{Eval, Problem};
-use stickslip_run::fit::{FitOutcome, MisfitKind, optimise, parameters};
+use stickslip_studies::fit::forward::Forward;
+use stickslip_studies::fit::misfit::Target;
+use stickslip_studies::fit::params::Param;
+use stickslip_studies::fit::problem::{Eval, Problem};
+use stickslip_studies::fit::{FitOutcome, MisfitKind, optimise, parameters};
 
 /// The step factors of the two central differences.
 pub const FACTORS: [f64; 2] = [2.0, 0.5];

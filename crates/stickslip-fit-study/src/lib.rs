@@ -20,7 +20,7 @@
 //! - [`report`] and [`figures`]: the page and its SVGs (the reporting kit's plotting layer).
 //!
 //! Invariant: every number of the page is computed from the record it describes; the fits go
-//! through `stickslip_run::fit` as `stickslip fit`'s do, never through the command line.
+//! through `stickslip_studies::fit` as `stickslip fit`'s do, never through the command line.
 
 pub mod cases;
 pub mod figures;
@@ -85,7 +85,7 @@ struct Args {
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Forward runs at a time per fit.
-    #[arg(long, value_name = "J", default_value_t = stickslip_run::options::JOBS,
+    #[arg(long, value_name = "J", default_value_t = stickslip_studies::options::JOBS,
           value_parser = stickslip_report::options::at_least_one)]
     jobs: usize,
     /// Keep the sections (and the coverage fits) a previous run of the same size finished.
@@ -252,7 +252,6 @@ pub fn run(opts: &Options, log: &mut fits::Log<'_>) -> Result<Study, String> {
 /// # Errors
 /// A drawing or writing error, in words.
 pub fn write(study: &Study, out: &Path, with_json: bool) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut files: Vec<(&str, String)> = vec![
         (
             report::COVERAGE_SVG,
@@ -272,14 +271,11 @@ pub fn write(study: &Study, out: &Path, with_json: bool) -> Result<Vec<PathBuf>,
     if with_json {
         files.push((record::FILE, study.to_json()));
     }
-    let mut written = Vec::new();
+    let mut written = stickslip_report::files::ReportFiles::create(out)?;
     for (name, text) in files {
-        let path = out.join(name);
-        stickslip_report::write_atomic(&path, text.as_bytes())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        written.push(path);
+        written.put(name, text)?;
     }
-    Ok(written)
+    Ok(written.into_written())
 }
 
 /// `cargo xtask fit-study` with `args` (the words after `fit-study`), the workspace at `root`.
@@ -385,7 +381,7 @@ mod cli_tests {
     #[test]
     fn options_parse_with_their_defaults_and_bad_ones_are_refused() {
         let a = Args::try_parse_from(["fit-study"]).unwrap();
-        assert_eq!(a.jobs, stickslip_run::options::JOBS);
+        assert_eq!(a.jobs, stickslip_studies::options::JOBS);
         assert!(!a.quick && !a.resume && !a.render_only && a.out.is_none());
         let a = Args::try_parse_from(["fit-study", "--quick", "--jobs", "3", "--resume"]).unwrap();
         assert!(a.quick && a.resume && a.jobs == 3);

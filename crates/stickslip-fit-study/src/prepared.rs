@@ -1,6 +1,6 @@
 //! A case prepared for its fits: the scene (the scene file with the case's settings), its
 //! window placed on the true model's meltings, the true model's clean curve; then its noisy
-//! traces and their fits through the run library's typed API (`stickslip_run::fit::fit`, as
+//! traces and their fits through the run library's typed API (`stickslip_studies::fit::fit`, as
 //! `stickslip fit` makes them), with a progress line now and then.
 
 use crate::cases::{Case, Window};
@@ -8,9 +8,9 @@ use crate::synth;
 use std::path::Path;
 use std::time::{Duration, Instant};
 use stickslip_run::Scene;
-use stickslip_run::fit::misfit::ModelCurve;
-use stickslip_run::fit::{FitOptions, FitOutcome, MisfitKind, Progress, Trace};
 use stickslip_run::scene::ResolvedScene;
+use stickslip_studies::fit::misfit::ModelCurve;
+use stickslip_studies::fit::{FitOptions, FitOutcome, MisfitKind, Progress, Trace};
 
 /// How often a long fit reports its progress.
 const PROGRESS_EVERY: Duration = Duration::from_secs(60);
@@ -87,7 +87,7 @@ impl Prepared {
             }
             false
         };
-        stickslip_run::fit::fit(
+        stickslip_studies::fit::fit(
             &self.scene,
             trace,
             &self.case.params,

@@ -4,7 +4,7 @@
 
 use crate::cases::{Case, Sizes};
 use serde::{Deserialize, Serialize};
-use stickslip_run::schema::fit::FitReport;
+use stickslip_studies::fit::report::FitReport;
 
 /// The file's name.
 pub const FILE: &str = "fit.json";

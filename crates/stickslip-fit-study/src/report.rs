@@ -178,7 +178,7 @@ pub fn markdown(st: &Study) -> String {
          page and its figures). It fits synthetic friction traces — the model's own F(t) at \
          known (\"true\") parameter values, sampled evenly, with gaussian noise of a known σF \
          added from a seeded ChaCha8 stream — through the run library's fit \
-         (`stickslip_run::fit::fit`, what `stickslip fit` runs; [docs/fit.md](../docs/fit.md) \
+         (`stickslip_studies::fit::fit`, what `stickslip fit` runs; [docs/fit.md](../docs/fit.md) \
          states its misfits, optimiser and uncertainty), with the noise estimated from the data \
          as a user's fit does. The true trace is made by the fit's own forward run at the \
          scene's tolerance / 10⁶, a tenth of the tightest a fit tightens to, so that it stands \
@@ -452,7 +452,7 @@ fn width_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
         ev_res.iter().min().copied().unwrap_or(0),
         ev_res.iter().max().copied().unwrap_or(0),
     );
-    let half = stickslip_run::fit::events::EXTREMUM_HALF;
+    let half = stickslip_studies::fit::events::EXTREMUM_HALF;
     let span =
         |n: usize| stickslip_report::fmt::time(2.0 * half as f64 * w.case.end_s / n as f64, 2);
     let events_slopes: Vec<String> = scalings
@@ -473,7 +473,7 @@ fn width_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
          well. Their information is set by the number of events, and the widths follow no \
          power of n: slopes of {} here. The trace misfit has one residual per sample, and its \
          widths are the ones to follow n^−½.\n",
-        stickslip_run::fit::events::SMOOTH,
+        stickslip_studies::fit::events::SMOOTH,
         2 * half + 1,
         span(w.levels[0]),
         w.levels[0],

@@ -9,8 +9,8 @@ use crate::cases::{Case, Sizes};
 use crate::prepared::prepare;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use stickslip_run::fit::MisfitKind;
-use stickslip_run::fit::misfit::Target;
+use stickslip_studies::fit::MisfitKind;
+use stickslip_studies::fit::misfit::Target;
 
 /// One kind of residual over the seeds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

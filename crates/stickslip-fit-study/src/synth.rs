@@ -9,10 +9,10 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use stickslip_run::fit::Trace;
-use stickslip_run::fit::forward::{Forward, MAX_LEVEL, Run};
-use stickslip_run::fit::misfit::ModelCurve;
 use stickslip_run::scene::ResolvedScene;
+use stickslip_studies::fit::Trace;
+use stickslip_studies::fit::forward::{Forward, MAX_LEVEL, Run};
+use stickslip_studies::fit::misfit::ModelCurve;
 
 /// The clean model curve of `scene` with `truth` (`KEY=VALUE` overrides) up to `end_s`, run
 /// as a fit's forward runs are, at a tenth of their tightest tolerance.
@@ -65,8 +65,8 @@ pub fn onsets(curve: &ModelCurve, end_s: f64, spacing_s: f64) -> Vec<f64> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             (a.min(v), b.max(v))
         });
-    let h = stickslip_run::fit::misfit::HYSTERESIS_OF_RANGE * (hi - lo);
-    stickslip_run::fit::events::find(&t, &f, h)
+    let h = stickslip_studies::fit::misfit::HYSTERESIS_OF_RANGE * (hi - lo);
+    stickslip_studies::fit::events::find(&t, &f, h)
         .iter()
         .map(|(e, _)| e.t_onset_s)
         .collect()

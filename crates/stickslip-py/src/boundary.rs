@@ -9,10 +9,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Mutex;
 use std::sync::atomic::AtomicBool;
-use stickslip_run::boundary::scan::{Change, ScanOptions, scan as scan_key};
-use stickslip_run::boundary::{BoundaryError, Probe};
-use stickslip_run::options;
 use stickslip_run::summary::RegimeThresholds;
+use stickslip_studies::boundary::scan::{Change, ScanOptions, scan as scan_key};
+use stickslip_studies::boundary::{BoundaryError, Probe};
+use stickslip_studies::options;
 
 fn probe_dict<'py>(py: Python<'py>, p: &Probe) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -60,7 +60,7 @@ pub fn boundary<'py>(
     jobs: usize,
     scale: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scale = stickslip_run::boundary::Scale::from_name(scale).ok_or_else(|| {
+    let scale = stickslip_studies::boundary::Scale::from_name(scale).ok_or_else(|| {
         pyo3::exceptions::PyValueError::new_err(format!(
             "scale = {scale:?} is invalid; allowed: \"film\" or \"stamp\""
         ))

@@ -9,7 +9,7 @@ use pyo3::exceptions::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use stickslip_run::SceneError;
-use stickslip_run::sweep::SweepError;
+use stickslip_studies::sweep::SweepError;
 
 /// An instance of `stickslip._errors.<class>(message, **kwargs)` as a `PyErr`.
 fn make(class: &str, message: String, kwargs: &[(&str, serde_json::Value)]) -> PyErr {

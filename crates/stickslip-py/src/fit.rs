@@ -1,5 +1,5 @@
 //! `stickslip.fit`: the run library's fit of scene parameters to a measured trace
-//! (`stickslip_run::fit`) with the GIL released, Ctrl-C and progress through the bridge; the
+//! (`stickslip_studies::fit`) with the GIL released, Ctrl-C and progress through the bridge; the
 //! result as fit.json's dict with the fitted scene's TOML and the curves, and with `out` the
 //! command line's three files (the reporting kit's `fit::write_outputs`).
 
@@ -10,8 +10,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
-use stickslip_run::fit::{Columns, FitError, FitOptions, MisfitKind, Progress, Trace};
-use stickslip_run::options;
+use stickslip_studies::fit::{Columns, FitError, FitOptions, MisfitKind, Progress, Trace};
+use stickslip_studies::options;
 
 /// Fits ``params`` (``KEY[=LO:HI]``) of ``scene`` to a trace: the CSV at ``path`` (its
 /// ``columns`` as ``t=NAME,F=NAME``) or the arrays ``t`` (s), ``f`` (N) and ``x`` (m, or
@@ -71,7 +71,7 @@ pub fn fit<'py>(
             });
             false
         };
-        stickslip_run::fit::fit(
+        stickslip_studies::fit::fit(
             &scene,
             trace,
             &params,

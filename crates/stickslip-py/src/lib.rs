@@ -76,9 +76,9 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// and the Python functions' (one definition, the run library's ``options``).
 #[pyfunction]
 fn option_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
-    use stickslip_run::options::OptionDefault;
+    use stickslip_studies::options::OptionDefault;
     let out = pyo3::types::PyDict::new(py);
-    for (name, value) in stickslip_run::options::all() {
+    for (name, value) in stickslip_studies::options::all() {
         match value {
             OptionDefault::Count(n) => out.set_item(name, n)?,
             OptionDefault::Number(x) => out.set_item(name, x)?,

@@ -15,10 +15,10 @@ use pyo3::types::{PyDict, PyString};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use stickslip_run::scene::toml_text;
-use stickslip_run::sweep::exec::{self, MapRead, SweepOptions, SweepProgress, SweepRunError};
-use stickslip_run::sweep::map::{MapJson, MapTable};
-use stickslip_run::sweep::spot;
-use stickslip_run::sweep::{Sweep, SweepError, file, value_number};
+use stickslip_studies::sweep::exec::{self, MapRead, SweepOptions, SweepProgress, SweepRunError};
+use stickslip_studies::sweep::map::{MapJson, MapTable};
+use stickslip_studies::sweep::spot;
+use stickslip_studies::sweep::{Sweep, SweepError, file, value_number};
 
 /// Resolves a sweep given as a dict; `scratch` receives the scene file of a `Scene` object.
 fn from_dict(d: &Bound<'_, PyAny>, scratch: &Path, allow_large: bool) -> PyResult<Sweep> {
@@ -138,7 +138,7 @@ fn table_dict<'py>(
     d.set_item("message", words(py, rows.iter().map(|r| r.message.clone())))?;
     let steady: Vec<bool> = rows.iter().map(|r| r.summary.steady).collect();
     d.set_item(
-        stickslip_run::sweep::map::STEADY_COLUMN,
+        stickslip_studies::sweep::map::STEADY_COLUMN,
         PyArray1::from_vec(py, steady),
     )?;
     let level: Vec<i64> = rows
@@ -146,7 +146,7 @@ fn table_dict<'py>(
         .map(|r| i64::try_from(r.level).unwrap_or(i64::MAX))
         .collect();
     d.set_item(
-        stickslip_run::sweep::map::LEVEL_COLUMN,
+        stickslip_studies::sweep::map::LEVEL_COLUMN,
         PyArray1::from_vec(py, level),
     )?;
     d.set_item(

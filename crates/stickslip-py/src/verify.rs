@@ -1,11 +1,11 @@
-//! `stickslip.verify`: the run library's refinements of a scene (`stickslip_run::verify`)
+//! `stickslip.verify`: the run library's refinements of a scene (`stickslip_studies::verify`)
 //! with the GIL released; the report as the dict verify.json holds.
 
 use crate::scene::PyScene;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use stickslip_run::options;
-use stickslip_run::verify::{VerifyError, target, verify as run_verify};
+use stickslip_studies::options;
+use stickslip_studies::verify::{VerifyError, target, verify as run_verify};
 
 /// Runs ``scene`` at its own settings and refined in space and time, ``jobs`` runs at a
 /// time, and returns verify.json's content: ``quantities`` (each ``name``, ``unit``,

@@ -6,8 +6,8 @@
 use crate::palette::PALETTE;
 use crate::plot::{LegendAt, Marker, Panel, Series, decimate};
 use std::path::Path;
-use stickslip_run::fit::FitOutcome;
-use stickslip_run::schema::fit::FitReport;
+use stickslip_studies::fit::FitOutcome;
+use stickslip_studies::fit::report::FitReport;
 
 /// Pixels of one panel.
 pub const PANEL_PX: (u32, u32) = (900, 340);
@@ -27,7 +27,7 @@ pub fn panels(report: &FitReport, t_s: &[f64], data_f_n: &[f64], model_f_n: &[f6
             BUCKETS,
         )
     };
-    let events = |ev: &[stickslip_run::schema::fit::FitEvent]| -> Vec<(f64, f64)> {
+    let events = |ev: &[stickslip_studies::fit::report::FitEvent]| -> Vec<(f64, f64)> {
         ev.iter().map(|e| (ms(e.t_onset_s), e.f_peak_n)).collect()
     };
     let title = format!(
@@ -121,7 +121,11 @@ pub fn write_outputs(dir: &Path, outcome: &FitOutcome) -> Result<(), String> {
         .and_then(|()| r.write(dir))
         .and_then(|()| stickslip_run::atomic::write_atomic(dir, "fit.svg", svg.as_bytes()))
         .and_then(|()| {
-            stickslip_run::atomic::write_atomic(dir, "fitted.toml", outcome.fitted_toml.as_bytes())
+            stickslip_run::atomic::write_atomic(
+                dir,
+                stickslip_run::layout::fit::FITTED_SCENE,
+                outcome.fitted_toml.as_bytes(),
+            )
         })
         .map_err(|e| format!("cannot write {}: {e}", dir.display()))
 }

@@ -11,6 +11,7 @@
 //! - [`build_timing`]: the schema of `reports/build-timing.json` (a fresh clone's build and
 //!   test times) and of the stage times `cargo xtask test` records;
 //! - [`provenance`]: the commit a report was generated at, and the sentence that says so;
+//! - [`files`]: the one report writer ([`files::ReportFiles`]: a report's files, each atomic);
 //! - [`write_atomic`]: the run library's atomic writer, re-exported (there is one).
 //!
 //! Invariant: no physics and no time loop here; reports are computed from data they are
@@ -18,6 +19,7 @@
 
 pub mod binary;
 pub mod build_timing;
+pub mod files;
 pub mod fit;
 pub mod fmt;
 pub mod map;

@@ -2,7 +2,7 @@
 //! continuous quantity, over the first two numeric axes (log axes where the axis is
 //! log-spaced), failed and refused points marked; further axes (and word axes) give one pair
 //! of panels per value. A refined map draws each point's cell at its level's size, finer
-//! cells over coarser, and the regime boundary as a line (`stickslip_run::sweep::refine::
+//! cells over coarser, and the regime boundary as a line (`stickslip_studies::sweep::refine::
 //! geometry`).
 
 use crate::palette;
@@ -10,10 +10,10 @@ use crate::plot::{Cell, ColorBar, Marker, Panel, Scale, Segment, Series};
 use plotters::style::RGBColor;
 use std::collections::{BTreeMap, HashMap};
 use stickslip_run::summary::Regime;
-use stickslip_run::sweep::map::{MapJson, MapRow, STAMP_COLUMNS, SUMMARY_COLUMNS};
-use stickslip_run::sweep::record::PointStatus;
-use stickslip_run::sweep::refine::{self, geometry};
-use stickslip_run::sweep::{Axis, Sweep, value_text};
+use stickslip_studies::sweep::map::{MapJson, MapRow, STAMP_COLUMNS, SUMMARY_COLUMNS};
+use stickslip_studies::sweep::record::PointStatus;
+use stickslip_studies::sweep::refine::{self, geometry};
+use stickslip_studies::sweep::{Axis, Sweep, value_text};
 
 /// Quantities a map can show as colours: every numeric column of map.csv after the axes
 /// (the summary's numbers, `wall_s`, and the stamp's `n_slips` and median intervals); a

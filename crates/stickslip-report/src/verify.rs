@@ -4,7 +4,7 @@
 
 use crate::palette::PALETTE;
 use crate::plot::{Panel, Scale, Series};
-use stickslip_run::verify::{Axis, Quantity, VerifyReport};
+use stickslip_studies::verify::{Axis, Quantity, VerifyReport};
 
 /// Pixels of one panel.
 pub const PANEL_PX: (u32, u32) = (520, 380);

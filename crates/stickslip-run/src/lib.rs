@@ -11,19 +11,19 @@
 //! - [`outcome`] and [`summary`]: what a run hands back, and its summary and regime
 //!   (docs/model.md#regimes-and-friction-maps);
 //! - [`check`]: what `stickslip check` reports (preflight, plausibility, a timed probe);
-//! - [`sweep`]: friction maps, points run in-process on threads, sharded, resumable, merged;
 //! - [`atomic`] and [`checkpoint`]: the one atomic writer, the checkpoint file;
-//! - [`build_id`]: the build identity of the numerics, which sweep points and checkpoints
-//!   carry;
-//! - [`exit`]: the kinds of ending, as the command line's exit statuses;
-//! - [`fit`]: the model fitted to a measured friction trace (`stickslip fit`).
+//! - [`build_id`]: the build identity of the numerics, which checkpoints (and the studies'
+//!   records) carry;
+//! - [`exit`]: the kinds of ending, as the command line's exit statuses.
+//!
+//! One run only: many runs asking one question (maps, boundaries, verify, fits) are the
+//! studies crate above this one.
 //!
 //! Invariant: no command-line or terminal code here (no clap, no progress bars); errors say
 //! which kind of ending they are as an [`exit::Exit`], the command line turns that into the
 //! process's status; the physics comes from `stickslip-core`.
 
 pub mod atomic;
-pub mod boundary;
 pub mod bounded;
 pub mod build_id;
 pub mod check;
@@ -32,13 +32,10 @@ pub mod cycles;
 pub mod driver;
 pub mod edge_layer;
 pub mod exit;
-pub mod fit;
 pub mod keys;
 pub mod layout;
-pub mod options;
 pub mod outcome;
 pub mod output_size;
-pub mod pool;
 pub mod scene;
 pub mod schema;
 pub mod sink;
@@ -46,8 +43,6 @@ pub mod slips;
 pub mod stats;
 pub mod steady;
 pub mod summary;
-pub mod sweep;
-pub mod verify;
 
 pub use driver::{Control, Driver, Limit, NullSink, Sink, run};
 pub use outcome::{RunOutcome, RunStatus, StopReason};

@@ -3,11 +3,11 @@
 
 use std::path::Path;
 use std::process::ExitCode;
-use stickslip_run::boundary::scan::{Change, Scan, ScanOptions, scan};
-use stickslip_run::boundary::{BoundaryError, Probe};
 use stickslip_run::exit::Exit;
 use stickslip_run::scene::Scene;
 use stickslip_run::summary::RegimeThresholds;
+use stickslip_studies::boundary::scan::{Change, Scan, ScanOptions, scan};
+use stickslip_studies::boundary::{BoundaryError, Probe};
 
 /// Arguments of `stickslip boundary`.
 pub struct Args<'a> {
@@ -30,7 +30,7 @@ pub struct Args<'a> {
     /// Runs at a time.
     pub jobs: usize,
     /// The regime followed.
-    pub scale: stickslip_run::boundary::Scale,
+    pub scale: stickslip_studies::boundary::Scale,
     /// No line per run.
     pub quiet: bool,
     /// Where the runs are kept for a rerun after an interrupt.
@@ -168,7 +168,10 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             Exit::BadInput,
         );
     }
-    let cache = match a.out.map(stickslip_run::boundary::cache::ProbeCache::open) {
+    let cache = match a
+        .out
+        .map(stickslip_studies::boundary::cache::ProbeCache::open)
+    {
         None => None,
         Some(Ok(c)) => Some(c),
         Some(Err(e)) => return crate::fail(format!("--out: cannot keep the runs: {e}"), Exit::Io),
@@ -180,7 +183,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
             "boundary: {} runs kept in {} (an earlier, interrupted search): runs already made \
              are not made again",
             c.len(),
-            dir.join(stickslip_run::boundary::cache::FILE).display()
+            dir.join(stickslip_studies::boundary::cache::FILE).display()
         );
     }
     let flag = match crate::interrupt_flag() {

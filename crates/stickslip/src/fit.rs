@@ -1,4 +1,4 @@
-//! `stickslip fit`: the run library's fit (`stickslip_run::fit`) of a scene's parameters to a
+//! `stickslip fit`: the run library's fit (`stickslip_studies::fit`) of a scene's parameters to a
 //! measured trace; a line on stderr per stage (and every few seconds), the table of fitted
 //! values at the end, and `DIR/fit.json`, `DIR/fit.svg` and `DIR/fitted.toml`, written by the
 //! reporting kit's `fit::write_outputs` (each through the atomic writer). Exit 0, 2 for bad input, 3 when no run
@@ -9,9 +9,9 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 use stickslip_run::exit::Exit;
-use stickslip_run::fit::{Columns, FitOptions, MisfitKind, Progress, Trace};
 use stickslip_run::scene::Scene;
-use stickslip_run::schema::fit::FitReport;
+use stickslip_studies::fit::report::FitReport;
+use stickslip_studies::fit::{Columns, FitOptions, MisfitKind, Progress, Trace};
 
 /// Seconds between progress lines within a stage.
 const PROGRESS_EVERY: Duration = Duration::from_secs(5);
@@ -171,10 +171,11 @@ pub fn main(a: &Args<'_>) -> ExitCode {
     }
     // An interrupted fit of the same inputs in --out is resumed from its best point (its
     // global sample was made): the same command finishes it.
-    let inputs = stickslip_run::fit::inputs_fingerprint(&scene, a.params, kind, a.noise, &trace);
+    let inputs =
+        stickslip_studies::fit::inputs_fingerprint(&scene, a.params, kind, a.noise, &trace);
     let resume = a
         .out
-        .and_then(|d| stickslip_run::schema::fit::FitReport::read(d).ok())
+        .and_then(|d| stickslip_studies::fit::report::FitReport::read(d).ok())
         .filter(|r| r.status == "interrupted" && r.inputs == inputs);
     if let (Some(r), Some(d)) = (&resume, a.out) {
         eprintln!(
@@ -238,7 +239,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         progress: Some(&mut progress),
         start: resume.map(|r| r.parameters.iter().map(|p| p.value).collect()),
     };
-    let outcome = match stickslip_run::fit::fit(&scene, trace, a.params, options) {
+    let outcome = match stickslip_studies::fit::fit(&scene, trace, a.params, options) {
         Ok(o) => o,
         Err(e) => {
             out.discard_if_unused();

@@ -52,8 +52,8 @@ use stickslip_core::preflight::{Finding, Severity};
 use stickslip_run::checkpoint::CheckpointError;
 use stickslip_run::cycles::StampRegime;
 use stickslip_run::exit::Exit;
-use stickslip_run::options;
 use stickslip_run::{DirOptions, ResumeOptions, RunError, RunOutcome, Scene, StopReason};
+use stickslip_studies::options;
 
 /// Stick–slip friction of a lubricant film under a flat stamp.
 #[derive(Debug, Parser)]
@@ -553,7 +553,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             out,
         } => boundary::main(&boundary::Args {
             out: out.as_deref(),
-            scale: stickslip_run::boundary::Scale::from_name(&scale).unwrap_or_default(),
+            scale: stickslip_studies::boundary::Scale::from_name(&scale).unwrap_or_default(),
             scene: &scene,
             set: &set,
             unset: &unset,

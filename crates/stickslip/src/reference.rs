@@ -66,6 +66,6 @@ pub fn markdown() -> String {
     out.push('\n');
     out.push_str(&stickslip_run::schema::markdown());
     out.push('\n');
-    out.push_str(&stickslip_run::sweep::reference::markdown());
+    out.push_str(&stickslip_studies::sweep::reference::markdown());
     out
 }

@@ -6,8 +6,8 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 use stickslip_run::exit::Exit;
-use stickslip_run::sweep::Sweep;
-use stickslip_run::sweep::spot::{SpotReport, run_checks};
+use stickslip_studies::sweep::Sweep;
+use stickslip_studies::sweep::spot::{SpotReport, run_checks};
 
 /// The summary line of the checks.
 fn summary(r: &SpotReport) -> String {

@@ -16,11 +16,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::sync::atomic::Ordering;
 use stickslip_run::exit::Exit;
-use stickslip_run::sweep::exec::{
+use stickslip_studies::sweep::exec::{
     self, Merge, MergeCost, Prepared, SweepOptions, SweepProgress, SweepRunError,
 };
-use stickslip_run::sweep::map::MapJson;
-use stickslip_run::sweep::{Sweep, slurm};
+use stickslip_studies::sweep::map::MapJson;
+use stickslip_studies::sweep::{Sweep, slurm};
 
 /// What to keep of each point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -570,7 +570,7 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
     // elsewhere) is drawn from the point records there are, its missing points marked.
     let json = match MapJson::read(dir) {
         Ok(j) => j,
-        Err(e) => match stickslip_run::sweep::merge::read_map(dir) {
+        Err(e) => match stickslip_studies::sweep::merge::read_map(dir) {
             Ok(read) => {
                 if !read.complete {
                     say!(
@@ -585,7 +585,7 @@ fn plot(dir: &Path, quantity: &str, out: Option<PathBuf>) -> ExitCode {
             }
             Err(partial) => {
                 // A damaged map.json is the news; else why the directory holds no sweep.
-                let why = if dir.join(stickslip_run::sweep::map::JSON_FILE).exists() {
+                let why = if dir.join(stickslip_studies::sweep::map::JSON_FILE).exists() {
                     e.to_string()
                 } else {
                     partial.to_string()

@@ -1,5 +1,5 @@
 //! `stickslip verify`: the error of every summary number of a scene, from the run library's
-//! refinements (`stickslip_run::verify`); states the cost first, prints a table, writes
+//! refinements (`stickslip_studies::verify`); states the cost first, prints a table, writes
 //! `DIR/verify.json` and a figure per quantity (the reporting kit's `verify`). Exit 0 when every quantity is within --rtol, 4 when one is not, 2 for
 //! bad input.
 
@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::ExitCode;
 use stickslip_run::exit::Exit;
 use stickslip_run::scene::Scene;
-use stickslip_run::verify::{self, Quantity, Verdict, VerifyReport};
+use stickslip_studies::verify::{self, Quantity, Verdict, VerifyReport};
 
 /// The command's arguments.
 pub struct Args<'a> {

@@ -103,7 +103,7 @@ fn a_fit_writes_its_report_figure_and_fitted_scene_which_reproduces_it() {
             .all(|l| l.contains(", runs at time.tolerance ")),
         "{stderr}"
     );
-    let report = stickslip_run::schema::fit::FitReport::read(&out).unwrap();
+    let report = stickslip_studies::fit::report::FitReport::read(&out).unwrap();
     assert_eq!(report.status, "ok");
     let p = report.parameter("lubricant.tau_max").unwrap();
     let (lo, hi) = (p.lo95.unwrap(), p.hi95.unwrap());
@@ -413,7 +413,7 @@ fn ctrl_c_keeps_the_best_fit_so_far() {
     }
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130), "{seen}");
-    let report = stickslip_run::schema::fit::FitReport::read(&out).unwrap();
+    let report = stickslip_studies::fit::report::FitReport::read(&out).unwrap();
     assert_eq!(report.status, "interrupted");
     assert!(report.misfit.is_finite() && report.parameters.len() == 3);
     assert!(out.join("fitted.toml").is_file() && out.join("fit.svg").is_file());

@@ -5,7 +5,7 @@
 
 use crate::common::{run, scene, texts};
 use std::path::Path;
-use stickslip_run::sweep::map::MapJson;
+use stickslip_studies::sweep::map::MapJson;
 
 /// 4 speeds × 3 values of A0 on the rigid drive at N = 20: regimes of three kinds.
 fn sweep_text(verify: &str) -> String {

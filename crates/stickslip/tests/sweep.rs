@@ -8,7 +8,7 @@ use common::{bin, run, texts};
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
-use stickslip_run::sweep::map::MapTable;
+use stickslip_studies::sweep::map::MapTable;
 
 /// A small sweep over the rigid drive: 3 speeds × 3 values of A0, N = 20, six events.
 fn sweep_text(scene: &Path, extra_axis: &str) -> String {

@@ -10,8 +10,8 @@ use common::{bin, run, texts};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Stdio};
 use std::time::{Duration, Instant};
-use stickslip_run::sweep::map::MapTable;
-use stickslip_run::sweep::record::{PointRecord, PointStatus};
+use stickslip_studies::sweep::map::MapTable;
+use stickslip_studies::sweep::record::{PointRecord, PointStatus};
 
 /// Eight speeds of the rigid drive at N = 20, a few ms per point.
 fn small(scene: &Path, name: &str, from: f64) -> String {
@@ -237,7 +237,11 @@ fn a_sweep_taking_over_a_running_one_stops_it_and_keeps_its_own_map() {
         "--quiet",
     ]);
     let start = Instant::now();
-    while stickslip_run::sweep::record::listed(&dir).unwrap().len() < 4 {
+    while stickslip_studies::sweep::record::listed(&dir)
+        .unwrap()
+        .len()
+        < 4
+    {
         assert!(
             start.elapsed() < Duration::from_secs(60),
             "A wrote no points"
@@ -448,7 +452,7 @@ fn a_million_points_start_at_once_and_the_slurm_script_carries_allow_large() {
         "1",
         "--quiet",
     ]);
-    while stickslip_run::sweep::record::listed(&dir).map_or(0, |l| l.len()) == 0 {
+    while stickslip_studies::sweep::record::listed(&dir).map_or(0, |l| l.len()) == 0 {
         if let Some(status) = child.try_wait().unwrap() {
             let out = child.wait_with_output().unwrap();
             panic!("exited {status}: {}", texts(&out).1);

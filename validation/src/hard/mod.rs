@@ -551,10 +551,7 @@ pub fn generate(bin: &Path, root: &Path) -> Result<HardSummary, String> {
     let checks: Vec<Check> = cases.iter().flat_map(|c| c.checks()).collect();
     let text = report_md(&cases);
     let reports = root.join("reports");
-    std::fs::create_dir_all(&reports).map_err(|e| format!("{}: {e}", reports.display()))?;
-    let path = reports.join("hard-cases.md");
-    stickslip_report::write_atomic(&path, text.as_bytes())
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    stickslip_report::files::ReportFiles::create(&reports)?.put("hard-cases.md", text)?;
     for c in &cases {
         for x in c.checks().iter().filter(|x| !x.pass) {
             println!(

@@ -15,8 +15,8 @@ use std::path::Path;
 use std::time::Instant;
 use stickslip_run::Scene;
 use stickslip_run::keys::{Setting, contact, time};
-use stickslip_run::sweep::map::MapJson;
-use stickslip_run::sweep::refine::agreement;
+use stickslip_studies::sweep::map::MapJson;
+use stickslip_studies::sweep::refine::agreement;
 
 /// M1 goal: the refined map's points as a fraction of the uniform grid's.
 pub const M1_FRACTION_GOAL: f64 = 0.10;
@@ -190,7 +190,7 @@ pub fn measure(s: &BenchSettings, rigid_scene: &Path) -> Result<RefineBench, Str
     let scene = Scene::from_path(rigid_scene, &sets)
         .map_err(|e| format!("{}: {e}", rigid_scene.display()))?;
     let start = Instant::now();
-    let b = stickslip_run::boundary::find(
+    let b = stickslip_studies::boundary::find(
         &scene,
         "drive.velocity",
         (1e-3, 3.0),

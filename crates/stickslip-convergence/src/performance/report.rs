@@ -10,11 +10,11 @@ use super::{
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use stickslip_report::files::ReportFiles;
 use stickslip_report::fmt::{opt, sig, tick};
 use stickslip_report::palette::PALETTE;
 use stickslip_report::plot::{Marker, Panel, Series, render_svg};
 use stickslip_report::stats::log_log_slope;
-use stickslip_report::write_atomic;
 use stickslip_run::scene::DEFAULT_TOLERANCE;
 
 /// Writes performance.json, performance.md and the three SVGs into `dir`.
@@ -22,28 +22,20 @@ use stickslip_run::scene::DEFAULT_TOLERANCE;
 /// # Errors
 /// An I/O or rendering error, as text.
 pub fn write_report(p: &Performance, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut files = Vec::new();
-    let mut put = |name: &str, text: String| -> Result<(), String> {
-        let path = dir.join(name);
-        write_atomic(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
-        files.push(path);
-        Ok(())
-    };
-    let json = serde_json::to_string_pretty(p).map_err(|e| e.to_string())?;
-    put("performance.json", json + "\n")?;
-    put("performance_cost.svg", cost_figure(p)?)?;
-    put("performance_work_precision.svg", wp_figure(p)?)?;
-    put(
+    let mut files = ReportFiles::create(dir)?;
+    files.put_json("performance.json", p)?;
+    files.put("performance_cost.svg", cost_figure(p)?)?;
+    files.put("performance_work_precision.svg", wp_figure(p)?)?;
+    files.put(
         "performance_film_steps.svg",
         super::film_steps::figure(&p.film_steps)?,
     )?;
-    put(
+    files.put(
         "performance_steptrace.svg",
         super::step_trace::trace_figure(&p.sfa.step_trace)?,
     )?;
-    put("performance.md", markdown(p))?;
-    Ok(files)
+    files.put("performance.md", markdown(p))?;
+    Ok(files.into_written())
 }
 
 /// T3: time per step against N, one series per operator.

@@ -13,8 +13,8 @@ use serde::Serialize;
 use std::path::Path;
 use stickslip_report::binary;
 use stickslip_report::fmt::first_line;
-use stickslip_run::sweep::map::MapTable;
-use stickslip_run::sweep::record::{PointRecord, PointStatus};
+use stickslip_studies::sweep::map::MapTable;
+use stickslip_studies::sweep::record::{PointRecord, PointStatus};
 
 /// P5 goal: overhead per point beyond the simulation.
 pub const OVERHEAD_GOAL: f64 = 0.05;

@@ -17,8 +17,8 @@ use stickslip_report::binary;
 use stickslip_report::fmt::first_line;
 use stickslip_report::stats::median;
 use stickslip_run::keys::{contact, time};
-use stickslip_run::sweep::map::MapJson;
-use stickslip_run::verify::VerifyReport;
+use stickslip_studies::sweep::map::MapJson;
+use stickslip_studies::verify::VerifyReport;
 
 /// V1: the nodes of the verified scene.
 pub const V1_NODES: usize = 200;
@@ -131,7 +131,7 @@ pub fn measure(s: &BenchSettings) -> Result<VerifyCost, String> {
         report
             .quantities
             .iter()
-            .filter(|q| q.verdict == stickslip_run::verify::Verdict::Within)
+            .filter(|q| q.verdict == stickslip_studies::verify::Verdict::Within)
             .count(),
         report.quantities.len(),
     );

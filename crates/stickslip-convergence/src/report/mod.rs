@@ -25,8 +25,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use stickslip_core::noise::NoiseKind;
 use stickslip_core::preflight::EULER_STABILITY_LIMIT;
+use stickslip_report::files::ReportFiles;
 use stickslip_report::fmt::{sig, tick};
-use stickslip_report::{stats, write_atomic};
+use stickslip_report::stats;
 
 /// Onset tolerance asked about in the issue, s.
 pub const ONSET_TOL_S: f64 = 1e-7;
@@ -39,21 +40,13 @@ pub const ROUNDING_FLOOR: f64 = 1e-13;
 /// # Errors
 /// An I/O or rendering error, as text.
 pub fn write_all(r: &Results, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut files = Vec::new();
-    let mut put = |name: &str, text: String| -> Result<(), String> {
-        let path = dir.join(name);
-        write_atomic(&path, text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
-        files.push(path);
-        Ok(())
-    };
-    let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
-    put("convergence.json", json + "\n")?;
+    let mut files = ReportFiles::create(dir)?;
+    files.put_json("convergence.json", r)?;
     for (name, svg) in figures(r)? {
-        put(&name, svg)?;
+        files.put(&name, svg)?;
     }
-    put("convergence.md", markdown(r))?;
-    Ok(files)
+    files.put("convergence.md", markdown(r))?;
+    Ok(files.into_written())
 }
 
 /// Every figure: (file name, SVG text).

@@ -1,10 +1,11 @@
 //! The build identity of the numerics, recorded by `build.rs`: a sweep's points carry it, so a
 //! point computed by another build is recomputed, never reused silently.
 //!
-//! It is a hash of the sources that decide a run's numbers ([`sources::HASHED`]: the core's
-//! and the run library's sources and manifests, `Cargo.lock`), of the compiler's version, the
-//! package version, the target and the optimisation level. Commits that change none of these
-//! (documentation, reports, the command line, Python) keep the identity, and the crates are
+//! It is a hash of the sources that decide a run's numbers and a study's records
+//! ([`sources::HASHED`]: the core's, the run library's and the studies' sources and
+//! manifests, `Cargo.lock`), of the compiler's version, the package version, the target and
+//! the optimisation level. Commits that change none of these (documentation, reports, the
+//! command line, Python) keep the identity, and the crates are
 //! not rebuilt for it; any change to the numerics changes it. The test below recomputes the
 //! hash from the tree and compares it with the recorded one, so a file that changes the
 //! numbers cannot escape the list `build.rs` watches.

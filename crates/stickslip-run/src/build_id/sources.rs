@@ -1,17 +1,21 @@
-//! The hash of the sources that decide a run's numbers: every file under the core's and the
-//! run library's `src/`, their manifests and the workspace's `Cargo.lock` (dependency
-//! versions, e.g. the linear algebra). Shared by `build.rs`, which records it in the build, and
+//! The hash of the sources that decide a run's numbers and a study's records: every file under
+//! the core's, the run library's and the studies' `src/`, their manifests and the workspace's
+//! `Cargo.lock` (dependency versions, e.g. the linear algebra). The studies' sources count
+//! because they make each point's scene (a sweep's axes, a spot check's refinement): a record
+//! of a sweep or spot check is reused only by a build that would make it the same. Shared by `build.rs`, which records it in the build, and
 //! the test that recomputes it from the tree and compares; it uses only `std`.
 
 use std::io;
 use std::path::{Path, PathBuf};
 
 /// What is hashed, relative to the workspace root: directories are walked recursively.
-pub const HASHED: [&str; 5] = [
+pub const HASHED: [&str; 7] = [
     "crates/stickslip-core/src",
     "crates/stickslip-core/Cargo.toml",
     "crates/stickslip-run/src",
     "crates/stickslip-run/Cargo.toml",
+    "crates/stickslip-studies/src",
+    "crates/stickslip-studies/Cargo.toml",
     "Cargo.lock",
 ];
 

@@ -255,7 +255,8 @@ pub(crate) fn shorten(s: &str) -> String {
 }
 
 /// A TOML value as it would be written in a scene (shortened), for messages.
-pub(crate) fn show_value(v: &toml::Value) -> String {
+#[must_use]
+pub fn show_value(v: &toml::Value) -> String {
     fn write(v: &toml::Value, out: &mut String, depth: usize) {
         if out.len() > 4 * MAX_VALUE_CHARS {
             return;

@@ -10,7 +10,6 @@
 
 pub mod csv;
 pub mod events;
-pub mod fit;
 pub mod probes;
 pub mod profiles;
 pub mod run_info;

@@ -168,11 +168,18 @@ impl RunError {
 const OTHER_RESULTS: &[(&str, &[&str])] = &[
     (
         "`stickslip verify`",
-        &["verify.json", "target.json", "resolution.toml"],
+        &[
+            crate::layout::verify::VERIFY_FILE,
+            crate::layout::verify::TARGET_FILE,
+            crate::layout::verify::RESOLUTION_FILE,
+        ],
     ),
     (
         "`stickslip fit`",
-        &[crate::schema::fit::FILE, "fitted.toml"],
+        &[
+            crate::layout::fit::REPORT_FILE,
+            crate::layout::fit::FITTED_SCENE,
+        ],
     ),
     (
         "a sweep",
