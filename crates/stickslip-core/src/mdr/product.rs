@@ -337,8 +337,82 @@ impl ForwardEntries {
     }
 }
 
-/// Per-cell values cached along one row: (cell index, two moments or two weights).
-type CellMoments = Option<(usize, f64, f64)>;
+/// What entry m of an operator's row holds, in terms of the row's cells (hat functions:
+/// node m's hat spans cells m − 1 and m).
+#[derive(Debug, Clone, Copy)]
+enum RowEntry {
+    /// Outside the operator's triangle.
+    Zero,
+    /// The back transform's centre row: u3D(0) = u1D(0).
+    One,
+    /// Cell m − 1's right weight (when `right`), then cell m's left weight (when `left`),
+    /// added to 0 in that order, the dense builder's.
+    Cells { right: bool, left: bool },
+}
+
+/// Entry (j, m) of the forward operator on `n` nodes: cells from the row's node outward.
+fn forward_row_entry(j: usize, n: usize, m: usize) -> RowEntry {
+    if m < j || m >= n {
+        RowEntry::Zero
+    } else {
+        RowEntry::Cells {
+            right: m > j,
+            left: true,
+        }
+    }
+}
+
+/// Entry (i, m) of the back operator: cells from the centre to the row's node.
+fn back_row_entry(i: usize, m: usize) -> RowEntry {
+    if m > i {
+        RowEntry::Zero
+    } else if i == 0 {
+        RowEntry::One
+    } else {
+        RowEntry::Cells {
+            right: m >= 1,
+            left: m < i,
+        }
+    }
+}
+
+/// Fills `out` with a row's entries at `cols` from its cells' (left, right) hat weights,
+/// `cell(k)`: one assembly for both operators, closed form or Gauss rules. Each cell's
+/// weights are computed once for consecutive columns (which share a cell), in column order.
+fn assemble_row(
+    cols: &[usize],
+    out: &mut [f64],
+    entry: impl Fn(usize) -> RowEntry,
+    mut cell: impl FnMut(usize) -> (f64, f64),
+) {
+    let mut cached: Option<(usize, f64, f64)> = None;
+    let mut weights = |k: usize| -> (f64, f64) {
+        match cached {
+            Some((c, left, right)) if c == k => (left, right),
+            _ => {
+                let (left, right) = cell(k);
+                cached = Some((k, left, right));
+                (left, right)
+            }
+        }
+    };
+    for (o, &m) in out[..cols.len()].iter_mut().zip(cols) {
+        let mut w = 0.0;
+        match entry(m) {
+            RowEntry::Zero => {}
+            RowEntry::One => w += 1.0,
+            RowEntry::Cells { right, left } => {
+                if right {
+                    w += weights(m - 1).1;
+                }
+                if left {
+                    w += weights(m).0;
+                }
+            }
+        }
+        *o = w;
+    }
+}
 
 impl OperatorEntries for ForwardEntries {
     fn size(&self) -> usize {
@@ -362,38 +436,18 @@ impl OperatorEntries for ForwardEntries {
         }
         let n = grid.nodes();
         let x = grid.node_radius_m(j);
-        let mut cached: CellMoments = None;
-        let mut moments = |k: usize| -> (f64, f64) {
-            match cached {
-                Some((c, i0, i1)) if c == k => (i0, i1),
-                _ => {
-                    let (i0, i1) =
-                        forward_moments(grid.node_radius_m(k), grid.node_radius_m(k + 1), x);
-                    cached = Some((k, i0, i1));
-                    (i0, i1)
-                }
+        let cell = |k: usize| {
+            let (i0, i1) = forward_moments(grid.node_radius_m(k), grid.node_radius_m(k + 1), x);
+            if k + 1 < n {
+                let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
+                let h = grid.cell_width_m(k);
+                (2.0 * (b * i0 - i1) / h, 2.0 * (i1 - a * i0) / h)
+            } else {
+                // Constant data on the last cell; no cell to its right takes its right weight.
+                (2.0 * i0, 0.0)
             }
         };
-        for (o, &m) in out[..cols.len()].iter_mut().zip(cols) {
-            let mut w = 0.0;
-            if m < j || m >= n {
-                *o = w;
-                continue;
-            }
-            if m > j {
-                let (i0, i1) = moments(m - 1);
-                let a = grid.node_radius_m(m - 1);
-                w += 2.0 * (i1 - a * i0) / grid.cell_width_m(m - 1);
-            }
-            let (i0, i1) = moments(m);
-            if m + 1 < n {
-                let b = grid.node_radius_m(m + 1);
-                w += 2.0 * (b * i0 - i1) / grid.cell_width_m(m);
-            } else {
-                w += 2.0 * i0;
-            }
-            *o = w;
-        }
+        assemble_row(cols, out, |m| forward_row_entry(j, n, m), cell);
     }
 
     /// Row j with the cell weights of `forward_cell_weights` (Gauss rules): the same entries to
@@ -402,41 +456,24 @@ impl OperatorEntries for ForwardEntries {
         let grid = &self.grid;
         let n = grid.nodes();
         let x = grid.node_radius_m(j);
-        let mut cached: CellMoments = None;
         // √(r_k² − x²) at the right end of the last cell, the next one's left end.
         let mut end: Option<(usize, f64)> = None;
-        let mut weights = |k: usize| -> (f64, f64) {
-            match cached {
-                Some((c, left, right)) if c == k => (left, right),
-                _ => {
-                    let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
-                    let sa = match end {
-                        Some((e, s)) if e == k => s,
-                        _ => sqrt_diff_sq(a, x),
-                    };
-                    let sb = sqrt_diff_sq(b, x);
-                    end = Some((k + 1, sb));
-                    let (left, right) = if k + 1 < n {
-                        forward_cell_weights(a, b, sa, sb, x, grid.cell_width_m(k))
-                    } else {
-                        // Constant data on the last cell: 2·I0, free of cancellation.
-                        (2.0 * forward_moments(a, b, x).0, 0.0)
-                    };
-                    cached = Some((k, left, right));
-                    (left, right)
-                }
+        let cell = |k: usize| {
+            let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
+            let sa = match end {
+                Some((e, s)) if e == k => s,
+                _ => sqrt_diff_sq(a, x),
+            };
+            let sb = sqrt_diff_sq(b, x);
+            end = Some((k + 1, sb));
+            if k + 1 < n {
+                forward_cell_weights(a, b, sa, sb, x, grid.cell_width_m(k))
+            } else {
+                // Constant data on the last cell: 2·I0, free of cancellation.
+                (2.0 * forward_moments(a, b, x).0, 0.0)
             }
         };
-        for (o, &m) in out[..cols.len()].iter_mut().zip(cols) {
-            let mut w = 0.0;
-            if m >= j && m < n {
-                if m > j {
-                    w += weights(m - 1).1;
-                }
-                w += weights(m).0;
-            }
-            *o = w;
-        }
+        assemble_row(cols, out, |m| forward_row_entry(j, n, m), cell);
     }
 
     /// ‖W·1‖₂/√N with W·1 = 2√(a0² − x_j²) exactly (product integration reproduces
@@ -486,42 +523,13 @@ impl OperatorEntries for BackEntries {
             return self.row_into_accurate(i, cols, out);
         }
         let r = grid.node_radius_m(i);
-        let mut cached: CellMoments = None;
-        let mut moments = |k: usize| -> (f64, f64) {
-            match cached {
-                Some((c, j0, j1)) if c == k => (j0, j1),
-                _ => {
-                    let (j0, j1) =
-                        back_moments(grid.node_radius_m(k), grid.node_radius_m(k + 1), r);
-                    cached = Some((k, j0, j1));
-                    (j0, j1)
-                }
-            }
+        let cell = |k: usize| {
+            let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
+            let (j0, j1) = back_moments(a, b, r);
+            let h = grid.cell_width_m(k);
+            (2.0 / PI * (b * j0 - j1) / h, 2.0 / PI * (j1 - a * j0) / h)
         };
-        for (o, &m) in out[..cols.len()].iter_mut().zip(cols) {
-            let mut w = 0.0;
-            if m > i {
-                *o = w;
-                continue;
-            }
-            if i == 0 {
-                // The transform's limit u3D(0) = u1D(0).
-                w += 1.0;
-                *o = w;
-                continue;
-            }
-            if m >= 1 {
-                let (j0, j1) = moments(m - 1);
-                let a = grid.node_radius_m(m - 1);
-                w += 2.0 / PI * (j1 - a * j0) / grid.cell_width_m(m - 1);
-            }
-            if m < i {
-                let (j0, j1) = moments(m);
-                let b = grid.node_radius_m(m + 1);
-                w += 2.0 / PI * (b * j0 - j1) / grid.cell_width_m(m);
-            }
-            *o = w;
-        }
+        assemble_row(cols, out, |m| back_row_entry(i, m), cell);
     }
 
     /// Row i with the cell weights of `back_cell_weights` (Gauss rules): the same entries to about
@@ -529,42 +537,19 @@ impl OperatorEntries for BackEntries {
     fn row_into_accurate(&self, i: usize, cols: &[usize], out: &mut [f64]) {
         let grid = &self.grid;
         let r = grid.node_radius_m(i);
-        let mut cached: CellMoments = None;
         // √(r² − x_k²) at the right end of the last cell, the next one's left end.
         let mut end: Option<(usize, f64)> = None;
-        let mut weights = |k: usize| -> (f64, f64) {
-            match cached {
-                Some((c, left, right)) if c == k => (left, right),
-                _ => {
-                    let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
-                    let ca = match end {
-                        Some((e, c)) if e == k => c,
-                        _ => sqrt_diff_sq(r, a),
-                    };
-                    let cb = sqrt_diff_sq(r, b);
-                    end = Some((k + 1, cb));
-                    let (left, right) = back_cell_weights(a, b, ca, cb, r, grid.cell_width_m(k));
-                    cached = Some((k, left, right));
-                    (left, right)
-                }
-            }
+        let cell = |k: usize| {
+            let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
+            let ca = match end {
+                Some((e, c)) if e == k => c,
+                _ => sqrt_diff_sq(r, a),
+            };
+            let cb = sqrt_diff_sq(r, b);
+            end = Some((k + 1, cb));
+            back_cell_weights(a, b, ca, cb, r, grid.cell_width_m(k))
         };
-        for (o, &m) in out[..cols.len()].iter_mut().zip(cols) {
-            let mut w = 0.0;
-            if m <= i {
-                if i == 0 {
-                    w += 1.0;
-                } else {
-                    if m >= 1 {
-                        w += weights(m - 1).1;
-                    }
-                    if m < i {
-                        w += weights(m).0;
-                    }
-                }
-            }
-            *o = w;
-        }
+        assemble_row(cols, out, |m| back_row_entry(i, m), cell);
     }
 
     /// ‖B·1‖₂/√N = 1: product integration maps a constant u1D to the same constant

@@ -36,7 +36,7 @@ const MIN_CUT_FRACTION: f64 = 1e-3;
 /// # Errors
 /// [`NumericalFailure`] from a step at `dt_min`.
 pub(super) fn step(
-    engine: &mut Engine<'_>,
+    engine: &mut Engine,
     state: &mut SimState,
     saved_slot: &mut Option<Box<SimState>>,
     (ctl, dt_s): (AdaptiveConfig, f64),

@@ -8,13 +8,13 @@ use super::{NumericalFailure, SimState, watch};
 use crate::noise::NoiseSource;
 
 /// The parts of a simulation a step uses besides its state.
-pub(super) struct Engine<'a> {
-    pub problem: &'a Problem,
-    pub stepper: &'a mut dyn Stepper,
-    pub noise: &'a mut NoiseSource,
+pub(super) struct Engine {
+    pub problem: Problem,
+    pub stepper: Box<dyn Stepper>,
+    pub noise: NoiseSource,
 }
 
-impl Engine<'_> {
+impl Engine {
     /// Advances `state` by `dt_s`.
     ///
     /// # Errors
@@ -24,14 +24,16 @@ impl Engine<'_> {
         state: &mut SimState,
         dt_s: f64,
     ) -> Result<StepReport, NumericalFailure> {
-        let report = self.stepper.step(self.problem, state, self.noise, dt_s)?;
+        let report = self
+            .stepper
+            .step(&self.problem, state, &mut self.noise, dt_s)?;
         state.counters.step += 1;
         // Gaussian noise only; the other kinds draw nothing.
         if !state.physical.noise.word_pos.is_empty() {
             self.noise.write_state(&mut state.physical.noise);
         }
-        watch::check_state(self.problem, state)?;
-        watch::observe_events(self.problem, state, &report);
+        watch::check_state(&self.problem, state)?;
+        watch::observe_events(&self.problem, state, &report);
         Ok(report)
     }
 }

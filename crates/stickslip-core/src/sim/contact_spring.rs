@@ -99,7 +99,7 @@ impl Problem {
     /// fixed point φ² ← φ_eq(ε(φ²))² from the unloaded film, which descends monotonically to
     /// the stable branch while it exists and loses a node to φ = 0 past the fold.
     pub(super) fn onset_spring(&self) -> Option<ContactSpring> {
-        let linear = self.contact_spring?;
+        let linear = self.contact_spring()?;
         let c = &self.config;
         let l = c.lubricant;
         let a_coeff = c.temperature.a_coeff_pa(0.0);

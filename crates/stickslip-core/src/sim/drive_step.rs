@@ -21,7 +21,12 @@ pub(super) fn open(
     let x0 = drive.x_m;
     let mut anchor = FlowAnchor::default();
     if let Some(drag) = viscous_drag {
-        viscous_half(problem, drive, (dt_s, kick_n, drag), &mut anchor, true);
+        viscous_half(
+            problem,
+            drive,
+            (dt_s, kick_n, drag),
+            Half::Open(&mut anchor),
+        );
         return (drive.x_m - x0, anchor);
     }
     let f = kick_n;
@@ -52,8 +57,7 @@ pub(super) fn close(
     (dt_s, anchor): (f64, &FlowAnchor),
 ) {
     if let Some(drag) = viscous_drag {
-        let mut anchor = *anchor;
-        viscous_half(problem, drive, (dt_s, kick_n, drag), &mut anchor, false);
+        viscous_half(problem, drive, (dt_s, kick_n, drag), Half::Close(anchor));
         return;
     }
     match (&problem.config.drive, problem.config.integrator) {
@@ -71,7 +75,14 @@ pub(super) fn close(
     }
 }
 
-/// A half of the stamp's step (the first when `first`) with the part c = `drag` of the
+/// Which half of the stamp's step: the opening one sets the split flow's anchor, the closing
+/// one reads it.
+enum Half<'a> {
+    Open(&'a mut FlowAnchor),
+    Close(&'a FlowAnchor),
+}
+
+/// A half of the stamp's step with the part c = `drag` of the
 /// film's viscous drag that the flow takes, the kicks carrying `kick_n` = F − c·Ẋ (Ẋ of the
 /// viscous stress; docs/model.md#viscosity): split, the drag inside the spring's exact
 /// flow; Verlet and RK4, the drag as a dashpot on the absolute velocity,
@@ -81,23 +92,26 @@ fn viscous_half(
     problem: &Problem,
     state: &mut DriveState,
     (dt_s, kick_n, drag): (f64, f64, f64),
-    anchor: &mut FlowAnchor,
-    first: bool,
+    half: Half<'_>,
 ) {
+    let first = matches!(half, Half::Open(_));
     match (&problem.config.drive, problem.config.integrator) {
         (Drive::Spring(s), Integrator::Split) => {
             let k = problem.flow_stiffness_n_per_m;
-            if first && k > 0.0 {
+            match half {
                 // As without viscosity: the flow carries the kick force linearised at the
                 // step's start, and the opening kick is 0.
-                *anchor = s.loaded_split_open(state, dt_s, k, drag, kick_n);
-            } else if first {
-                s.friction_half_kick(state, kick_n, dt_s);
-                s.spring_flow_with_drag(state, dt_s, drag);
-            } else if k > 0.0 {
-                s.loaded_split_close(state, dt_s, anchor, kick_n);
-            } else {
-                s.friction_half_kick(state, kick_n, dt_s);
+                Half::Open(anchor) if k > 0.0 => {
+                    *anchor = s.loaded_split_open(state, dt_s, k, drag, kick_n);
+                }
+                Half::Open(_) => {
+                    s.friction_half_kick(state, kick_n, dt_s);
+                    s.spring_flow_with_drag(state, dt_s, drag);
+                }
+                Half::Close(anchor) if k > 0.0 => {
+                    s.loaded_split_close(state, dt_s, anchor, kick_n);
+                }
+                Half::Close(_) => s.friction_half_kick(state, kick_n, dt_s),
             }
         }
         (Drive::Spring(s), Integrator::Verlet) => {

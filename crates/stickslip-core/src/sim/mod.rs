@@ -117,10 +117,9 @@ pub struct Observables {
 /// assert!((sim.time_s() - 1e-5).abs() < 1e-12);
 /// ```
 pub struct Simulation {
-    problem: Problem,
-    /// The scheme's step, chosen once from the configuration ([`stepper_for`]).
-    stepper: Box<dyn Stepper>,
-    noise: NoiseSource,
+    /// The problem, the scheme's stepper (chosen once from the configuration,
+    /// [`stepper_for`]) and the noise: what a step uses besides the state.
+    engine: Engine,
     state: SimState,
     /// What the last step found.
     report: StepReport,
@@ -133,7 +132,7 @@ pub struct Simulation {
 impl std::fmt::Debug for Simulation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Simulation")
-            .field("config", &self.problem.config)
+            .field("config", &self.engine.problem.config)
             .field("step", &self.state.counters.step)
             .finish_non_exhaustive()
     }
@@ -181,21 +180,23 @@ impl Simulation {
             },
         };
         let mut sim = Self {
-            stepper: stepper_for(&problem),
-            problem,
-            noise,
+            engine: Engine {
+                stepper: stepper_for(&problem),
+                problem,
+                noise,
+            },
             state,
             report: StepReport::default(),
             saved: None,
             observe_q: vec![0.0; n],
         };
-        watch::observe_events(&sim.problem, &mut sim.state, &sim.report);
+        watch::observe_events(&sim.engine.problem, &mut sim.state, &sim.report);
         Ok(sim)
     }
 
     /// The configuration.
     pub fn config(&self) -> &SimConfig {
-        &self.problem.config
+        &self.engine.problem.config
     }
 
     /// The state (for checkpoints and profiles).
@@ -208,15 +209,15 @@ impl Simulation {
     /// # Errors
     /// If a per-node vector's length or the noise state does not fit.
     pub fn restore(&mut self, state: SimState) -> Result<(), StateMismatch> {
-        state.check_nodes(self.problem.nodes())?;
-        self.noise.restore(&state.physical.noise)?;
+        state.check_nodes(self.engine.problem.nodes())?;
+        self.engine.noise.restore(&state.physical.noise)?;
         self.state = state;
         Ok(())
     }
 
     /// Node radii, m.
     pub fn radii_m(&self) -> &[f64] {
-        &self.problem.radii_m
+        &self.engine.problem.radii_m
     }
 
     /// Current time, s.
@@ -235,12 +236,7 @@ impl Simulation {
     /// [`NumericalFailure`] when a value turns non-finite or runs away (|τ| beyond
     /// `numerics.runaway_stress_factor`·τmax, or the coupling solve fails).
     pub fn step(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
-        let mut engine = Engine {
-            problem: &self.problem,
-            stepper: self.stepper.as_mut(),
-            noise: &mut self.noise,
-        };
-        self.report = engine.step(&mut self.state, dt_s)?;
+        self.report = self.engine.step(&mut self.state, dt_s)?;
         Ok(())
     }
 
@@ -255,15 +251,10 @@ impl Simulation {
     /// # Panics
     /// If the configuration is not adaptive.
     pub fn step_adaptive(&mut self, t_stop_s: f64) -> Result<f64, NumericalFailure> {
-        let time = self.problem.config.time;
+        let time = self.engine.problem.config.time;
         let ctl = time.adaptive.expect("step_adaptive needs time.adaptive");
-        let mut engine = Engine {
-            problem: &self.problem,
-            stepper: self.stepper.as_mut(),
-            noise: &mut self.noise,
-        };
         let (h, report) = adaptive::step(
-            &mut engine,
+            &mut self.engine,
             &mut self.state,
             &mut self.saved,
             (ctl, time.dt_s),
@@ -286,36 +277,40 @@ impl Simulation {
     /// (Perron–Frobenius); 0 for a rigid substrate.
     pub fn lagged_sweep_contraction(&self) -> f64 {
         let phi_sq: Vec<f64> = self.state.physical.phi.iter().map(|p| p * p).collect();
-        self.problem.contraction_with(&phi_sq)
+        self.engine.problem.contraction_with(&phi_sq)
     }
 
     /// The contact as a linear spring at t = 0 (see the `contact_spring` module); none when
     /// the film starts molten or nothing can melt (no melting strain).
     pub fn contact_spring(&self) -> Option<ContactSpring> {
-        self.problem.contact_spring
+        self.engine.problem.contact_spring()
     }
 
     /// The contact's spring for the first-onset estimate: [`Simulation::contact_spring`] with
     /// its melting point moved to the quasi-static fold of the radial contact on an elastic
     /// substrate (see the `contact_spring` module).
     pub fn onset_spring(&self) -> Option<ContactSpring> {
-        self.problem.onset_spring()
+        self.engine.problem.onset_spring()
     }
 
     /// The physics of this configuration before it runs (derived and stability numbers,
     /// estimates, the verdict); computes the lagged-sweep contraction factor from the state now.
     pub fn preflight(&self) -> crate::preflight::Preflight {
         let rho = if self.state.counters.step == 0 {
-            self.problem.rho0
+            self.engine.problem.rho0
         } else {
             self.lagged_sweep_contraction()
         };
-        crate::preflight::Preflight::with_contact(&self.problem.config, rho, self.onset_spring())
+        crate::preflight::Preflight::with_contact(
+            &self.engine.problem.config,
+            rho,
+            self.onset_spring(),
+        )
     }
 
     /// Scalar observables now (computes F from 2∫q dx with one forward transform).
     pub fn observables(&mut self) -> Observables {
-        let f_1d_n = match &self.problem.contact {
+        let f_1d_n = match &self.engine.problem.contact {
             Contact::Radial(ops) => {
                 ops.forward(&self.state.physical.tau_pa, &mut self.observe_q);
                 ops.force_1d_n(&self.observe_q)
@@ -327,15 +322,16 @@ impl Simulation {
         let mut melted = 0.0;
         let mut melted_count = 0;
         for i in 0..self.state.physical.phi.len() {
-            let w = self.problem.area_weights[i];
+            let w = self.engine.problem.area_weights[i];
             phi_mean += w * self.state.physical.phi[i];
             eps_mean += w * self.state.physical.eps[i];
-            if self.state.physical.phi[i] < self.problem.config.melt_threshold {
+            if self.state.physical.phi[i] < self.engine.problem.config.melt_threshold {
                 melted += w;
                 melted_count += 1;
             }
         }
-        let melted = watch::whole_area(melted, melted_count, self.problem.area_weights.len());
+        let melted =
+            watch::whole_area(melted, melted_count, self.engine.problem.area_weights.len());
         Observables {
             t_s: self.state.physical.drive.t_s,
             x_m: self.state.physical.drive.x_m,

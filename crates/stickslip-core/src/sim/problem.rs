@@ -42,8 +42,10 @@ pub(super) struct Problem {
     /// bounds K's spectrum for the coupling solve's relaxation of accepted guesses.
     pub rho0: f64,
     /// The contact as a linear spring at t = 0 ([`Problem::linear_contact_spring`]), computed
-    /// once: the split integrator's flow and the preflight both use it.
-    pub contact_spring: Option<ContactSpring>,
+    /// once, when first asked for ([`Problem::contact_spring`]): at the start for the split
+    /// integrator's flow, by the preflight otherwise; a simulation that asks for neither
+    /// (a rigid drive stepped without a preflight) does not pay its solve.
+    contact_spring: std::sync::OnceLock<Option<ContactSpring>>,
     /// The contact's linear stiffness k with which the split integrator's exact flow carries
     /// the friction force linearised at each step's start, N/m (see
     /// [`crate::drive::SpringDrive::loaded_flow`]): the contact spring's; 0 for the other
@@ -111,19 +113,26 @@ impl Problem {
             kappa,
             phi_init,
             rho0: 0.0,
-            contact_spring: None,
+            contact_spring: std::sync::OnceLock::new(),
             flow_stiffness_n_per_m: 0.0,
         };
         problem.rho0 = problem.contraction_with(&vec![phi_init * phi_init; n]);
-        problem.contact_spring = problem.linear_contact_spring();
         if matches!(problem.config.drive, Drive::Spring(_))
             && problem.config.integrator == Integrator::Split
             && problem.config.time.scheme == Scheme::Accurate
-            && let Some(k) = problem.contact_spring
+            && let Some(k) = problem.contact_spring()
         {
             problem.flow_stiffness_n_per_m = k.stiffness_n_per_m();
         }
         Ok(problem)
+    }
+
+    /// The contact as a linear spring at t = 0 (see the `contact_spring` module), solved on
+    /// the first call; none when the contact has no such spring.
+    pub fn contact_spring(&self) -> Option<ContactSpring> {
+        *self
+            .contact_spring
+            .get_or_init(|| self.linear_contact_spring())
     }
 
     /// The nodes simulated.

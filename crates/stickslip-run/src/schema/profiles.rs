@@ -1,8 +1,7 @@
 //! profiles.csv: one block of rows (one per node) per recorded profile time.
 
-use super::csv::{NumericCsv, write_row};
-use super::table::{Table, read_columns, write_columns};
-use super::{Column, SchemaError};
+use super::Column;
+use super::csv::write_row;
 use std::io::{self, Write};
 use stickslip_core::sim::SimState;
 
@@ -255,18 +254,4 @@ impl Profiles {
     }
 }
 
-impl Table for Profiles {
-    const FILE: &'static str = FILE;
-
-    fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
-        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        write_columns(w, &names, &self.columns().map(|(_, c)| c))
-    }
-
-    fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
-        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        let mut p = Self::default();
-        read_columns(&csv, &names, &mut p.columns_mut(), FILE)?;
-        Ok(p)
-    }
-}
+super::table::columnar_table!(Profiles);

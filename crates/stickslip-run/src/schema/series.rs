@@ -1,9 +1,8 @@
 //! series.csv: one row per recorded time (the columns of docs/reference.md, section
 //! series.csv).
 
-use super::csv::{NumericCsv, write_row};
-use super::table::{Table, read_columns, write_columns};
-use super::{Column, SchemaError};
+use super::Column;
+use super::csv::write_row;
 use std::io::{self, Write};
 use stickslip_core::sim::Observables;
 
@@ -201,18 +200,4 @@ impl Series {
     }
 }
 
-impl Table for Series {
-    const FILE: &'static str = FILE;
-
-    fn write_to<W: Write>(&self, w: &mut W) -> io::Result<()> {
-        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        write_columns(w, &names, &self.columns().map(|(_, c)| c))
-    }
-
-    fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
-        let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        let mut s = Self::default();
-        read_columns(&csv, &names, &mut s.columns_mut(), FILE)?;
-        Ok(s)
-    }
-}
+super::table::columnar_table!(Series);

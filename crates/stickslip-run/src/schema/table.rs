@@ -96,3 +96,30 @@ pub(super) fn read_columns(
     }
     Ok(())
 }
+
+/// The [`Table`] of a struct held as equal-length columns (series, profiles): its module's
+/// `FILE` and `COLUMNS` (the header, in order), and the struct's `columns()` (name, data) and
+/// `columns_mut()` in the same order. Written once here, so the columnar files cannot read
+/// or write differently.
+macro_rules! columnar_table {
+    ($table:ty) => {
+        impl $crate::schema::table::Table for $table {
+            const FILE: &'static str = FILE;
+
+            fn write_to<W: std::io::Write>(&self, w: &mut W) -> std::io::Result<()> {
+                let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+                $crate::schema::table::write_columns(w, &names, &self.columns().map(|(_, c)| c))
+            }
+
+            fn from_csv(
+                csv: $crate::schema::csv::NumericCsv,
+            ) -> Result<Self, $crate::schema::SchemaError> {
+                let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
+                let mut table = Self::default();
+                $crate::schema::table::read_columns(&csv, &names, &mut table.columns_mut(), FILE)?;
+                Ok(table)
+            }
+        }
+    };
+}
+pub(super) use columnar_table;
