@@ -34,7 +34,7 @@ Commands:
                 write reports/performance.{md,json} and reports/performance_*.svg
       --quick   smoke run (few, short runs; not for the report)
       --repeats N, --max-nodes N, --out DIR   (see crates/stickslip-convergence/src/bin/performance.rs)
-  fit-study     fit synthetic traces from known parameters through the run library's fit and
+  fit-study     fit synthetic traces from known parameters through the studies crate's fit and
                 write reports/fit.{md,json} and reports/fit_*.svg: coverage of the 95 %
                 intervals, width against samples, Jacobians, costs (the fig2 and SFA targets),
                 the damped viscous SFA contact, identifiability; exits 1 if a verdict fails

@@ -1,5 +1,5 @@
 //! stickslip-fit-study: the verification study of the fit (`cargo xtask fit-study`): synthetic
-//! traces from known parameters with noise, fitted through the run library's typed fit API,
+//! traces from known parameters with noise, fitted through the studies crate's typed fit API,
 //! and `reports/fit.md`, `reports/fit.json` and `reports/fit_*.svg` from what they give.
 //!
 //! - [`cases`]: the fits' scenes, truths, bounds, windows, sampling and noise, at the full and
@@ -63,7 +63,7 @@ pub struct Options {
 #[derive(Debug, clap::Parser)]
 #[command(
     name = "cargo xtask fit-study",
-    about = "Fits synthetic traces (known parameters, seeded noise) through the run library's fit",
+    about = "Fits synthetic traces (known parameters, seeded noise) through the studies crate's fit",
     long_about = "Fits synthetic traces (known parameters, seeded noise) through the run library's \
                   fit and writes reports/fit.md, reports/fit.json and reports/fit_*.svg: coverage \
                   of the 95 % intervals over 20 seeds for fig2 and the SFA contact, interval \

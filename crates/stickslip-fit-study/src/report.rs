@@ -177,7 +177,7 @@ pub fn markdown(st: &Study) -> String {
          numbers in `fit.json`, from which `cargo xtask fit-study --render-only` redraws this \
          page and its figures). It fits synthetic friction traces — the model's own F(t) at \
          known (\"true\") parameter values, sampled evenly, with gaussian noise of a known σF \
-         added from a seeded ChaCha8 stream — through the run library's fit \
+         added from a seeded ChaCha8 stream — through the studies crate's fit \
          (`stickslip_studies::fit::fit`, what `stickslip fit` runs; [docs/fit.md](../docs/fit.md) \
          states its misfits, optimiser and uncertainty), with the noise estimated from the data \
          as a user's fit does. The true trace is made by the fit's own forward run at the \

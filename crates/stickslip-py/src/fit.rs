@@ -1,4 +1,4 @@
-//! `stickslip.fit`: the run library's fit of scene parameters to a measured trace
+//! `stickslip.fit`: the studies crate's fit of scene parameters to a measured trace
 //! (`stickslip_studies::fit`) with the GIL released, Ctrl-C and progress through the bridge; the
 //! result as fit.json's dict with the fitted scene's TOML and the curves, and with `out` the
 //! command line's three files (the reporting kit's `fit::write_outputs`).

@@ -18,7 +18,7 @@
 //! - [`cli`]: the command line itself (the `stickslip` crate's library), for the package's
 //!   `stickslip` command;
 //! - [`verify`]: the error of every summary number of a scene;
-//! - [`fit`]: scene parameters fitted to a measured trace (the run library's fit);
+//! - [`fit`]: scene parameters fitted to a measured trace (the studies crate's fit);
 //! - [`mdr`]: the forward, back and compliance transforms on NumPy arrays, their inputs
 //!   checked (shape, type, finite values, sizes whose operators would not fit);
 //! - [`args`], [`convert`] and [`errors`]: arguments checked in the API's words, Python ⇄

@@ -1,4 +1,4 @@
-//! `stickslip fit`: the run library's fit (`stickslip_studies::fit`) of a scene's parameters to a
+//! `stickslip fit`: the studies crate's fit (`stickslip_studies::fit`) of a scene's parameters to a
 //! measured trace; a line on stderr per stage (and every few seconds), the table of fitted
 //! values at the end, and `DIR/fit.json`, `DIR/fit.svg` and `DIR/fitted.toml`, written by the
 //! reporting kit's `fit::write_outputs` (each through the atomic writer). Exit 0, 2 for bad input, 3 when no run
