@@ -140,6 +140,12 @@ pub struct NumericsConfig {
     /// relative down to the melt threshold.
     #[serde(default)]
     pub phi_error_floor: f64,
+    /// The factor `time.tolerance` is multiplied by for a step that starts while a melting
+    /// event is open (docs/model.md#adaptive-steps): a cascade's steps are taken to a looser
+    /// tolerance, the stick phase up to the next onset (where the onset's error is made) to
+    /// the scene's. 1 (the default) keeps one tolerance throughout.
+    #[serde(default = "NumericsConfig::one")]
+    pub event_tolerance_factor: f64,
 }
 
 /// The accurate scheme's step of the second-order film (docs/model.md#the-accurate-scheme).
@@ -167,7 +173,13 @@ impl NumericsConfig {
         operator: None,
         film_step: FilmStep::Ramp,
         phi_error_floor: 0.0,
+        event_tolerance_factor: 1.0,
     };
+
+    /// 1, the default of the factors that a configuration written before them lacks.
+    const fn one() -> f64 {
+        1.0
+    }
 }
 
 impl Default for NumericsConfig {
@@ -236,6 +248,7 @@ impl SimConfig {
         bounds::COUPLING_TOL.check(n.coupling_tol)?;
         bounds::RUNAWAY_STRESS_FACTOR.check(n.runaway_stress_factor)?;
         bounds::PHI_ERROR_FLOOR.check(n.phi_error_floor)?;
+        bounds::EVENT_TOLERANCE_FACTOR.check(n.event_tolerance_factor)?;
         self.check_derived()
     }
 

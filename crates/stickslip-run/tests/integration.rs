@@ -8,6 +8,7 @@ mod checkpoint_instants;
 mod dir_states;
 mod drive_damping;
 mod error_norm;
+mod event_tolerance;
 mod events;
 mod first_order;
 mod grid;

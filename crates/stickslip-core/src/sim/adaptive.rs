@@ -63,8 +63,14 @@ pub(super) fn step(
         let at_floor = h <= ctl.dt_min_s;
         saved.as_mut().clone_from(state);
         let was_open = state.events.tracker.is_open();
+        // A cascade's steps to the looser tolerance (numerics.event_tolerance_factor).
+        let tolerance = if was_open {
+            ctl.tolerance * engine.problem.config.numerics.event_tolerance_factor
+        } else {
+            ctl.tolerance
+        };
         let (err, report) = match engine.step(state, h) {
-            Ok(report) => (report.error.max() / ctl.tolerance, report),
+            Ok(report) => (report.error.max() / tolerance, report),
             Err(failure) if at_floor => break Err(failure),
             Err(_) => (f64::INFINITY, StepReport::default()),
         };

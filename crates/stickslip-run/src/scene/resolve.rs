@@ -499,6 +499,18 @@ fn resolve_numerics(
         )?;
         None
     };
+    // The cascade's tolerance factor, likewise an adaptive step's.
+    let event_tolerance_factor = if keys::adaptive(so_far) == Some(true) {
+        Some(numerics::EVENT_TOLERANCE_FACTOR.value(nm.event_tolerance_factor, &nothing())?)
+    } else {
+        contradiction(
+            numerics::EVENT_TOLERANCE_FACTOR.path,
+            nm.event_tolerance_factor,
+            "time.stepping = \"fixed\"",
+            "only with time.stepping = \"adaptive\"",
+        )?;
+        None
+    };
     let numerics = NumericsConfig {
         coupling_tol: numerics::COUPLING_TOL.value(nm.coupling_tol, so_far)?,
         runaway_stress_factor: numerics::RUNAWAY_STRESS_FACTOR
@@ -510,6 +522,7 @@ fn resolve_numerics(
         },
         film_step,
         phi_error_floor: phi_error_floor.unwrap_or(0.0),
+        event_tolerance_factor: event_tolerance_factor.unwrap_or(1.0),
     };
     let section = NumericsSection {
         coupling_tol: Some(numerics.coupling_tol),
@@ -517,6 +530,7 @@ fn resolve_numerics(
         operator: Some(operator),
         film_step: Some(film_step),
         phi_error_floor,
+        event_tolerance_factor,
     };
     Ok((numerics, section))
 }
