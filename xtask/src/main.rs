@@ -39,7 +39,7 @@ Commands:
                 intervals, width against samples, Jacobians, costs (the fig2 and SFA targets),
                 the damped viscous SFA contact, identifiability; exits 1 if a verdict fails
       --quick   smoke study (N = 30, few seeds) into target/fit-study/quick/report
-      --resume, --render-only, --out DIR, --jobs J   (`cargo xtask fit-study --help`)
+      --resume, --work DIR, --render-only, --out DIR, --jobs J   (`cargo xtask fit-study --help`)
   maps          run the showcase friction maps (maps/*.toml) and write reports/maps.md and
                 reports/maps_*.svg with their checks; exits 1 if a check fails
       --jobs J  points run in parallel (default: the available cores)

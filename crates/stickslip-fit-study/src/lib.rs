@@ -91,6 +91,11 @@ struct Args {
     /// Keep the sections (and the coverage fits) a previous run of the same size finished.
     #[arg(long)]
     resume: bool,
+    /// Where each finished section and coverage fit is kept for --resume [default:
+    /// target/fit-study/full, or .../quick]: a directory that outlives the machine (shared
+    /// storage, or one committed) lets a study of several hours go on elsewhere.
+    #[arg(long, value_name = "DIR")]
+    work: Option<PathBuf>,
     /// Redraw the page and figures from DIR/fit.json.
     #[arg(long)]
     render_only: bool,
@@ -296,15 +301,17 @@ pub fn cli(args: &[String], root: PathBuf) -> ExitCode {
         out,
         jobs,
         resume,
+        work,
         render_only,
     } = args;
     let size = if quick { "quick" } else { "full" };
     let target =
         std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
-    let work = target.join("fit-study").join(size);
+    let default_work = target.join("fit-study").join(size);
+    let work = work.unwrap_or_else(|| default_work.clone());
     let out = out.unwrap_or_else(|| {
         if quick {
-            work.join("report")
+            default_work.join("report")
         } else {
             root.join("reports")
         }
@@ -384,7 +391,9 @@ mod cli_tests {
         assert_eq!(a.jobs, stickslip_studies::options::JOBS);
         assert!(!a.quick && !a.resume && !a.render_only && a.out.is_none());
         let a = Args::try_parse_from(["fit-study", "--quick", "--jobs", "3", "--resume"]).unwrap();
-        assert!(a.quick && a.resume && a.jobs == 3);
+        assert!(a.quick && a.resume && a.jobs == 3 && a.work.is_none());
+        let a = Args::try_parse_from(["fit-study", "--resume", "--work", "kept"]).unwrap();
+        assert_eq!(a.work, Some(std::path::PathBuf::from("kept")));
         for bad in [
             &["--jobs", "0"][..],
             &["--jobs", "x"],
