@@ -23,13 +23,15 @@ cargo xtask python-test [--fresh] [-- PYTEST_ARGS...]
   PYTEST_ARGS are passed to pytest (e.g. -- -k mdr -x)
 Environment: STICKSLIP_PYTHON (the interpreter for the venv, default python3).";
 
-/// Test dependencies installed into the venv once (pandas and matplotlib exercise
+/// Test dependencies installed into the venv once (scipy runs the independent implementation
+/// of validation/independent; pandas and matplotlib exercise
 /// `RunResult.to_pandas` and the example's plots, tqdm the progress bar, nbclient and
 /// ipykernel execute the notebooks of examples/). A venv made with another list is brought
 /// up to this one.
-const TEST_DEPS: [&str; 8] = [
+const TEST_DEPS: [&str; 9] = [
     "maturin>=1.5,<2",
     "numpy",
+    "scipy",
     "pytest",
     "pandas",
     "matplotlib",
