@@ -6,26 +6,7 @@
 
 use crate::common;
 
-use stickslip_run::driver::{Control, NullSink};
 use stickslip_run::{RunOutcome, Scene};
-
-fn first_slip(extra: &[&str]) -> RunOutcome {
-    let mut sets = vec![
-        "contact.nodes=100",
-        "contact.film_thickness=1.2e-9",
-        "contact.g_eff=1.3e9",
-        "time.end=0.16",
-        "output.profile_times=[]",
-        "output.series_interval=1e-3",
-    ];
-    sets.extend_from_slice(extra);
-    let scene = Scene::from_path(&common::scene("sfa"), &sets).unwrap();
-    stickslip_run::run(&scene, &mut NullSink, &mut Control::default()).unwrap()
-}
-
-fn evaluations(o: &RunOutcome) -> u64 {
-    o.counts.accepted_steps + o.counts.rejected_steps + o.counts.onset_retakes
-}
 
 /// The largest |onset − the reference's| over the meltings, s (the counts must agree).
 fn largest_onset_error(o: &RunOutcome, reference: &RunOutcome) -> f64 {
@@ -39,11 +20,11 @@ fn largest_onset_error(o: &RunOutcome, reference: &RunOutcome) -> f64 {
 
 #[test]
 fn a_floor_on_the_phi_error_saves_steps_on_a_thin_films_slip_at_the_same_accuracy() {
-    let reference = first_slip(&["time.tolerance=5e-7"]);
+    let reference = common::sfa_first_slip(&["time.tolerance=5e-7"]);
     assert!(reference.events.len() >= 8, "{}", reference.events.len());
-    let relative = first_slip(&[]);
-    let floored = first_slip(&["numerics.phi_error_floor=0.1"]);
-    let (n_rel, n_floor) = (evaluations(&relative), evaluations(&floored));
+    let relative = common::sfa_first_slip(&[]);
+    let floored = common::sfa_first_slip(&["numerics.phi_error_floor=0.1"]);
+    let (n_rel, n_floor) = (common::attempts(&relative), common::attempts(&floored));
     let (e_rel, e_floor) = (
         largest_onset_error(&relative, &reference),
         largest_onset_error(&floored, &reference),

@@ -6,31 +6,12 @@
 
 use crate::common;
 
-use stickslip_run::driver::{Control, NullSink};
-use stickslip_run::{RunOutcome, Scene};
-
-fn first_slip(extra: &[&str]) -> RunOutcome {
-    let mut sets = vec![
-        "contact.nodes=100",
-        "contact.film_thickness=1.2e-9",
-        "contact.g_eff=1.3e9",
-        "time.end=0.16",
-        "output.profile_times=[]",
-        "output.series_interval=1e-3",
-    ];
-    sets.extend_from_slice(extra);
-    let scene = Scene::from_path(&common::scene("sfa"), &sets).unwrap();
-    stickslip_run::run(&scene, &mut NullSink, &mut Control::default()).unwrap()
-}
-
-fn attempts(o: &RunOutcome) -> u64 {
-    o.counts.accepted_steps + o.counts.rejected_steps + o.counts.onset_retakes
-}
+use stickslip_run::Scene;
 
 #[test]
 fn a_looser_tolerance_in_cascades_saves_attempts_and_melts_the_same_nodes() {
-    let tight = first_slip(&[]);
-    let loose = first_slip(&["numerics.event_tolerance_factor=30"]);
+    let tight = common::sfa_first_slip(&[]);
+    let loose = common::sfa_first_slip(&["numerics.event_tolerance_factor=30"]);
     assert!(tight.events.len() >= 8, "{}", tight.events.len());
     assert_eq!(loose.events.len(), tight.events.len());
     let mut largest_shift = 0.0_f64;
@@ -44,7 +25,7 @@ fn a_looser_tolerance_in_cascades_saves_attempts_and_melts_the_same_nodes() {
         );
         largest_shift = largest_shift.max((a.t_onset_s - b.t_onset_s).abs());
     }
-    let (n_tight, n_loose) = (attempts(&tight), attempts(&loose));
+    let (n_tight, n_loose) = (common::attempts(&tight), common::attempts(&loose));
     println!("attempts {n_tight} → {n_loose}; largest onset shift {largest_shift:e} s");
     assert!(
         (n_loose as f64) < 0.7 * n_tight as f64,

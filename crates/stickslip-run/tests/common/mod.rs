@@ -29,3 +29,29 @@ pub fn outputs(dir: &Path) -> Vec<(String, Vec<u8>)> {
     files.sort();
     files
 }
+
+/// The h0 = 1 nm contact's first slip (sfa.toml at N = 100, h0 = 1.2 nm, G* = 1.3 GPa, 11
+/// meltings to 0.16 s; the fit study's first-slip case) with `extra` settings, in memory.
+pub fn sfa_first_slip(extra: &[&str]) -> stickslip_run::RunOutcome {
+    let mut sets = vec![
+        "contact.nodes=100",
+        "contact.film_thickness=1.2e-9",
+        "contact.g_eff=1.3e9",
+        "time.end=0.16",
+        "output.profile_times=[]",
+        "output.series_interval=1e-3",
+    ];
+    sets.extend_from_slice(extra);
+    let scene = stickslip_run::Scene::from_path(&scene("sfa"), &sets).unwrap();
+    stickslip_run::run(
+        &scene,
+        &mut stickslip_run::driver::NullSink,
+        &mut stickslip_run::driver::Control::default(),
+    )
+    .unwrap()
+}
+
+/// A run's step attempts: accepted, rejected and retaken at an onset.
+pub fn attempts(o: &stickslip_run::RunOutcome) -> u64 {
+    o.counts.accepted_steps + o.counts.rejected_steps + o.counts.onset_retakes
+}
