@@ -15,8 +15,9 @@
 //! `reports/summary.json`; [`reduced`] is the small fig2 run whose features the fast test
 //! recomputes in-process; [`hard`] runs the hard cases of `validation/hard/` and writes
 //! `reports/hard-cases.md`; [`verify_check`] runs `stickslip verify` at a coarse N and checks
-//! its uncertainties against the true errors known from much finer runs; [`validate`] ties it
-//! together.
+//! its uncertainties against the true errors known from much finer runs; [`independent`] runs
+//! the independent implementation of `validation/independent/` (Python) beside stickslip and
+//! compares their converged values; [`validate`] ties it together.
 //!
 //! Invariants: the claims read output files only (through the schema; C11's loop takes only the
 //! film's parameters from a run's run.json); every number in the
@@ -33,6 +34,7 @@ pub mod figures_first_order;
 pub mod findings;
 pub mod hard;
 pub mod hysteresis;
+pub mod independent;
 pub mod reduced;
 pub mod report;
 pub mod runner;

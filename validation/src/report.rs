@@ -81,6 +81,9 @@ pub struct Outcome<'a> {
     pub event_rule_missing: &'a [String],
     /// verify against known errors.
     pub verify_check: &'a [VerifyCheck],
+    /// The comparison with the independent implementation, why it failed, or none (not run:
+    /// `validate --check`).
+    pub independent: Option<&'a Result<crate::independent::Comparison, String>>,
 }
 
 fn round(x: f64, digits: i32) -> f64 {
@@ -348,6 +351,17 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
     );
     resolution_section(&mut s, o);
     s.push_str(&verify_check::markdown(o.verify_check));
+    match o.independent {
+        Some(Ok(c)) => s.push_str(&crate::independent::report::markdown(c)),
+        Some(Err(e)) => {
+            let _ = writeln!(
+                s,
+                "## Independent implementation\n\n*Not compared: {}*\n",
+                md_escape(e)
+            );
+        }
+        None => {}
+    }
     let _ = writeln!(s, "## Melting events: what the event rule changes\n");
     let (k, gap) = o.runs.get("fig2").map_or((f64::NAN, f64::NAN), |r| {
         (

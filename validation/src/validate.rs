@@ -22,6 +22,12 @@ pub struct Options {
     pub jobs: usize,
     /// Only run the hard cases and write `reports/hard-cases.md` (`--hard-only`).
     pub hard_only: bool,
+    /// The Python interpreter (with NumPy and SciPy) for the independent implementation; none
+    /// skips the comparison and says so in the report.
+    pub python: Option<PathBuf>,
+    /// Only run the comparison with the independent implementation and write
+    /// `reports/independent.json` and its figure (`--independent-only`).
+    pub independent_only: bool,
 }
 
 /// Runs the validation. `Ok(true)` when every claim passes and verify covers every known error
@@ -42,6 +48,15 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     let scenes = root.join("validation").join("scenes");
     let out_root = root.join("target").join("validation");
     std::fs::create_dir_all(&out_root).map_err(|e| format!("{}: {e}", out_root.display()))?;
+    if opts.independent_only {
+        let runner = Runner::new(bin.clone(), root.clone(), out_root);
+        let comparison =
+            independent(&runner, opts).ok_or("--independent-only needs a Python interpreter")??;
+        let mut files = ReportFiles::create(&root.join("reports"))?;
+        write_independent(&mut files, &comparison)?;
+        print!("{}", crate::independent::report::markdown(&comparison));
+        return Ok(comparison.all_agree());
+    }
     // The verify check's references first: the sfa one is the longest run.
     let mut specs = crate::verify_check::reference_specs();
     specs.extend(specs_list());
@@ -67,6 +82,12 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     claims.extend(crate::claims_first_order::evaluate(&runs));
     let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
     let verify_check = crate::verify_check::evaluate(&verify_runs, &runs);
+    // Not under --check: summary.json does not hold it, and it takes minutes.
+    let independent = if opts.check {
+        None
+    } else {
+        independent(&runner, opts)
+    };
     let outcome = Outcome {
         claims: &claims,
         runs: &runs,
@@ -76,6 +97,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         event_rule: &event_rule,
         event_rule_missing: &event_rule_missing,
         verify_check: &verify_check,
+        independent: independent.as_ref(),
     };
     let summary = summary_json(&outcome);
     println!("\nclaims:\n{}", claims_table_text(&claims));
@@ -86,7 +108,12 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     );
     // Every claim passes and verify's uncertainty covers every known error (or says not
     // converged).
-    let all_pass = claims.iter().all(|c| c.pass) && crate::verify_check::all_covered(&verify_check);
+    let all_pass = claims.iter().all(|c| c.pass)
+        && crate::verify_check::all_covered(&verify_check)
+        && independent.as_ref().is_none_or(|c| {
+            c.as_ref()
+                .is_ok_and(crate::independent::Comparison::all_agree)
+        });
     let reports = root.join("reports");
     if opts.check {
         let path = reports.join("summary.json");
@@ -121,6 +148,9 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
             Err(e) => println!("figure {} not drawn: {e}", fig.file),
         }
     }
+    if let Some(Ok(c)) = &independent {
+        write_independent(&mut files, c)?;
+    }
     files.put("index.md", index_md(&outcome, &figures))?;
     files.put_json("summary.json", &summary)?;
     hard_cases(&bin, root)?;
@@ -131,6 +161,50 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         start.elapsed().as_secs_f64()
     );
     Ok(all_pass)
+}
+
+/// The comparison with the independent implementation, when a Python interpreter was given.
+fn independent(
+    runner: &Runner,
+    opts: &Options,
+) -> Option<Result<crate::independent::Comparison, String>> {
+    let python = opts.python.as_ref()?;
+    println!(
+        "validate: the independent implementation ({})",
+        python.display()
+    );
+    let started = Instant::now();
+    let c = crate::independent::compare(runner, python, opts.jobs);
+    if let Ok(c) = &c {
+        println!(
+            "validate: independent comparison: {} in {:.0} s",
+            if c.all_agree() {
+                "every quantity agrees"
+            } else {
+                "a quantity DISAGREES"
+            },
+            started.elapsed().as_secs_f64()
+        );
+    }
+    Some(c)
+}
+
+/// `reports/independent.json` and its figure.
+fn write_independent(
+    files: &mut ReportFiles,
+    c: &crate::independent::Comparison,
+) -> Result<(), String> {
+    files.put_json("independent.json", c)?;
+    match crate::independent::report::figure(c) {
+        Ok(svg) => files.put(crate::independent::report::FIGURE, svg),
+        Err(e) => {
+            println!(
+                "figure {} not drawn: {e}",
+                crate::independent::report::FIGURE
+            );
+            Ok(())
+        }
+    }
 }
 
 /// Runs the hard cases of `validation/hard/` and writes `reports/hard-cases.md`.

@@ -20,13 +20,18 @@ Commands:
                 criterion benches), then python-test, the wheel's check and slurm-check; a
                 timed summary at the end; exits 1 if any stage failed
       --no-python, --no-slurm   skip that stage (--no-python skips the wheel too)
-  validate      simulate the paper's scenes, check claims C1–C13, write reports/
-                (index.md, summary.json, SVG figures); exits 1 if a claim fails
+  validate      simulate the paper's scenes, check claims C1–C13, compare with the
+                independent implementation, write reports/ (index.md, summary.json,
+                independent.json, SVG figures); exits 1 if a claim fails or a compared
+                quantity disagrees
       --check   rerun and compare verdicts, event counts and the reduced block with the
                 committed reports/summary.json, writing nothing; exits 1 on a mismatch
       --jobs N  scene runs in parallel (default 2)
       --hard-only  only rerun the hard cases (validation/hard/) and write
                 reports/hard-cases.md; exits 1 if an expected outcome is not met
+      --independent-only  only compare with the independent implementation
+                (validation/independent/, NumPy and SciPy in target/python-venv) and write
+                reports/independent.{json,svg}; exits 1 if a quantity disagrees
   convergence   run the full convergence study (crate stickslip-convergence, release build)
                 and write reports/convergence.{md,json} and reports/convergence_*.svg;
                 options are passed on (`cargo xtask convergence --help`)
@@ -72,12 +77,15 @@ fn validate(args: &[String]) -> ExitCode {
         check: false,
         jobs: 2,
         hard_only: false,
+        python: None,
+        independent_only: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
             "--check" => opts.check = true,
             "--hard-only" => opts.hard_only = true,
+            "--independent-only" => opts.independent_only = true,
             "--jobs" => match it.next().and_then(|v| v.parse::<usize>().ok()) {
                 Some(n) if n > 0 => opts.jobs = n,
                 _ => {
@@ -87,6 +95,16 @@ fn validate(args: &[String]) -> ExitCode {
             },
             other => {
                 eprintln!("unknown option `{other}` for validate\n\n{HELP}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    // The independent implementation needs NumPy and SciPy: the test venv has them.
+    if !opts.check && !opts.hard_only {
+        match python::venv(&opts.root, false) {
+            Ok((python, _)) => opts.python = Some(python),
+            Err(e) => {
+                eprintln!("validate: the Python venv for the independent implementation: {e}");
                 return ExitCode::from(2);
             }
         }
