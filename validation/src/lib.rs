@@ -17,7 +17,8 @@
 //! `reports/hard-cases.md`; [`verify_check`] runs `stickslip verify` at a coarse N and checks
 //! its uncertainties against the true errors known from much finer runs; [`independent`] runs
 //! the independent implementation of `validation/independent/` (Python) beside stickslip and
-//! compares their converged values; [`validate`] ties it together.
+//! compares their converged values; [`sensitivity`] reruns the scenes of C4, C5 and C13 with
+//! the melting threshold or the φ floor changed; [`validate`] ties it together.
 //!
 //! Invariants: the claims read output files only (through the schema; C11's loop takes only the
 //! film's parameters from a run's run.json); every number in the
@@ -38,6 +39,7 @@ pub mod independent;
 pub mod reduced;
 pub mod report;
 pub mod runner;
+pub mod sensitivity;
 pub mod sizes;
 pub mod validate;
 pub mod verify_check;

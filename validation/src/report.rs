@@ -84,6 +84,8 @@ pub struct Outcome<'a> {
     /// The comparison with the independent implementation, why it failed, or none (not run:
     /// `validate --check`).
     pub independent: Option<&'a Result<crate::independent::Comparison, String>>,
+    /// The claims' sensitivity to the melting threshold and the φ floor.
+    pub sensitivity: &'a [crate::sensitivity::Row],
 }
 
 fn round(x: f64, digits: i32) -> f64 {
@@ -362,6 +364,7 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
         }
         None => {}
     }
+    s.push_str(&crate::sensitivity::markdown(o.sensitivity));
     let _ = writeln!(s, "## Melting events: what the event rule changes\n");
     let (k, gap) = o.runs.get("fig2").map_or((f64::NAN, f64::NAN), |r| {
         (

@@ -60,6 +60,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     // The verify check's references first: the sfa one is the longest run.
     let mut specs = crate::verify_check::reference_specs();
     specs.extend(specs_list());
+    specs.extend(crate::sensitivity::specs());
     println!(
         "validate: {} runs and {} verify runs, {} at a time, outputs in {}",
         specs.len(),
@@ -80,6 +81,8 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     let resolution = Resolution::of(&runs);
     let mut claims = evaluate(&runs);
     claims.extend(crate::claims_first_order::evaluate(&runs));
+    let sensitivity = crate::sensitivity::evaluate(&runs);
+    crate::sensitivity::annotate(&mut claims, &sensitivity);
     let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
     let verify_check = crate::verify_check::evaluate(&verify_runs, &runs);
     // Not under --check: summary.json does not hold it, and it takes minutes.
@@ -98,6 +101,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         event_rule_missing: &event_rule_missing,
         verify_check: &verify_check,
         independent: independent.as_ref(),
+        sensitivity: &sensitivity,
     };
     let summary = summary_json(&outcome);
     println!("\nclaims:\n{}", claims_table_text(&claims));
