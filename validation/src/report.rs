@@ -131,6 +131,7 @@ pub fn summary_json(o: &Outcome<'_>) -> Value {
         .collect();
     json!({
         "generated_by": "cargo xtask validate",
+        "commit": stickslip_report::provenance::Commit::of_workspace(),
         "all_claims_pass": o.claims.iter().all(|c| c.pass),
         "claims": claims,
         "scenes": scenes,
