@@ -262,6 +262,7 @@ pub fn write(study: &Study, out: &Path, with_json: bool) -> Result<Vec<PathBuf>,
             report::COVERAGE_SVG,
             figures::coverage_svg(&study.coverage)?,
         ),
+        (report::PULLS_SVG, figures::pulls_svg(&study.coverage)?),
         (report::WIDTH_SVG, figures::width_svg(&study.width)?),
         (
             report::FIRST_SLIP_SVG,

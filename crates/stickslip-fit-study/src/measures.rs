@@ -6,10 +6,16 @@
 use crate::record::{FitSummary, JacobianCheck};
 use stickslip_report::stats::{log_log_slope, median};
 
-/// Coverage target: the share of 95 % intervals holding the truth, at least…
-pub const COVERAGE_MIN: f64 = 0.85;
-/// …and at most.
-pub const COVERAGE_MAX: f64 = 1.0;
+/// The intervals' nominal coverage.
+pub const COVERAGE_NOMINAL: f64 = 0.95;
+/// The coverage band's two-sided probability: a count outside it has less than this chance
+/// under the nominal coverage.
+pub const COVERAGE_BAND_ALPHA: f64 = 0.05;
+/// The pulls' standard deviation passes within [lo, hi]: 1 when the standard errors are right;
+/// below 0.7 the intervals are more than 1.4× too wide, above 1.3 too narrow.
+pub const PULL_SD_BAND: (f64, f64) = (0.7, 1.3);
+/// Fewest judged fits (not at a bound, identified) for a coverage verdict.
+pub const MIN_JUDGED: usize = 5;
 /// The expected log–log slope of an interval's width against the number of samples.
 pub const SLOPE_EXPECTED: f64 = -0.5;
 /// The band around it that passes.
@@ -30,6 +36,59 @@ pub fn verdict(pass: bool) -> &'static str {
     if pass { "pass" } else { "fail" }
 }
 
+/// Why a fit's parameter is left out of its coverage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Excluded {
+    /// The fitted value sits at a bound of the box: a Gaussian interval there proves nothing.
+    AtBound,
+    /// The fit calls it (or a combination with it) undetermined, gives it no interval, or its
+    /// interval reaches outside the box.
+    Unidentified,
+}
+
+/// Whether `key` of `fit` is left out of coverage, and why.
+#[must_use]
+pub fn excluded(fit: &FitSummary, key: &str) -> Option<Excluded> {
+    let p = fit.param(key)?;
+    if p.at_bound() {
+        return Some(Excluded::AtBound);
+    }
+    let beyond = match (p.lo95, p.hi95) {
+        (Some(a), Some(b)) => a < p.lo || b > p.hi,
+        _ => true,
+    };
+    (fit.unidentified.iter().any(|u| u.contains(key)) || p.stderr.is_none() || beyond)
+        .then_some(Excluded::Unidentified)
+}
+
+/// The counts k of n fits that a coverage of `nominal` gives with probability at least
+/// 1 − `alpha`, two-sided: [k_lo, k_hi] with P(X < k_lo) ≤ α/2 and P(X > k_hi) ≤ α/2.
+#[must_use]
+pub fn binomial_band(n: usize, nominal: f64, alpha: f64) -> (usize, usize) {
+    let pmf: Vec<f64> = (0..=n)
+        .map(|k| {
+            let mut c = 1.0f64;
+            for j in 0..k {
+                c *= (n - j) as f64 / (j + 1) as f64;
+            }
+            c * nominal.powi(k as i32) * (1.0 - nominal).powi((n - k) as i32)
+        })
+        .collect();
+    let mut lo = 0;
+    let mut below = 0.0;
+    while lo < n && below + pmf[lo] <= alpha / 2.0 {
+        below += pmf[lo];
+        lo += 1;
+    }
+    let mut hi = n;
+    let mut above = 0.0;
+    while hi > lo && above + pmf[hi] <= alpha / 2.0 {
+        above += pmf[hi];
+        hi -= 1;
+    }
+    (lo, hi)
+}
+
 /// One parameter's coverage over a set's fits.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Coverage {
@@ -37,48 +96,80 @@ pub struct Coverage {
     pub key: String,
     /// Fits.
     pub fits: usize,
-    /// Fits whose 95 % interval holds the truth.
+    /// Fits judged: not at a bound and identified.
+    pub judged: usize,
+    /// Judged fits whose 95 % interval holds the truth.
     pub covered: usize,
-    /// Fits without an interval (not determined): counted as not holding it.
+    /// Fits left out: at a bound.
+    pub at_bound: usize,
+    /// Fits left out: unidentified (no interval, called undetermined, or an interval outside
+    /// the box).
     pub undetermined: usize,
-    /// covered / fits.
+    /// The counts of `judged` that the nominal coverage gives (two-sided binomial band).
+    pub band: (usize, usize),
+    /// covered / judged.
     pub share: f64,
-    /// Median relative 95 % half-width.
+    /// Median relative 95 % half-width (judged fits).
     pub median_rel_half_width: f64,
-    /// Mean of (value − truth)/stderr.
+    /// Mean of (value − truth)/stderr (judged fits).
     pub pull_mean: f64,
     /// Standard deviation of those pulls (1 when the standard errors are right).
     pub pull_sd: f64,
-    /// Whether the share is within the target.
+    /// The judged fits' pulls, ascending (for the Q–Q plot).
+    pub pulls: Vec<f64>,
+    /// Covered within the band, the pulls' SD within [`PULL_SD_BAND`], and at least
+    /// [`MIN_JUDGED`] judged fits.
     pub pass: bool,
 }
 
-/// The coverage of `key` over `fits`.
+/// The coverage of `key` over `fits`: two-sided, the count within the binomial band of the
+/// nominal 95 % and the pulls' SD within [`PULL_SD_BAND`]; fits at a bound or unidentified
+/// are counted apart and left out.
 #[must_use]
 pub fn coverage(fits: &[FitSummary], key: &str) -> Coverage {
-    let ps: Vec<_> = fits.iter().filter_map(|f| f.param(key)).collect();
+    let with: Vec<&FitSummary> = fits.iter().filter(|f| f.param(key).is_some()).collect();
+    let at_bound = with
+        .iter()
+        .filter(|f| excluded(f, key) == Some(Excluded::AtBound))
+        .count();
+    let undetermined = with
+        .iter()
+        .filter(|f| excluded(f, key) == Some(Excluded::Unidentified))
+        .count();
+    let ps: Vec<_> = with
+        .iter()
+        .filter(|f| excluded(f, key).is_none())
+        .filter_map(|f| f.param(key))
+        .collect();
     let covered = ps.iter().filter(|p| p.covers() == Some(true)).count();
-    let undetermined = ps.iter().filter(|p| p.covers().is_none()).count();
     let share = if ps.is_empty() {
         f64::NAN
     } else {
         covered as f64 / ps.len() as f64
     };
     let rel: Vec<f64> = ps.iter().map(|p| p.relative_half_width()).collect();
-    let pulls: Vec<f64> = ps.iter().filter_map(|p| p.pull()).collect();
+    let mut pulls: Vec<f64> = ps.iter().filter_map(|p| p.pull()).collect();
+    pulls.sort_by(f64::total_cmp);
     let n = pulls.len() as f64;
     let mean = pulls.iter().sum::<f64>() / n;
     let sd = (pulls.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    let band = binomial_band(ps.len(), COVERAGE_NOMINAL, COVERAGE_BAND_ALPHA);
     Coverage {
         key: key.to_string(),
-        fits: ps.len(),
+        fits: with.len(),
+        judged: ps.len(),
         covered,
+        at_bound,
         undetermined,
+        band,
         share,
         median_rel_half_width: median(&rel),
         pull_mean: mean,
         pull_sd: sd,
-        pass: (COVERAGE_MIN..=COVERAGE_MAX).contains(&share),
+        pulls,
+        pass: ps.len() >= MIN_JUDGED
+            && (band.0..=band.1).contains(&covered)
+            && (PULL_SD_BAND.0..=PULL_SD_BAND.1).contains(&sd),
     }
 }
 
@@ -298,19 +389,49 @@ mod tests {
     }
 
     #[test]
-    fn coverage_counts_the_intervals_holding_the_truth_against_the_target() {
-        // 17 of 20 hold 8: 85 %, the target's lower end, passes; 16 of 20 fails.
-        let mut fits: Vec<FitSummary> = (0..17).map(|s| fit(s, 10, 7.9, 8.1, &[])).collect();
-        fits.extend((17..20).map(|s| fit(s, 10, 8.1, 8.3, &[])));
+    fn coverage_is_two_sided_in_count_and_in_the_pulls_spread() {
+        // The band of 20 fits at 95 %: 17 … 20 (P(X ≤ 16) = 0.016).
+        assert_eq!(binomial_band(20, 0.95, 0.05), (17, 20));
+        assert_eq!(binomial_band(100, 0.95, 0.05), (90, 99));
+        // Pulls spread like a standard normal's: the errors' quantiles at stderr 0.1.
+        let errs = [
+            -1.87, -1.40, -1.13, -0.92, -0.75, -0.59, -0.45, -0.32, -0.19, -0.06, 0.06, 0.19, 0.32,
+            0.45, 0.59, 0.75, 0.92, 1.13, 1.40, 1.87,
+        ];
+        let fits: Vec<FitSummary> = errs
+            .iter()
+            .enumerate()
+            .map(|(s, e)| {
+                let v = 8.0 + 0.1 * e;
+                fit(s as u64, 10, v - 0.196, v + 0.196, &[])
+            })
+            .collect();
         let c = coverage(&fits, "lubricant.gamma");
-        assert_eq!((c.fits, c.covered, c.undetermined), (20, 17, 0));
-        assert!((c.share - 0.85).abs() < 1e-15 && c.pass);
-        fits[0].params[0].lo95 = None;
-        let c = coverage(&fits, "lubricant.gamma");
-        assert_eq!((c.covered, c.undetermined), (16, 1));
-        assert!(!c.pass);
-        assert!((c.median_rel_half_width - 0.1 / 8.0).abs() < 1e-12);
-        assert!(c.pull_sd.is_finite());
+        assert_eq!(
+            (c.fits, c.judged, c.covered, c.undetermined),
+            (20, 20, 20, 0)
+        );
+        assert!((c.pull_sd - 1.0).abs() < 0.05 && c.pass, "{c:?}");
+        // The same values with intervals three times too wide: every interval holds the
+        // truth, but the pulls' SD is a third: fails.
+        let wide: Vec<FitSummary> = errs
+            .iter()
+            .enumerate()
+            .map(|(s, e)| {
+                let v = 8.0 + 0.1 * e;
+                fit(s as u64, 10, v - 0.588, v + 0.588, &[])
+            })
+            .collect();
+        let c = coverage(&wide, "lubricant.gamma");
+        assert_eq!(c.covered, 20);
+        assert!(c.pull_sd < 0.7 && !c.pass, "{c:?}");
+        // A fit at a bound and one the fit calls undetermined are counted apart.
+        let mut some = fits.clone();
+        some[0].params[0].value = 30.0;
+        some[1].unidentified = vec!["lubricant.gamma".into()];
+        let c = coverage(&some, "lubricant.gamma");
+        assert_eq!((c.judged, c.at_bound, c.undetermined), (18, 1, 1));
+        assert!((c.median_rel_half_width - 0.196 / 8.0).abs() < 0.01);
     }
 
     #[test]

@@ -70,6 +70,19 @@ impl ParamResult {
         }
     }
 
+    /// Whether the fitted value sits at a bound of the box (within 1e-6 of its range, in log
+    /// space for a log parameter).
+    #[must_use]
+    pub fn at_bound(&self) -> bool {
+        let (v, lo, hi) = if self.log && self.value > 0.0 && self.lo > 0.0 {
+            (self.value.ln(), self.lo.ln(), self.hi.ln())
+        } else {
+            (self.value, self.lo, self.hi)
+        };
+        let tol = 1e-6 * (hi - lo).abs();
+        (v - lo).abs() <= tol || (hi - v).abs() <= tol
+    }
+
     /// (value − truth)/stderr: the error in units of the fit's own standard error (none when
     /// that is not determined).
     #[must_use]

@@ -3,8 +3,8 @@
 
 use crate::cases::{Case, Window};
 use crate::measures::{
-    self, BOX_HALF, COVERAGE_MAX, COVERAGE_MIN, FIG2_FIT_TARGET_S, FIRST_SLIP_TARGET_S,
-    JACOBIAN_RTOL, SLOPE_BAND, SLOPE_EXPECTED, verdict,
+    self, BOX_HALF, COVERAGE_NOMINAL, FIG2_FIT_TARGET_S, FIRST_SLIP_TARGET_S, JACOBIAN_RTOL,
+    MIN_JUDGED, PULL_SD_BAND, SLOPE_BAND, SLOPE_EXPECTED, verdict,
 };
 use crate::record::{FitSummary, JacobianCheck, SingleFit, Study};
 use std::fmt::Write;
@@ -16,6 +16,8 @@ use singles::{cost_section, viscous_section};
 
 /// The figures' file names.
 pub const COVERAGE_SVG: &str = "fit_coverage.svg";
+/// The pulls' Q–Q plot.
+pub const PULLS_SVG: &str = "fit_pulls.svg";
 /// The widths against samples.
 pub const WIDTH_SVG: &str = "fit_width.svg";
 /// The first slip's fit.
@@ -258,22 +260,29 @@ fn coverage_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
     out.push_str("## 1. Coverage of the 95 % intervals\n\n");
     let _ = writeln!(
         out,
-        "Per set, one fit per noise seed (events misfit); the share of seeds whose 95 % \
-         interval holds the true value, per parameter, against the target {}–{}. An interval \
-         the fit leaves undetermined counts as not holding it. The pull is (fitted − true) / \
-         standard error: mean 0 and standard deviation 1 when the standard errors are right \
-         (the covariance is scaled by s² = χ²/(m − p) only when that exceeds 1, so a lucky \
-         small χ² cannot narrow them). A fit *reaches the truth's χ²* when its misfit is at \
-         most the true model's on the same data (one more run): one above it stopped short of \
-         the misfit's least value.\n",
-        pct(COVERAGE_MIN),
-        pct(COVERAGE_MAX)
+        "Per set, one fit per noise seed (events misfit). The criterion is two-sided, so that \
+         intervals too wide fail as intervals too narrow do: the count of intervals holding the \
+         true value must lie within the binomial band of the nominal {} (the counts a true {} \
+         coverage gives with probability 0.95, two-sided), **and** the pulls' standard deviation \
+         within [{}, {}]. The pull is (fitted − true) / standard error: mean 0 and standard \
+         deviation 1 when the standard errors are right (the covariance is scaled by \
+         s² = χ²/(m − p) only when that exceeds 1, so a lucky small χ² cannot narrow them). \
+         Fits whose value sits at a bound of the box, and fits that leave the parameter \
+         unidentified (no interval, a direction the fit calls undetermined, or an interval \
+         reaching outside the box), are counted apart and left out: a Gaussian interval there \
+         proves nothing. At least {MIN_JUDGED} judged fits are needed for a verdict. A fit \
+         *reaches the truth's χ²* when its misfit is at most the true model's on the same data \
+         (one more run): one above it stopped short of the misfit's least value.\n",
+        pct(COVERAGE_NOMINAL),
+        pct(COVERAGE_NOMINAL),
+        sig(PULL_SD_BAND.0, 2),
+        sig(PULL_SD_BAND.1, 2),
     );
     out.push_str(
-        "| set | parameter | hold the truth | coverage | median 95 % half-width / value | pull \
-         mean | pull SD | median χ² / residuals | fits reaching the truth's χ²: of them holding \
-         the truth | median σF estimated / true | verdict |\n|---|---|---|---|---|---|---|---|---|\
-         ---|---|\n",
+        "| set | parameter | judged (left out: at a bound, unidentified) | hold the truth | band | \
+         median 95 % half-width / value | pull mean | pull SD | median χ² / residuals | fits \
+         reaching the truth's χ²: of them holding the truth | median σF estimated / true | \
+         verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for run in &st.coverage {
         let chi: Vec<f64> = run
@@ -296,16 +305,17 @@ fn coverage_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
             let c = measures::coverage(&run.fits, key);
             let _ = writeln!(
                 out,
-                "| {} | `{key}` | {} of {}{} | {} | {} | {} | {} | {} | {} of {}: {} | {} | **{}** |",
+                "| {} | `{key}` | {} of {} ({}, {}) | {} ({}) | {}–{} | {} | {} | {} | {} | {} of {}: {} \
+                 | {} | **{}** |",
                 run.case.id,
-                c.covered,
+                c.judged,
                 c.fits,
-                if c.undetermined > 0 {
-                    format!(" ({} undetermined)", c.undetermined)
-                } else {
-                    String::new()
-                },
+                c.at_bound,
+                c.undetermined,
+                c.covered,
                 pct(c.share),
+                c.band.0,
+                c.band.1,
                 sig(c.median_rel_half_width, 2),
                 sig(c.pull_mean, 2),
                 sig(c.pull_sd, 2),
@@ -318,8 +328,28 @@ fn coverage_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
             );
             rows.push(Row {
                 item: format!("1. coverage, set {}, {}", run.case.id, short(key)),
-                target: format!("{}–{}", pct(COVERAGE_MIN), pct(COVERAGE_MAX)),
-                measured: format!("{} of {} ({})", c.covered, c.fits, pct(c.share)),
+                target: format!(
+                    "{}–{} of the judged, pull SD {}–{}",
+                    c.band.0,
+                    c.band.1,
+                    sig(PULL_SD_BAND.0, 2),
+                    sig(PULL_SD_BAND.1, 2)
+                ),
+                measured: format!(
+                    "{} of {} ({}), pull SD {}{}",
+                    c.covered,
+                    c.judged,
+                    pct(c.share),
+                    sig(c.pull_sd, 2),
+                    if c.at_bound + c.undetermined > 0 {
+                        format!(
+                            "; left out: {} at a bound, {} unidentified",
+                            c.at_bound, c.undetermined
+                        )
+                    } else {
+                        String::new()
+                    }
+                ),
                 verdict: verdict(c.pass).into(),
             });
         }
@@ -352,8 +382,12 @@ fn coverage_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
         "\n![each seed's fitted value and 95 % interval against the truth]({})\n\nWhat to see: \
          per seed the fitted value (circle: its interval holds the truth; triangle: it misses) \
          and its 95 % interval (bar, crosses at its ends), as fitted/true − 1; the truth is \
-         the line at 0.\n",
-        crate::report::COVERAGE_SVG
+         the line at 0.\n\n![the pulls' normal Q–Q plot per set and parameter]({})\n\nWhat to \
+         see: the judged fits' pulls, sorted, against the standard normal's quantiles; on the \
+         line y = x when the standard errors are right, flatter when the intervals are too wide, \
+         steeper when too narrow.\n",
+        crate::report::COVERAGE_SVG,
+        crate::report::PULLS_SVG
     );
 }
 

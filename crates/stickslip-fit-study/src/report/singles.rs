@@ -193,22 +193,47 @@ pub(super) fn cost_section(st: &Study, rows: &mut Vec<Row>, out: &mut String) {
 
 /// A summary row: whether every 95 % interval of a single fit holds the truth.
 fn truth_row(rows: &mut Vec<Row>, item: &str, f: &SingleFit) {
-    let held = f
+    // A parameter at a bound of the box, or one the fit leaves unidentified, is reported apart:
+    // a Gaussian interval there proves nothing, so it neither passes nor fails the target.
+    let judged: Vec<_> = f
         .summary
         .params
         .iter()
-        .filter(|p| p.covers() == Some(true))
-        .count();
-    let n = f.summary.params.len();
+        .filter(|p| crate::measures::excluded(&f.summary, &p.key).is_none())
+        .collect();
+    let left_out: Vec<String> = f
+        .summary
+        .params
+        .iter()
+        .filter_map(|p| {
+            crate::measures::excluded(&f.summary, &p.key).map(|e| {
+                format!(
+                    "{} {}",
+                    short(&p.key),
+                    match e {
+                        crate::measures::Excluded::AtBound => "at a bound",
+                        crate::measures::Excluded::Unidentified => "unidentified",
+                    }
+                )
+            })
+        })
+        .collect();
+    let held = judged.iter().filter(|p| p.covers() == Some(true)).count();
+    let n = judged.len();
     rows.push(Row {
         item: format!("{item}: truth within the 95 % intervals"),
-        target: format!("{n} of {n}"),
+        target: format!("{n} of {n} judged"),
         measured: format!(
-            "{held} of {n} (χ² {} against the truth's {})",
+            "{held} of {n} (χ² {} against the truth's {}){}",
             sig(f.summary.chi2, 3),
-            f.summary.chi2_truth.map_or("–".into(), |c| sig(c, 3))
+            f.summary.chi2_truth.map_or("–".into(), |c| sig(c, 3)),
+            if left_out.is_empty() {
+                String::new()
+            } else {
+                format!("; left out: {}", left_out.join(", "))
+            }
         ),
-        verdict: verdict(held == n).into(),
+        verdict: verdict(n > 0 && held == n).into(),
     });
 }
 
@@ -249,10 +274,12 @@ fn single_table(f: &SingleFit, out: &mut String) {
             p.unit,
             p.lo95.map_or("–".into(), |v| sig(v, 7)),
             p.hi95.map_or("–".into(), |v| sig(v, 7)),
-            match p.covers() {
-                Some(true) => "yes",
-                Some(false) => "no",
-                None => "undetermined",
+            match (crate::measures::excluded(&f.summary, &p.key), p.covers()) {
+                (Some(crate::measures::Excluded::AtBound), _) => "at a bound: left out",
+                (Some(crate::measures::Excluded::Unidentified), _) => "unidentified: left out",
+                (None, Some(true)) => "yes",
+                (None, Some(false)) => "no",
+                (None, None) => "undetermined",
             }
         );
     }
