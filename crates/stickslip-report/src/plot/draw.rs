@@ -120,6 +120,12 @@ fn linear_decimals(lo: f64, hi: f64) -> usize {
 
 /// Tick text for a linear axis over [lo, hi].
 fn linear_tick(v: f64, lo: f64, hi: f64) -> String {
+    // A tick at zero computed as a rounding residue (−1.69e-21 on an axis of 1e-4) reads 0.
+    let v = if v.abs() <= 1e-9 * (hi - lo).abs() {
+        0.0
+    } else {
+        v
+    };
     let big = lo.abs().max(hi.abs());
     if big >= 1e5 || (big < 1e-3 && big > 0.0) {
         tick(v)
@@ -594,4 +600,16 @@ pub(super) fn render(
         root.present().map_err(err)?;
     }
     Ok(buf)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::linear_tick;
+
+    #[test]
+    fn a_rounding_residue_at_zero_reads_zero() {
+        assert_eq!(linear_tick(-1.69e-21, -2e-4, 6e-4), "0");
+        assert_eq!(linear_tick(2e-4, -2e-4, 6e-4), "2e-4");
+        assert_eq!(linear_tick(0.5, 0.0, 1.0), "0.5");
+    }
 }
