@@ -228,7 +228,7 @@ fn failure_records_are_typed_and_the_report_renders() {
     assert!(f.step >= 1 && f.time_s > 0.0, "{f:?}");
     assert!(hard::failure_value(&c.literal).is_some_and(|v| v < 0.0));
     let cases: Vec<Box<dyn Case>> = vec![Box::new(c)];
-    let md = hard::report_md(&cases);
+    let md = hard::report_md(&cases, &hard::all_figures(&cases));
     assert!(
         !md.contains("wall") && !md.contains(" took "),
         "no wall-clock time in the report"

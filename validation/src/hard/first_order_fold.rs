@@ -293,6 +293,18 @@ impl Case for FirstOrderFold {
             self.reference.command
         )]
     }
+    fn figure(&self) -> Option<super::figures::HardFigure> {
+        Some(super::figures::HardFigure {
+            file: "hard_first_order_fold.svg",
+            title: "Case 9: the first-order film's melting strain per event",
+            caption: "The strain of each event's first melted node: the reference (Δt = \
+                      1e-10 s), the fixed large step (1e-6 s) and the adaptive run, with ε₊. \
+                      What to see: the large step melts early but never before ε₊; the \
+                      adaptive run follows the reference."
+                .into(),
+            svg: super::figures::first_order_fold(self),
+        })
+    }
     fn attempts(&self) -> Vec<&Attempt> {
         vec![
             &self.literal,

@@ -212,6 +212,18 @@ impl Case for LargeDt {
         }
         f
     }
+    fn figure(&self) -> Option<super::figures::HardFigure> {
+        Some(super::figures::HardFigure {
+            file: "hard_large_dt.svg",
+            title: "Case 3: F(t) at Δt = 1e-6 s against the Δt = 1e-8 s reference",
+            caption: "The accurate scheme's friction force at a hundred times the paper's step \
+                      (fixed: circles; adaptive from that step: crosses) over its reference's \
+                      curve. What to see: every event kept, at its time; the literal scheme \
+                      has no curve here because it fails at once (the table above)."
+                .into(),
+            svg: super::figures::large_dt(self),
+        })
+    }
     fn attempts(&self) -> Vec<&Attempt> {
         vec![
             &self.literal,

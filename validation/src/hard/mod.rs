@@ -19,6 +19,7 @@
 mod complete_melting;
 mod critical_strain;
 mod extreme_sizes;
+pub mod figures;
 mod first_order_fold;
 mod large_dt;
 mod noise_extremes;
@@ -311,6 +312,33 @@ pub trait Case: Send {
     }
     /// Every run made, for the report's command list.
     fn attempts(&self) -> Vec<&Attempt>;
+    /// The case's own figure, if it has one.
+    fn figure(&self) -> Option<figures::HardFigure> {
+        None
+    }
+}
+
+/// The page's figures: the stability chart, then each case's own.
+#[must_use]
+pub fn all_figures(cases: &[Box<dyn Case>]) -> Vec<figures::HardFigure> {
+    let runs: Vec<(usize, Vec<&Attempt>)> = cases
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (i + 1, c.attempts()))
+        .collect();
+    let mut v = vec![figures::HardFigure {
+        file: "hard_stability.svg",
+        title: "Stability: every run by case, scheme and outcome",
+        caption: "Each marker is one run of the case (the runs listed under it below), the \
+                  paper's literal scheme above, the accurate scheme below. What to see: the \
+                  literal scheme fails, loudly, where the cases push it past its limits; the \
+                  accurate scheme runs every case (exit 2 marks scenes refused up front by \
+                  design, such as N = 1)."
+            .into(),
+        svg: figures::stability(&runs),
+    }];
+    v.extend(cases.iter().filter_map(|c| c.figure()));
+    v
 }
 
 /// Panics listing every failed check of `case` (for the tests).
@@ -440,7 +468,7 @@ fn md(s: &str) -> String {
 
 /// reports/hard-cases.md from measured cases (no wall-clock times: the page must not change
 /// when nothing changed).
-pub fn report_md(cases: &[Box<dyn Case>]) -> String {
+pub fn report_md(cases: &[Box<dyn Case>], figs: &[figures::HardFigure]) -> String {
     let mut s = String::new();
     let checks: Vec<Check> = cases.iter().flat_map(|c| c.checks()).collect();
     let passed = checks.iter().filter(|c| c.pass).count();
@@ -494,7 +522,20 @@ pub fn report_md(cases: &[Box<dyn Case>]) -> String {
     for f in &findings {
         let _ = writeln!(s, "- {f}");
     }
-    let _ = writeln!(s, "\n## Expected outcomes, case by case\n");
+    let _ = writeln!(s, "\n## Figures\n");
+    for f in figs {
+        let _ = writeln!(s, "### {}\n", f.title);
+        match &f.svg {
+            Ok(_) => {
+                let _ = writeln!(s, "![{}]({})\n", f.title, f.file);
+            }
+            Err(e) => {
+                let _ = writeln!(s, "*Not drawn: {}*\n", md(e));
+            }
+        }
+        let _ = writeln!(s, "{}\n", f.caption);
+    }
+    let _ = writeln!(s, "## Expected outcomes, case by case\n");
     for c in cases {
         let _ = writeln!(s, "### {}\n", c.title());
         let _ = writeln!(s, "| Expected | Measured | |\n|---|---|---|");
@@ -549,9 +590,16 @@ pub fn generate(bin: &Path, root: &Path) -> Result<HardSummary, String> {
     let bench = Bench::new(bin.to_path_buf(), root.to_path_buf(), out_root);
     let cases = measure_all(&bench, true);
     let checks: Vec<Check> = cases.iter().flat_map(|c| c.checks()).collect();
-    let text = report_md(&cases);
+    let figs = all_figures(&cases);
+    let text = report_md(&cases, &figs);
     let reports = root.join("reports");
-    stickslip_report::files::ReportFiles::create(&reports)?.put("hard-cases.md", text)?;
+    let mut files = stickslip_report::files::ReportFiles::create(&reports)?;
+    for f in &figs {
+        if let Ok(svg) = &f.svg {
+            files.put(f.file, svg)?;
+        }
+    }
+    files.put("hard-cases.md", text)?;
     for c in &cases {
         for x in c.checks().iter().filter(|x| !x.pass) {
             println!(
