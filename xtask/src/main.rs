@@ -1,5 +1,5 @@
 //! `cargo xtask …`: the project's automation entry point (test, validate, convergence, bench,
-//! fit-study, maps, slurm-check, python-test, wheel).
+//! fit-study, maps, slurm-check, python-test, wheel, readme).
 
 mod build_timing;
 mod maps;
@@ -55,6 +55,10 @@ Commands:
   build-timing  clone HEAD into target/build-timing/clone and time the README's two commands
                 there (validate, then test with its stages) as on a fresh machine; writes
                 reports/build-timing.json, which `bench` reports as P4 (several minutes)
+  readme        rewrite README.md's generated blocks (every measured number it quotes) from the
+                committed reports/ and say which changed; validate, convergence, bench,
+                fit-study, maps and build-timing run it at their end
+      --check   write nothing; exit 1 listing the blocks that differ from the reports
   python-test   build the Python package (pip install ./crates/stickslip-py) into the venv
                 target/python-venv and run its pytest suite; prints install and test times
       --fresh   recreate the venv;  -- ARGS  passed to pytest
@@ -109,7 +113,12 @@ fn validate(args: &[String]) -> ExitCode {
             }
         }
     }
-    match stickslip_validation::validate::validate(&opts) {
+    let outcome = stickslip_validation::validate::validate(&opts);
+    // The reports were written (whatever the verdicts), unless --check compared only.
+    if outcome.is_ok() && !opts.check {
+        readme::after("validate", &opts.root);
+    }
+    match outcome {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => {
             eprintln!("validate: a claim failed or the committed reports are stale (see above)");
@@ -140,7 +149,10 @@ fn convergence(args: &[String]) -> ExitCode {
         .args(args)
         .status();
     match status {
-        Ok(s) if s.success() => ExitCode::SUCCESS,
+        Ok(s) if s.success() => {
+            readme::after("convergence", &workspace_root());
+            ExitCode::SUCCESS
+        }
         Ok(s) => ExitCode::from(u8::try_from(s.code().unwrap_or(1)).unwrap_or(1)),
         Err(e) => {
             eprintln!("convergence: cannot run cargo: {e}");
@@ -178,22 +190,26 @@ fn bench(args: &[String]) -> ExitCode {
         args,
     );
     match status {
-        Ok(s) if s.success() => match readme::update(&workspace_root()) {
-            Ok(()) => {
-                eprintln!("bench: README.md's performance table updated from the report");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("bench: cannot copy the performance table into README.md: {e}");
-                ExitCode::from(1)
-            }
-        },
+        Ok(s) if s.success() => {
+            readme::after("bench", &workspace_root());
+            ExitCode::SUCCESS
+        }
         Ok(s) => ExitCode::from(u8::try_from(s.code().unwrap_or(1)).unwrap_or(1)),
         Err(e) => {
             eprintln!("bench: cannot run cargo: {e}");
             ExitCode::from(2)
         }
     }
+}
+
+/// After a command that writes reports and exits 0 (done) or 1 (done, a verdict failed;
+/// or an error after which the committed reports are unchanged): README.md's generated blocks
+/// from reports/, an error there printed, not fatal. Exit 2 (bad arguments) skips it.
+fn wrote_reports(command: &str, code: ExitCode) -> ExitCode {
+    if code != ExitCode::from(2) {
+        readme::after(command, &workspace_root());
+    }
+    code
 }
 
 fn main() -> ExitCode {
@@ -206,11 +222,17 @@ fn main() -> ExitCode {
         Some("validate") => validate(&args[1..]),
         Some("convergence") => convergence(&args[1..]),
         Some("bench") => bench(&args[1..]),
-        Some("maps") => maps::main(&args[1..], workspace_root()),
-        Some("fit-study") => stickslip_fit_study::cli(&args[1..], workspace_root()),
+        Some("maps") => wrote_reports("maps", maps::main(&args[1..], workspace_root())),
+        Some("fit-study") => wrote_reports(
+            "fit-study",
+            stickslip_fit_study::cli(&args[1..], workspace_root()),
+        ),
         Some("slurm-check") => slurm::main(workspace_root()),
         Some("test") => test_all::main(&args[1..], &workspace_root()),
-        Some("build-timing") => build_timing::main(&workspace_root()),
+        Some("build-timing") => {
+            wrote_reports("build-timing", build_timing::main(&workspace_root()))
+        }
+        Some("readme") => readme::main(&args[1..], &workspace_root()),
         Some("python-test") => python::main(&args[1..], workspace_root()),
         Some("wheel") => wheel::main(&args[1..], &workspace_root()),
         Some(other) => {
