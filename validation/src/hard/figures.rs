@@ -3,8 +3,6 @@
 //! per event (the large step, the adaptive run and the reference, with ε₊).
 
 use super::Attempt;
-use super::first_order_fold::{FirstOrderFold, melting_strains};
-use super::large_dt::LargeDt;
 use stickslip_report::palette::PALETTE;
 use stickslip_report::plot::{LegendAt, Marker, Note, Panel, Series, decimate, render_svg};
 
@@ -126,7 +124,11 @@ pub fn stability(cases: &[(usize, Vec<&Attempt>)]) -> Result<String, String> {
 ///
 /// # Errors
 /// A drawing error, or no reference to draw.
-pub fn large_dt(c: &LargeDt) -> Result<String, String> {
+pub fn large_dt(
+    reference: &Attempt,
+    accurate: &Attempt,
+    adaptive: &Attempt,
+) -> Result<String, String> {
     let series = |a: &Attempt, label: &str, color, marker: Option<Marker>| {
         a.out().map(|o| {
             let pts: Vec<(f64, f64)> = o
@@ -143,17 +145,17 @@ pub fn large_dt(c: &LargeDt) -> Result<String, String> {
             }
         })
     };
-    let reference = series(&c.reference, "reference, Δt = 1e-8 s", PALETTE[7], None)
+    let reference = series(reference, "reference, Δt = 1e-8 s", PALETTE[7], None)
         .ok_or("the reference run left no outputs")?;
     let mut all = vec![reference];
     all.extend(series(
-        &c.accurate,
+        accurate,
         "accurate, fixed Δt = 1e-6 s",
         PALETTE[1],
         Some(Marker::Circle),
     ));
     all.extend(series(
-        &c.adaptive,
+        adaptive,
         "accurate, adaptive from Δt = 1e-6 s",
         PALETTE[0],
         Some(Marker::Cross),
@@ -169,19 +171,23 @@ pub fn large_dt(c: &LargeDt) -> Result<String, String> {
 }
 
 /// Case 9: the strain at which each event's first node melted, per event, for the large step,
-/// the adaptive run and the reference, with ε₊.
+/// the adaptive run and the reference (each a list of strains), with ε₊.
 ///
 /// # Errors
 /// A drawing error, or no reference strains.
-pub fn first_order_fold(c: &FirstOrderFold) -> Result<String, String> {
-    let pts = |a: &Attempt| -> Vec<(f64, f64)> {
-        melting_strains(a)
+pub fn first_order_fold(
+    reference: &[f64],
+    accurate: &[f64],
+    adaptive: &[f64],
+    eps_plus: f64,
+) -> Result<String, String> {
+    let pts = |strains: &[f64]| -> Vec<(f64, f64)> {
+        strains
             .iter()
             .enumerate()
             .map(|(k, e)| ((k + 1) as f64, *e))
             .collect()
     };
-    let reference = pts(&c.reference);
     if reference.is_empty() {
         return Err("the reference run has no melting strains".into());
     }
@@ -191,17 +197,17 @@ pub fn first_order_fold(c: &FirstOrderFold) -> Result<String, String> {
         "strain at melting",
     )
     .with(vec![
-        Series::new("reference, Δt = 1e-10 s", reference, PALETTE[7])
+        Series::new("reference, Δt = 1e-10 s", pts(reference), PALETTE[7])
             .points()
             .marker(Marker::Square),
-        Series::new("accurate, fixed Δt = 1e-6 s", pts(&c.accurate), PALETTE[1])
+        Series::new("accurate, fixed Δt = 1e-6 s", pts(accurate), PALETTE[1])
             .points()
             .marker(Marker::Circle),
-        Series::new("accurate, adaptive", pts(&c.adaptive), PALETTE[0])
+        Series::new("accurate, adaptive", pts(adaptive), PALETTE[0])
             .points()
             .marker(Marker::Cross),
     ])
-    .hline(c.eps_plus(), "ε₊")
+    .hline(eps_plus, "ε₊")
     .legend(LegendAt::UpperLeft)
     .legend_outside();
     render_svg(&[p], 1, 960, 400)

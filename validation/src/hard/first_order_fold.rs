@@ -302,7 +302,12 @@ impl Case for FirstOrderFold {
                       What to see: the large step melts early but never before ε₊; the \
                       adaptive run follows the reference."
                 .into(),
-            svg: super::figures::first_order_fold(self),
+            svg: super::figures::first_order_fold(
+                &melting_strains(&self.reference),
+                &melting_strains(&self.accurate),
+                &melting_strains(&self.adaptive),
+                self.eps_plus(),
+            ),
         })
     }
     fn attempts(&self) -> Vec<&Attempt> {

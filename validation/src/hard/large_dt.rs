@@ -221,7 +221,7 @@ impl Case for LargeDt {
                       curve. What to see: every event kept, at its time; the literal scheme \
                       has no curve here because it fails at once (the table above)."
                 .into(),
-            svg: super::figures::large_dt(self),
+            svg: super::figures::large_dt(&self.reference, &self.accurate, &self.adaptive),
         })
     }
     fn attempts(&self) -> Vec<&Attempt> {
