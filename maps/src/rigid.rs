@@ -386,7 +386,8 @@ pub fn section(map: &Map, uniform: &Map) -> Result<Section, String> {
          regrow to f·φ_eq, f = {f}, before the reloading strain pushes φ_eq(ε) below it, while \
          the substrate takes its share of the stamp's advance), the triangles where the map's \
          recovery crosses f (log-interpolated between points, which the refinement puts a \
-         finest step apart):\n\n         | A0 [Pa] | V_c on paper [m/s] | on the map [m/s] | map/paper | map/paper without the \
+         finest step apart):\n\n\
+         | A0 [Pa] | V_c on paper [m/s] | on the map [m/s] | map/paper | map/paper without the \
          substrate's share |\n|---|---|---|---|---|\n{table}\n\
          The estimate follows the map's A0 dependence (V_c ∝ A0^(3/2)/ln A0, with the \
          substrate's share growing ∝ A0) with ratios {} … {}. Without the substrate's share the \
