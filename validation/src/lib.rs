@@ -18,7 +18,8 @@
 //! its uncertainties against the true errors known from much finer runs; [`independent`] runs
 //! the independent implementation of `validation/independent/` (Python) beside stickslip and
 //! compares their converged values; [`sensitivity`] reruns the scenes of C4, C5 and C13 with
-//! the melting threshold or the φ floor changed; [`validate`] ties it together.
+//! the melting threshold or the φ floor changed; [`staleness`] lists committed reports whose
+//! sources changed since the commit they record; [`validate`] ties it together.
 //!
 //! Invariants: the claims read output files only (through the schema; C11's loop takes only the
 //! film's parameters from a run's run.json); every number in the
@@ -41,5 +42,6 @@ pub mod report;
 pub mod runner;
 pub mod sensitivity;
 pub mod sizes;
+pub mod staleness;
 pub mod validate;
 pub mod verify_check;

@@ -137,6 +137,10 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
                 println!("  - {d}");
             }
         }
+        println!("check: the reports' age against their sources:");
+        for line in crate::staleness::lines(&crate::staleness::ages(root)) {
+            println!("  - {line}");
+        }
         println!(
             "validate --check took {:.0} s",
             start.elapsed().as_secs_f64()
