@@ -213,28 +213,36 @@ fn profile_fig(runs: &Runs, file: &'static str, is_phi: bool) -> Figure {
             (r.info.derived.eps_c, "εc = √(A·b)/a, melting strain")
         };
         let a0 = r.info.radius_m() * 1e6;
-        Ok(vec![
-            Panel::new(
-                &format!(
-                    "Fig. 2{} — {} at t = {}{}",
-                    if is_phi { "b" } else { "d" },
-                    if is_phi { "φ(r)" } else { "ε(r)" },
-                    fmt::time(p.t_s, 3),
-                    subtitle
-                ),
-                "radius r, µm",
-                if is_phi {
-                    "order parameter φ"
-                } else {
-                    "elastic strain ε"
-                },
-            )
-            .with(lines)
-            .hline(ref_y, ref_label)
-            .x_range(0.0, a0)
-            .y_range(0.0, ref_y * if is_phi { 1.75 } else { 1.85 })
-            .legend(LegendAt::UpperLeft),
-        ])
+        // φ on a log axis: a melting front takes φ down to the threshold (0.01), two decades
+        // below the solid film, which a linear axis flattens onto zero.
+        let threshold = r.info.melt_threshold();
+        let panel = Panel::new(
+            &format!(
+                "Fig. 2{} — {} at t = {}{}",
+                if is_phi { "b" } else { "d" },
+                if is_phi { "φ(r)" } else { "ε(r)" },
+                fmt::time(p.t_s, 3),
+                subtitle
+            ),
+            "radius r, µm",
+            if is_phi {
+                "order parameter φ"
+            } else {
+                "elastic strain ε"
+            },
+        )
+        .with(lines)
+        .hline(ref_y, ref_label)
+        .x_range(0.0, a0)
+        .legend(LegendAt::UpperLeft);
+        Ok(vec![if is_phi {
+            panel
+                .scales(Scale::Linear, Scale::Log)
+                .hline(threshold, "melting threshold")
+                .y_range(threshold / 5.0, ref_y * 20.0)
+        } else {
+            panel.y_range(0.0, ref_y * 1.85)
+        }])
     });
     let when = at.map_or_else(|| "the end".to_string(), |t| fmt::time(t, 3));
     let caption = match (&fig2, last) {
