@@ -275,11 +275,36 @@ pub fn markdown(rows: &[Row]) -> String {
         let _ = writeln!(
             s,
             "- **Front speed** (fig2, r_first/(t_center − t_onset), mean over events): {} m/s \
-             with the defaults, {}–{} m/s over the variations ({} % of the default's spread).\n",
+             with the defaults, {}–{} m/s over the variations (a spread of {} % of the \
+             default).",
             fmt::sig(base.front_speed_m_per_s, 4),
             fmt::sig(lo, 4),
             fmt::sig(hi, 4),
             fmt::sig(100.0 * (hi - lo) / base.front_speed_m_per_s, 2)
+        );
+    }
+    if let Some(base) = rows.first() {
+        let moved: Vec<String> = rows
+            .iter()
+            .skip(1)
+            .filter(|r| r.events != base.events)
+            .map(|r| {
+                format!(
+                    "{} events under the {}",
+                    r.events,
+                    r.variation.map_or_else(String::new, |v| v.text())
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "- **fig2's event count** ({} with the defaults by t = 1.3 ms): {}.\n",
+            base.events,
+            if moved.is_empty() {
+                "the same under every variation".to_string()
+            } else {
+                moved.join(", ")
+            }
         );
     }
     for r in rows.iter().skip(1) {

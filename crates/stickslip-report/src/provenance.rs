@@ -75,8 +75,18 @@ impl Commit {
                 .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
         };
         let hash = git(&["rev-parse", "--short=10", "HEAD"])?;
-        let dirty =
-            git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+        // The generated files themselves (reports/, README.md's generated blocks) do not make
+        // the sources dirty: a report regenerated over an older one is the usual state.
+        let dirty = git(&[
+            "status",
+            "--porcelain",
+            "--untracked-files=no",
+            "--",
+            ".",
+            ":(exclude)reports",
+            ":(exclude)README.md",
+        ])
+        .is_some_and(|s| !s.is_empty());
         Some(Self {
             hash,
             dirty,
