@@ -495,13 +495,17 @@ fn reference_caption(r: &Results, paper: &Paper) -> String {
     };
     let onset_us = |x: &RunSummary| x.onset_error_s.map(|e| e * 1e6);
     format!(
-        "refining N alone (top) leaves the accurate onset error at {} µs, its Δt part, and \
-         refining Δt (bottom) takes it from {} µs against the {} line (dashed). The literal \
+        "refining N alone (top) leaves the accurate onset error at {} µs: that floor is set by \
+         the reference's own spatial error (the reference is at N = {}; runs at that N and \
+         above are judged by an answer no finer than theirs, so their errors are bounded by it, \
+         not measured), and refining Δt (bottom) takes it from {} µs against the {} line \
+         (dashed). The literal \
          onset error sits at {} (stable levels) — a different limit (the axis melts first) — \
          while its f_peak error falls from {} and its F(t) error \
          from {} with N; along Δt (stable levels) they stay at {} and {} (N = {} dominates), \
          and {}.",
         onset_range("N", "accurate"),
+        r.work_precision.reference.nodes,
         ends("dt", "accurate", onset_us),
         tol_text(),
         {
