@@ -146,11 +146,25 @@ fn panel<DB: DrawingBackend>(
 ) -> Result<(), String> {
     let ((x0, x1), (y0, y1)) = ranges(panel);
     let strip = panel.legend_outside || panel.colorbar.is_some();
+    let (w, _) = area.dim_in_pixel();
+    let strip_px = strip_width(panel, w);
     let mut builder = ChartBuilder::on(area);
     builder
-        .caption(&panel.title, ("sans-serif", 20))
+        .caption(
+            fit_title(
+                &panel.title,
+                w.saturating_sub(12 + if strip { 26 + strip_px } else { 26 }),
+            ),
+            (
+                "sans-serif",
+                caption_size(
+                    &panel.title,
+                    w.saturating_sub(12 + if strip { 26 + strip_px } else { 26 }),
+                ),
+            ),
+        )
         .margin(12)
-        .margin_right(if strip { 26 + STRIP_PX } else { 26 })
+        .margin_right(if strip { 26 + strip_px } else { 26 })
         .x_label_area_size(50)
         .y_label_area_size(76);
     // Key points only matter on log axes (a linear axis may start at 0).
@@ -194,22 +208,97 @@ fn panel<DB: DrawingBackend>(
     };
     drawn?;
     if strip {
-        side_strip(area, panel)?;
+        side_strip(area, panel, strip_px)?;
     }
     Ok(())
 }
 
-/// Width of the strip right of a chart that holds its colour bar and legend, px.
+/// Least width of the strip right of a chart that holds its colour bar and legend, px.
 const STRIP_PX: u32 = 170;
+
+/// A generous estimate of a sans-serif text's width, px: 0.55 em per character (no fonts are
+/// loaded, so the width is not measured; the average sans-serif glyph is about 0.5 em).
+#[must_use]
+pub(crate) fn text_width_px(text: &str, size_px: f64) -> f64 {
+    0.55 * size_px * text.chars().count() as f64
+}
+
+/// The strip's width: wide enough for the longest legend label (swatch and gap: 38 px) and
+/// the colour bar's ticks, at most half the panel.
+fn strip_width(panel: &Panel, panel_px: u32) -> u32 {
+    let longest = if panel.legend_outside {
+        panel
+            .series
+            .iter()
+            .filter(|s| !s.label.is_empty())
+            .map(|s| text_width_px(&s.label, 13.0) + 38.0)
+            .fold(0.0, f64::max)
+    } else {
+        0.0
+    };
+    let bar = panel
+        .colorbar
+        .as_ref()
+        .map_or(0.0, |b| text_width_px(&b.label, 13.0) + 8.0);
+    let want = longest.max(bar).ceil() as u32;
+    want.clamp(STRIP_PX, (panel_px / 2).max(STRIP_PX))
+}
+
+/// Smallest title font, px.
+const CAPTION_MIN_PX: u32 = 10;
+
+/// The title's font size: 20 px, smaller (down to [`CAPTION_MIN_PX`]) when a long title would
+/// not fit the width it is centred on.
+fn caption_size(title: &str, room_px: u32) -> u32 {
+    let room = f64::from(room_px);
+    let at_20 = text_width_px(title, 20.0);
+    if at_20 <= room {
+        20
+    } else {
+        ((20.0 * room / at_20).floor() as u32).max(CAPTION_MIN_PX)
+    }
+}
+
+/// The title, shortened with an ellipsis when even the smallest font would not fit it.
+fn fit_title(title: &str, room_px: u32) -> String {
+    let max = (f64::from(room_px) / (0.55 * f64::from(CAPTION_MIN_PX))).floor() as usize;
+    if title.chars().count() <= max {
+        title.to_string()
+    } else {
+        let mut t: String = title.chars().take(max.saturating_sub(1)).collect();
+        t.push('…');
+        t
+    }
+}
+
+/// `label` broken at spaces into lines of at most `max_chars` characters (a word longer
+/// than that stays whole on its own line).
+fn wrap(label: &str, max_chars: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in label.split(' ') {
+        let len = line.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > max_chars {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    lines.push(line);
+    lines
+}
 
 /// The strip right of the chart: the colour bar (if any) and below it the legend (if it is
 /// outside), drawn in pixels so nothing covers the data.
 fn side_strip<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     panel: &Panel,
+    strip_px: u32,
 ) -> Result<(), String> {
     let (w, h) = area.dim_in_pixel();
-    let left = w as i32 - STRIP_PX as i32 - 8;
+    let left = w as i32 - strip_px as i32 - 8;
     let font = ("sans-serif", 13).into_font();
     let mut y = 48;
     if let Some(bar) = &panel.colorbar {
@@ -283,8 +372,14 @@ fn side_strip<DB: DrawingBackend>(
                     .into_dyn(),
             };
             area.draw(&swatch).map_err(err)?;
-            area.draw(&Text::new(s.label.clone(), (left + 30, y), font.clone()))
-                .map_err(err)?;
+            let max_chars = ((f64::from(strip_px) - 38.0) / (0.55 * 13.0)).floor() as usize;
+            for (k, line) in wrap(&s.label, max_chars.max(8)).into_iter().enumerate() {
+                if k > 0 {
+                    y += 16;
+                }
+                area.draw(&Text::new(line, (left + 30, y), font.clone()))
+                    .map_err(err)?;
+            }
             y += 20;
         }
     }
@@ -462,10 +557,26 @@ where
                 .filter(|((x, y), _)| pts.contains(&(*x, *y)))
                 .map(|(&p, l)| (p, l.clone()))
                 .collect();
+            // A label that would run past the plotting area's right edge goes left of its
+            // point, so that it stays on the canvas.
+            let right = chart.plotting_area().get_pixel_range().0.end;
+            let placed: Vec<((f64, f64), String, (i32, i32))> = labelled
+                .into_iter()
+                .map(|(p, l)| {
+                    let (px, _) = chart.backend_coord(&p);
+                    let w = text_width_px(&l, 12.0).ceil() as i32;
+                    let offset = if px + 6 + w > right {
+                        (-6 - w, 4)
+                    } else {
+                        (6, 4)
+                    };
+                    (p, l, offset)
+                })
+                .collect();
             chart
-                .draw_series(labelled.into_iter().map(|(p, l)| {
+                .draw_series(placed.into_iter().map(|(p, l, offset)| {
                     EmptyElement::at(p)
-                        + Text::new(l, (6, 4), ("sans-serif", 12).into_font().color(&color))
+                        + Text::new(l, offset, ("sans-serif", 12).into_font().color(&color))
                 }))
                 .map_err(err)?;
         }
@@ -605,6 +716,14 @@ pub(super) fn render(
 #[cfg(test)]
 mod tests {
     use super::linear_tick;
+
+    #[test]
+    fn labels_wrap_at_spaces_and_titles_shorten() {
+        assert_eq!(super::wrap("one two three", 7), ["one two", "three"]);
+        assert_eq!(super::wrap("unbreakable", 4), ["unbreakable"]);
+        assert_eq!(super::fit_title("abcdef", 1000), "abcdef");
+        assert!(super::fit_title(&"x".repeat(500), 100).ends_with('…'));
+    }
 
     #[test]
     fn a_rounding_residue_at_zero_reads_zero() {

@@ -5,6 +5,7 @@
 //! A figure is a list of [`Panel`]s drawn on `cols` columns by [`render_svg`].
 
 mod draw;
+pub mod svg_check;
 
 use crate::palette::GREY;
 use plotters::style::RGBColor;
