@@ -213,6 +213,9 @@ fn panel<DB: DrawingBackend>(
     Ok(())
 }
 
+/// A point label: its point, its text and its offset in pixels.
+type PlacedLabel = ((f64, f64), String, (i32, i32));
+
 /// Least width of the strip right of a chart that holds its colour bar and legend, px.
 const STRIP_PX: u32 = 170;
 
@@ -560,7 +563,7 @@ where
             // A label that would run past the plotting area's right edge goes left of its
             // point, so that it stays on the canvas.
             let right = chart.plotting_area().get_pixel_range().0.end;
-            let placed: Vec<((f64, f64), String, (i32, i32))> = labelled
+            let placed: Vec<PlacedLabel> = labelled
                 .into_iter()
                 .map(|(p, l)| {
                     let (px, _) = chart.backend_coord(&p);
