@@ -774,3 +774,43 @@ pub fn all(runs: &Runs) -> Vec<Figure> {
         literal(runs),
     ]
 }
+
+/// The margin chart's file name in `reports/`.
+pub const MARGINS_SVG: &str = "claims_margins.svg";
+
+/// Each claim's margin to its threshold (`crate::margins`), one marker per claim, with the
+/// line at 0 where a claim would fail.
+///
+/// # Errors
+/// A drawing error, or no claim with a margin.
+pub fn margins_svg(claims: &[crate::claims::Claim]) -> Result<String, String> {
+    let margins: Vec<crate::margins::Margin> =
+        claims.iter().filter_map(crate::margins::of).collect();
+    if margins.is_empty() {
+        return Err("no claim has a margin".into());
+    }
+    let pts: Vec<(f64, f64)> = margins
+        .iter()
+        .enumerate()
+        .map(|(i, m)| ((i + 1) as f64, m.value))
+        .collect();
+    let labels: Vec<String> = margins.iter().map(|m| m.id.to_string()).collect();
+    let hi = pts.iter().map(|p| p.1).fold(1.0f64, f64::max) * 1.15;
+    let lo = pts.iter().map(|p| p.1).fold(0.0f64, f64::min).min(-0.1);
+    let p = Panel::new(
+        "Each claim's margin to its threshold (0: the claim would fail)",
+        "claim (in the table's order)",
+        "margin, share of the threshold's room",
+    )
+    .with(vec![
+        Series::new("margin of the binding number", pts, PALETTE[0])
+            .points()
+            .marker(Marker::Circle)
+            .labels(labels),
+    ])
+    .hline(0.0, "fails below")
+    .x_range(0.5, margins.len() as f64 + 0.5)
+    .y_range(lo, hi)
+    .legend_outside();
+    render_svg(&[p], 1, 960, 420)
+}

@@ -17,7 +17,8 @@
 //! `reports/hard-cases.md`; [`verify_check`] runs `stickslip verify` at a coarse N and checks
 //! its uncertainties against the true errors known from much finer runs; [`independent`] runs
 //! the independent implementation of `validation/independent/` (Python) beside stickslip and
-//! compares their converged values; [`sensitivity`] reruns the scenes of C4, C5 and C13 with
+//! compares their converged values; [`margins`] gives each claim's margin to its threshold;
+//! [`sensitivity`] reruns the scenes of C4, C5 and C13 with
 //! the melting threshold or the φ floor changed; [`staleness`] lists committed reports whose
 //! sources changed since the commit they record; [`validate`] ties it together.
 //!
@@ -37,6 +38,7 @@ pub mod findings;
 pub mod hard;
 pub mod hysteresis;
 pub mod independent;
+pub mod margins;
 pub mod reduced;
 pub mod report;
 pub mod runner;

@@ -159,6 +159,10 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     if let Some(Ok(c)) = &independent {
         write_independent(&mut files, c)?;
     }
+    match crate::figures::margins_svg(&claims) {
+        Ok(svg) => files.put(crate::figures::MARGINS_SVG, svg)?,
+        Err(e) => println!("figure {} not drawn: {e}", crate::figures::MARGINS_SVG),
+    }
     files.put("index.md", index_md(&outcome, &figures))?;
     files.put_json("summary.json", &summary)?;
     hard_cases(&bin, root)?;
