@@ -439,9 +439,14 @@ pub fn compare(runner: &Runner, python: &Path, jobs: usize) -> Result<Comparison
     let python_version = check_python(python)?;
     let root = runner.root().to_path_buf();
     let cases = cases();
-    let mut queue = Vec::new();
-    for (i, c) in cases.iter().enumerate() {
-        // The longest first: the finest of each code.
+    // The longest jobs first, so that the two workers finish together: the 3D check's
+    // quadratures, then the cases from the h0 = 1 nm contact (whose finest spectral run takes
+    // minutes) back, each code's finest resolution first.
+    let mut queue: Vec<Job> = (0..MDR3D_CASES.len())
+        .rev()
+        .map(|which| Job::Mdr3d { which })
+        .collect();
+    for (i, c) in cases.iter().enumerate().rev() {
         for (j, &m) in c.resolutions_m.iter().enumerate().rev() {
             queue.push(Job::Independent {
                 case: i,
@@ -471,7 +476,6 @@ pub fn compare(runner: &Runner, python: &Path, jobs: usize) -> Result<Comparison
             }
         }
     }
-    queue.extend((0..MDR3D_CASES.len()).map(|which| Job::Mdr3d { which }));
     let total = queue.len();
     let queue = Mutex::new(queue.into_iter().rev().collect::<Vec<_>>());
     let results: Mutex<BTreeMap<String, (RunValues, f64)>> = Mutex::new(BTreeMap::new());
