@@ -318,6 +318,10 @@ def main(argv):
     check_scene(scene)
     end_s = args.end if args.end is not None else scene.get("time", {}).get("end", 1.0)
     max_events = args.events if args.events is not None else scene.get("time", {}).get("max_events")
+    if args.events is not None and args.events < 1:
+        refuse(f"--events = {args.events}; allowed: an integer ≥ 1")
+    if pathlib.Path(args.out).exists() and not pathlib.Path(args.out).is_dir():
+        refuse(f"--out = {args.out} is a file; allowed: a directory (made if missing)")
     if not 0 < args.rtol < 1e-3:
         refuse(f"--rtol = {args.rtol}; allowed: 0 < rtol < 1e-3")
     events, _, _, _ = simulate(scene, args.resolution, end_s, max_events, rtol=args.rtol)

@@ -181,6 +181,10 @@ def main(argv):
     parser.add_argument("--exact", action="store_true", help="only the exact traction's check")
     parser.add_argument("--out")
     args = parser.parse_args(argv)
+    if args.resolution < 4:
+        independent.refuse(f"--resolution = {args.resolution}; allowed: an integer ≥ 4")
+    if args.out is not None and pathlib.Path(args.out).exists() and not pathlib.Path(args.out).is_dir():
+        independent.refuse(f"--out = {args.out} is a file; allowed: a directory (made if missing)")
     if args.order < 8:
         independent.refuse(f"--order = {args.order}; allowed: an integer ≥ 8")
     if args.exact:

@@ -130,3 +130,22 @@ def test_mdr_against_3d_elasticity_on_fig2s_first_slip(tmp_path: Path) -> None:
     assert abs(peak[0.5] / 2.8269e-2 - 1) < 0.01, peak
     # The angular part scales as ν/(2 − ν) (Cerruti's ν term over G = G*·(2 − ν)/4).
     assert abs(peak[0.25] / peak[0.5] - (0.25 / 1.75) / (0.5 / 1.5)) < 1e-9, peak
+
+
+def test_the_independent_codes_refuse_bad_options_before_computing(tmp_path: Path) -> None:
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    for script, args in [
+        (INDEPENDENT, ["--out", str(afile)]),
+        (INDEPENDENT, ["--events", "0", "--out", str(tmp_path / "x")]),
+        (MDR3D, ["--resolution", "2", "--out", str(tmp_path / "y")]),
+    ]:
+        done = subprocess.run(
+            [sys.executable, str(script), str(SCENES / "fig2.toml"), *args],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        assert done.returncode == 2, (script, args, done.stderr)
+        assert "allowed" in done.stderr, done.stderr
+    assert afile.read_text() == ""

@@ -413,6 +413,25 @@ enum Job {
 }
 
 impl Job {
+    /// The run of case `case` by the independent code (`independent`) or stickslip, at
+    /// resolution `r` (M or N), at the reference tolerance or (`loose`) the looser one.
+    fn of(case: usize, independent: bool, r: usize, loose: bool) -> Self {
+        let k = usize::from(loose);
+        if independent {
+            Self::Independent {
+                case,
+                m: r,
+                rtol: INDEPENDENT_RTOL[k],
+            }
+        } else {
+            Self::Ours {
+                case,
+                n: r,
+                tolerance: OURS_TOLERANCE[k],
+            }
+        }
+    }
+
     fn label(&self, cases: &[Case]) -> String {
         match self {
             Self::Independent { case, m, rtol } => {
@@ -447,32 +466,12 @@ pub fn compare(runner: &Runner, python: &Path, jobs: usize) -> Result<Comparison
         .map(|which| Job::Mdr3d { which })
         .collect();
     for (i, c) in cases.iter().enumerate().rev() {
-        for (j, &m) in c.resolutions_m.iter().enumerate().rev() {
-            queue.push(Job::Independent {
-                case: i,
-                m,
-                rtol: INDEPENDENT_RTOL[0],
-            });
-            if j + 2 == c.resolutions_m.len() {
-                queue.push(Job::Independent {
-                    case: i,
-                    m,
-                    rtol: INDEPENDENT_RTOL[1],
-                });
-            }
-        }
-        for (j, &n) in c.nodes.iter().enumerate().rev() {
-            queue.push(Job::Ours {
-                case: i,
-                n,
-                tolerance: OURS_TOLERANCE[0],
-            });
-            if j + 2 == c.nodes.len() {
-                queue.push(Job::Ours {
-                    case: i,
-                    n,
-                    tolerance: OURS_TOLERANCE[1],
-                });
+        for (independent, levels) in [(true, &c.resolutions_m), (false, &c.nodes)] {
+            for (j, &r) in levels.iter().enumerate().rev() {
+                queue.push(Job::of(i, independent, r, false));
+                if j + 2 == levels.len() {
+                    queue.push(Job::of(i, independent, r, true));
+                }
             }
         }
     }
@@ -615,46 +614,21 @@ fn assemble(
         }
     };
     let quantities = (|| {
-        let theirs: Vec<(usize, Vec<EventValues>)> = c
-            .resolutions_m
-            .iter()
-            .map(|&m| {
-                get(Job::Independent {
-                    case: i,
-                    m,
-                    rtol: INDEPENDENT_RTOL[0],
-                })
-                .map(|v| (m, v))
-            })
-            .collect::<Result<_, _>>()?;
-        let middle = |r: &[usize]| {
-            r.len()
+        // One code's runs at each level, and the middle level's at the looser tolerance.
+        let levels = |independent: bool, levels: &[usize]| -> Result<_, String> {
+            let runs: Vec<(usize, Vec<EventValues>)> = levels
+                .iter()
+                .map(|&r| get(Job::of(i, independent, r, false)).map(|v| (r, v)))
+                .collect::<Result<_, _>>()?;
+            let middle = levels
+                .len()
                 .checked_sub(2)
-                .map(|j| r[j])
-                .ok_or("too few resolutions")
+                .map(|j| levels[j])
+                .ok_or("too few resolutions")?;
+            Ok((runs, get(Job::of(i, independent, middle, true))?))
         };
-        let theirs_loose = get(Job::Independent {
-            case: i,
-            m: middle(&c.resolutions_m)?,
-            rtol: INDEPENDENT_RTOL[1],
-        })?;
-        let ours: Vec<(usize, Vec<EventValues>)> = c
-            .nodes
-            .iter()
-            .map(|&n| {
-                get(Job::Ours {
-                    case: i,
-                    n,
-                    tolerance: OURS_TOLERANCE[0],
-                })
-                .map(|v| (n, v))
-            })
-            .collect::<Result<_, _>>()?;
-        let ours_loose = get(Job::Ours {
-            case: i,
-            n: middle(&c.nodes)?,
-            tolerance: OURS_TOLERANCE[1],
-        })?;
+        let (theirs, theirs_loose) = levels(true, &c.resolutions_m)?;
+        let (ours, ours_loose) = levels(false, &c.nodes)?;
         let mut out = Vec::new();
         for k in 0..c.events {
             for (name, pick, target) in [
