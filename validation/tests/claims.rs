@@ -57,6 +57,7 @@ fn event(k: usize, t: f64, x: f64) -> MeltingEvent {
         recovery: 1.0,
         f_mean_n: 5e-4,
         melted_area: 1.0,
+        energy: None,
     }
 }
 

@@ -137,6 +137,7 @@ fn with_fronts(fronts: &[(f64, f64, Option<f64>)]) -> RunOutput {
                 recovery: 1.0,
                 f_mean_n: 0.0,
                 melted_area: 1.0,
+                energy: None,
             })
             .collect(),
     );

@@ -181,6 +181,17 @@ impl LandauParams {
         self.a_pa * eps * eps - a_coeff_pa * self.b_pa() / self.a_pa
     }
 
+    /// The film's free-energy density f = ½·c·φ² − (b₃/3)·φ³ + (b/4)·φ⁴ with c = a·ε² − A·b/a
+    /// (Eq. 1 with α(T − Tc) = −A·b/(2a), and the first-order film's cubic term), J/m³:
+    /// Eq. 8 is dφ/dt = −γ·∂f/∂φ, so along the film's own path at fixed ε and A it falls
+    /// at the rate γ·(∂f/∂φ)², the Landau dissipation; ∂f/∂ε = τ (Eq. 12).
+    #[must_use]
+    pub fn free_energy_pa(&self, phi: f64, eps: f64, a_coeff_pa: f64) -> f64 {
+        let y = phi * phi;
+        0.5 * self.bernoulli_c_pa(eps, a_coeff_pa) * y - self.cubic_pa / 3.0 * y * phi
+            + 0.25 * self.b_pa() * y * y
+    }
+
     /// The solid film's order parameter at strain ε: [`equilibrium_phi`] (Eq. 3) for b₃ = 0;
     /// for the first-order film the solid branch φ₊(ε) = [b₃ + √(b₃² − 4b·c)]/(2b), c = a·ε² −
     /// A·b/a, while it exists (|ε| ≤ ε₊, [`LandauParams::melting_strain`]), else 0. At ε = 0

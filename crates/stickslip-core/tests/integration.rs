@@ -4,6 +4,7 @@
 
 mod alloc_free;
 mod drive;
+mod energy_books;
 mod hodlr;
 mod hodlr_build;
 mod landau;

@@ -166,7 +166,11 @@ fn table_dict<'py>(
         .map(|r| i64::try_from(r.summary.n_slips).unwrap_or(i64::MAX))
         .collect();
     d.set_item("n_slips", PyArray1::from_vec(py, n_slips))?;
-    for name in ["slip_interval_median", "melting_interval_median"] {
+    for name in [
+        "slip_interval_median",
+        "melting_interval_median",
+        stickslip_studies::sweep::map::ENERGY_COLUMN.name,
+    ] {
         d.set_item(
             name,
             floats(py, rows.iter().map(|r| r.number(name)).collect()),

@@ -122,6 +122,16 @@ def test_run_result_tables(small_result: stickslip.RunResult) -> None:
     assert r.units["profiles"]["tau"] == "Pa"
     assert "summary" not in r.run_info
     assert "regime transient" in repr(r)
+    # The energy books: per event (its cycle), and the whole run's in the summary.
+    assert r.events["dissipated_energy"][0] > 0
+    assert r.events["dissipated_energy"][0] == pytest.approx(
+        sum(r.events[k][0] for k in (
+            "landau_energy", "reset_energy", "sliding_energy", "viscous_energy", "dashpot_energy"
+        )), rel=1e-12)
+    assert r.units["events"]["dissipated_energy"] == "J"
+    books = r.summary["energy"]
+    assert abs(books["residual_j"]) < 1e-4 * books["flows"]["drive_work_j"]
+    assert r.summary["energy_per_cycle"] is None  # one event: no complete cycle
 
 
 def test_slips_and_the_stamps_scale(small_result: stickslip.RunResult) -> None:
@@ -135,11 +145,14 @@ def test_slips_and_the_stamps_scale(small_result: stickslip.RunResult) -> None:
     s = r.slips
     assert list(s) == [
         "k", "t_start", "t_end", "f_start", "f_end", "drop", "x_start", "x_end", "jump",
-        "duration", "meltings",
+        "duration", "meltings", "dissipated_energy",
     ]
     assert s["k"].dtype == np.int64 and s["meltings"].dtype == np.int64
     assert len(s["k"]) == r.summary["n_slips"] >= 20
     assert np.array_equal(s["drop"], s["f_start"] - s["f_end"])
+    # Each slip dissipates; together no more than the whole run.
+    assert np.all(s["dissipated_energy"] > 0)
+    assert s["dissipated_energy"].sum() <= r.summary["energy"]["flows"]["landau_j"] * 1.01
     assert r.summary["stamp_regime"] == "stick_slip"
     cycles = r.summary["cycles"]
     assert set(cycles) == {"settled_from", "slip_drop", "meltings", "slips"}

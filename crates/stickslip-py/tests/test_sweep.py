@@ -36,6 +36,7 @@ COLUMNS = [
     "t_first_onset", "period_last", "x_period_last", "f_peak_first", "f_peak_last", "f_mean",
     "recovery", "melted_time_fraction", "wall_s", "message", "steady", "level",
     "stamp_regime", "n_slips", "slip_interval_median", "melting_interval_median",
+    "energy_per_cycle",
 ]
 
 

@@ -10,18 +10,22 @@ use crate::plot::{Cell, ColorBar, Marker, Panel, Scale, Segment, Series};
 use plotters::style::RGBColor;
 use std::collections::{BTreeMap, HashMap};
 use stickslip_run::summary::Regime;
-use stickslip_studies::sweep::map::{MapJson, MapRow, STAMP_COLUMNS, SUMMARY_COLUMNS};
+use stickslip_studies::sweep::map::{
+    ENERGY_COLUMN, MapJson, MapRow, STAMP_COLUMNS, SUMMARY_COLUMNS,
+};
 use stickslip_studies::sweep::record::PointStatus;
 use stickslip_studies::sweep::refine::{self, geometry};
 use stickslip_studies::sweep::{Axis, Sweep, value_text};
 
 /// Quantities a map can show as colours: every numeric column of map.csv after the axes
-/// (the summary's numbers, `wall_s`, and the stamp's `n_slips` and median intervals); a
+/// (the summary's numbers, `wall_s`, the stamp's `n_slips` and median intervals, and the
+/// energy dissipated per cycle); a
 /// numeric axis may be shown too.
 pub fn quantities() -> Vec<&'static str> {
     SUMMARY_COLUMNS
         .iter()
         .chain(STAMP_COLUMNS.iter())
+        .chain(std::iter::once(&ENERGY_COLUMN))
         .map(|c| c.name)
         .filter(|&n| n != "regime" && n != "stamp_regime")
         .collect()
@@ -80,6 +84,7 @@ pub fn unit(column: &str) -> &'static str {
     SUMMARY_COLUMNS
         .iter()
         .chain(STAMP_COLUMNS.iter())
+        .chain(std::iter::once(&ENERGY_COLUMN))
         .find(|c| c.name == column)
         .map_or("", |c| c.unit)
 }

@@ -507,6 +507,7 @@ mod tests {
                             t_s: t,
                             f_n: f,
                             x_m: -t,
+                            dissipated_j: t,
                         };
                         slips.observe(now, f, &[]);
                     }

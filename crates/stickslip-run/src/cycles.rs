@@ -357,6 +357,7 @@ mod tests {
             recovery: 1.0,
             f_mean_n: 0.0,
             melted_area: 1.0,
+            energy: None,
         };
         let mut tr = SlipTracker::new(drop, end);
         let mut events = Vec::new();
@@ -373,6 +374,7 @@ mod tests {
                     t_s: t,
                     f_n: f(t),
                     x_m: x(t),
+                    dissipated_j: f64::NAN,
                 },
                 f(t),
                 &events,

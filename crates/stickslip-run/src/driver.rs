@@ -179,6 +179,7 @@ impl Snapshot<'_> {
                     .config
                     .lubricant
                     .starts_solid(self.preflight.derived.a_coeff_pa),
+                books: state.events.tracker.books(),
             },
             thresholds,
         );
@@ -527,10 +528,18 @@ impl Driver {
             Drive::Spring(sp) => sp.spring_force_n(s.drive.t_s, s.drive.x_m),
             Drive::Rigid(_) => s.force_n,
         };
+        let dissipated_j = self
+            .sim
+            .state()
+            .events
+            .tracker
+            .books()
+            .map_or(f64::NAN, |b| b.flows.dissipated_j());
         let now = Moment {
             t_s: s.drive.t_s,
             f_n: f_drive,
             x_m: s.drive.x_m,
+            dissipated_j,
         };
         self.state.slips.observe(now, s.force_n, self.sim.events());
     }

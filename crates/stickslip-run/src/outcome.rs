@@ -153,6 +153,19 @@ impl RunOutcome {
         ) {
             parts.push(format!("peak force {:.4e} … {:.4e} N", lo, hi));
         }
+        if let Some(e) = s.energy_per_cycle {
+            parts.push(format!(
+                "dissipated {e:.4e} J per cycle (the last complete one)"
+            ));
+        }
+        if let Some(b) = &s.energy {
+            parts.push(format!(
+                "{:.4e} J in all (drive's work {:.4e} J; energy books' residual {:.1e} J)",
+                b.dissipated_j(),
+                b.flows.drive_work_j,
+                b.residual_j
+            ));
+        }
         let mut line = parts.join(", ");
         if let Some(regime) = s.stamp_regime {
             // The stamp's scale: its slips, the largest of them, its regime, and how often the

@@ -45,6 +45,15 @@ pub struct Slip {
     pub x_end_m: f64,
     /// Meltings inside the slip (the one that set it off included).
     pub meltings: usize,
+    /// Energy dissipated from the start to the end (every sink of the energy books), J; NaN
+    /// for a slip whose start was seen before the books existed (an old checkpoint).
+    #[serde(default = "no_energy")]
+    pub dissipated_energy_j: f64,
+}
+
+/// The books' value where none was kept.
+fn no_energy() -> f64 {
+    f64::NAN
 }
 
 impl Slip {
@@ -76,6 +85,9 @@ pub struct Moment {
     pub f_n: f64,
     /// Stamp position, m.
     pub x_m: f64,
+    /// Energy dissipated since t = 0 (the energy books), J; NaN where the books are not kept.
+    #[serde(default = "no_energy")]
+    pub dissipated_j: f64,
 }
 
 /// One bin of the envelope.
@@ -286,6 +298,7 @@ impl SlipTracker {
                     x_start_m: peak.x_m,
                     x_end_m: extreme.x_m,
                     meltings,
+                    dissipated_energy_j: extreme.dissipated_j - peak.dissipated_j,
                 });
             }
         } else {
@@ -337,6 +350,7 @@ impl SlipTracker {
             x_start_m: peak.x_m,
             x_end_m: low.x_m,
             meltings: self.meltings_between(&peak, &low, events),
+            dissipated_energy_j: low.dissipated_j - peak.dissipated_j,
         })
     }
 }
@@ -359,6 +373,7 @@ mod tests {
             recovery: 1.0,
             f_mean_n: 0.0,
             melted_area: 1.0,
+            energy: None,
         }
     }
 
@@ -377,6 +392,7 @@ mod tests {
                     t_s: t,
                     f_n: f,
                     x_m: t,
+                    dissipated_j: 0.5 * t,
                 },
                 f,
                 &events,
@@ -472,6 +488,7 @@ mod tests {
                     t_s: t,
                     f_n: f,
                     x_m: 2.0 * t,
+                    dissipated_j: f64::NAN,
                 },
                 3.0,
                 &[],

@@ -156,6 +156,7 @@ mod tests {
             x_start_m: 2.0 * t,
             x_end_m: 2.0 * t + 0.1,
             meltings: 78,
+            dissipated_energy_j: f64::NAN,
         };
         let rule = SteadyRule::default();
         let regular: Vec<Slip> = (0..4)
@@ -189,6 +190,7 @@ mod tests {
                 recovery: 1.0,
                 f_mean_n: 0.0,
                 melted_area: 1.0,
+                energy: None,
             })
             .collect()
     }

@@ -9,6 +9,9 @@
 //!   solid film at A(t) (√(A(t)/a); φ₊(0) for the first-order film);
 //! - `melted_time_fraction`: the share of the time after the first onset during which no node
 //!   was solid;
+//! - `energy_per_cycle`: the energy dissipated over the last complete cycle (every sink of the
+//!   energy books, stickslip_core's `sim::energy`), J; `energy`: the books over the whole run
+//!   (drive work, each sink, the stored energy's change and the residual);
 //! - `regime`, decided in this order: `sliding` (the film is liquid from the start: A(0) ≤ 0,
 //!   unless a first-order film starts as a metastable solid; or no node solid for at least
 //!   [`RegimeThresholds::sliding_fraction`] of the time after the first onset), `no_melting`
@@ -27,7 +30,8 @@
 //! (JSON null, an empty cell in map.csv).
 
 use serde::{Deserialize, Serialize};
-use stickslip_core::sim::events::MeltingEvent;
+use stickslip_core::sim::energy::{EnergyBooks, EnergyFlows};
+use stickslip_core::sim::events::{CycleEnergy, MeltingEvent};
 
 /// Regime of a run (docs/model.md#regimes-and-friction-maps).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -175,6 +179,13 @@ pub struct RunSummary {
     /// Cycle statistics of meltings and of slips over the settled part.
     #[serde(default)]
     pub cycles: Option<crate::cycles::Cycles>,
+    /// Energy dissipated over the last complete cycle (between the last two onsets), J.
+    #[serde(default)]
+    pub energy_per_cycle: Option<f64>,
+    /// The energy books over the whole run, J (none for a run resumed from a checkpoint
+    /// written before the books existed).
+    #[serde(default)]
+    pub energy: Option<CycleEnergy>,
 }
 
 impl RunSummary {
@@ -196,6 +207,8 @@ impl RunSummary {
             n_slips: 0,
             stamp_regime: None,
             cycles: None,
+            energy_per_cycle: None,
+            energy: None,
         }
     }
 }
@@ -212,6 +225,8 @@ pub struct SummaryInput<'a> {
     /// Whether the film is liquid from the start (A(0) ≤ 0, and for a first-order film no
     /// metastable solid: [`stickslip_core::landau::LandauParams::starts_solid`]).
     pub starts_liquid: bool,
+    /// The energy books since t = 0 (none when resumed from a checkpoint without them).
+    pub books: Option<&'a EnergyBooks>,
 }
 
 impl SummaryInput<'_> {
@@ -266,6 +281,13 @@ pub fn summarize(input: &SummaryInput<'_>, th: &RegimeThresholds) -> RunSummary 
         n_slips: 0,
         stamp_regime: None,
         cycles: None,
+        energy_per_cycle: last_two.and_then(|(a, _)| a.energy.map(|e| e.dissipated_j())),
+        energy: input.books.map(|b| {
+            CycleEnergy::between(
+                &(EnergyFlows::default(), b.stored_initial),
+                &(b.flows, b.stored),
+            )
+        }),
     }
 }
 
@@ -292,6 +314,7 @@ mod tests {
                 recovery: r,
                 f_mean_n: 5.0 + i as f64,
                 melted_area: 1.0,
+                energy: None,
             })
             .collect()
     }
@@ -303,6 +326,7 @@ mod tests {
                 no_solid_time_s: no_solid_s,
                 t_final_s: t_final,
                 starts_liquid: a <= 0.0,
+                books: None,
             },
             &RegimeThresholds::default(),
         )

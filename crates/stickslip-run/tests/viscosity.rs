@@ -589,13 +589,21 @@ fn the_films_kinetics_see_only_the_elastic_strain() {
             .map(|l| l.split(',').map(str::to_string).collect())
             .collect()
     };
-    // Every event column but the forces, bit for bit (as text).
+    // Every event column but the forces and the energy the viscous stress moves (the drive's
+    // work, the viscous sink, the total dissipated and the residual), bit for bit (as text):
+    // the film's own books (Landau, resets, stored) are the same.
+    let moved = [
+        "drive_work",
+        "viscous_energy",
+        "dissipated_energy",
+        "energy_residual",
+    ];
     let (events, events_viscous) = (rows(&series[0].1), rows(&series[1].1));
     assert!(events.len() > 2, "no events");
     assert_eq!(events.len(), events_viscous.len());
     for (a, b) in events.iter().zip(&events_viscous) {
         for (j, name) in events[0].iter().enumerate() {
-            if !name.starts_with("f_") {
+            if !name.starts_with("f_") && !moved.contains(&name.as_str()) {
                 assert_eq!(a[j], b[j], "events.csv {name}");
             }
         }

@@ -508,20 +508,30 @@ fn map_csv_without_level_or_steady_still_reads() {
             r.summary.stamp_regime = Some(StampRegime::SteadySliding);
             r.slip_interval_median = Some(0.25);
             r.melting_interval_median = Some(4.5e-3);
+            r.summary.energy_per_cycle = Some(1.25e-10);
             r
         }],
     };
     let text = table.to_csv();
     assert!(text.lines().next().unwrap().ends_with(
-        ",steady,level,stamp_regime,n_slips,slip_interval_median,melting_interval_median"
+        ",steady,level,stamp_regime,n_slips,slip_interval_median,melting_interval_median,\
+         energy_per_cycle"
     ));
     assert_eq!(MapTable::parse(&text).unwrap(), table);
     assert_eq!(
         MapTable::parse(&text).unwrap().rows[0].number("n_slips"),
         3.0
     );
-    // Without the stamp's columns (written before slips), then without `level` (before
-    // refinement), and without `steady` either.
+    assert_eq!(
+        MapTable::parse(&text).unwrap().rows[0].number("energy_per_cycle"),
+        1.25e-10
+    );
+    // Without the energy (written before the energy books), then without the stamp's columns
+    // (before slips), then without `level` (before refinement), and without `steady` either.
+    let text = cut_columns(&text, 1);
+    let before_energy = MapTable::parse(&text).unwrap();
+    assert_eq!(before_energy.rows[0].summary.energy_per_cycle, None);
+    assert_eq!(before_energy.rows[0].summary.n_slips, 3);
     let before_slips = MapTable::parse(&cut_columns(&text, 4)).unwrap();
     let r = &before_slips.rows[0];
     assert_eq!(

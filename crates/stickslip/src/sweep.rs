@@ -104,7 +104,8 @@ pub enum SweepCommand {
         dir: PathBuf,
         /// The quantity of the second panel: any numeric column of map.csv (n_events,
         /// t_first_onset, period_last, x_period_last, f_peak_first, f_peak_last, f_mean,
-        /// recovery, melted_time_fraction, wall_s) or a numeric axis key.
+        /// recovery, melted_time_fraction, wall_s, n_slips, slip_interval_median,
+        /// melting_interval_median, energy_per_cycle) or a numeric axis key.
         #[arg(long, default_value = "recovery")]
         quantity: String,
         /// Output file [default: DIR/map_<quantity>.svg].

@@ -3,12 +3,14 @@
 //! The film's kinetics come from [`super::film`]: the second-order film's, or the first-order
 //! film's when b₃ > 0, chosen once when the simulation is built (`stepper_for`).
 
+use super::books;
 use super::drive_step;
+use super::energy::StepSinks;
 use super::error_estimate;
 use super::film::Film;
 use super::problem::{Contact, Problem};
 use super::stepper::{StepError, StepReport, Stepper};
-use super::substrate::SubstrateSolver;
+use super::substrate::{BEND_NOISE_FACTOR, SubstratePredictor, SubstrateSolver};
 use super::viscous::Viscous;
 use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, SimState, V_FLOOR, X_FLOOR};
 use crate::config::Substrate;
@@ -44,6 +46,13 @@ struct NodeScratch {
     est_gain: Vec<f64>,
     est_eps_eff: Vec<f64>,
     est_norm: Vec<f64>,
+    /// The energy books' per-node parts: the elastic stress a·φ²·ε at the step's start, Pa;
+    /// the stamp's advance over which the node's u0 was held, m; the strain of the node's
+    /// last exact path; φ before the noise.
+    book_tau0: Vec<f64>,
+    book_slide: Vec<f64>,
+    book_eps_path: Vec<f64>,
+    book_phi: Vec<f64>,
 }
 
 impl NodeScratch {
@@ -59,6 +68,10 @@ impl NodeScratch {
             est_gain: vec![0.0; n],
             est_eps_eff: vec![0.0; n],
             est_norm: vec![0.0; n],
+            book_tau0: vec![0.0; n],
+            book_slide: vec![0.0; n],
+            book_eps_path: vec![0.0; n],
+            book_phi: vec![0.0; n],
         }
     }
 }
@@ -67,6 +80,15 @@ impl NodeScratch {
 /// place θ in the step when the node melted, and where its last exact path starts (φ, strain,
 /// offset and length in the step, s), to locate its crossing of the recovery level.
 type NodeEnd = (f64, f64, Option<f64>, (f64, f64, f64, f64));
+
+/// A node's energy sinks over the step (per unit volume of film, J/m³; the stamp's advance
+/// while its u0 was held, m): Landau dissipation, the u0 reset, and the held advance.
+#[derive(Clone, Copy, Default)]
+struct NodeSinks {
+    landau_pa: f64,
+    reset_pa: f64,
+    held_m: f64,
+}
 
 impl<F: Film> Accurate<F> {
     /// The stepper of `problem` with the film's kinetics `film`.
@@ -128,6 +150,11 @@ impl<F: Film + Send + Sync> Stepper for Accurate<F> {
         let t0 = state.physical.drive.t_s;
         let a_mid = problem.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
         let thr = problem.config.melt_threshold;
+        let a = problem.config.lubricant.a_pa;
+        for (i, tau0) in self.scratch.book_tau0.iter_mut().enumerate() {
+            let p = &state.physical;
+            *tau0 = a * p.phi[i] * p.phi[i] * p.eps[i];
+        }
         if let Some(v) = self.viscous.as_mut() {
             v.step_start(problem, state, dt_s);
         }
@@ -151,8 +178,19 @@ impl<F: Film + Send + Sync> Stepper for Accurate<F> {
             BEND_NOISE_FACTOR * problem.coupling_abs_rms_m(t0),
         );
         self.film_passes(problem, state, &predictor, (a_mid, dx, dt_s));
-        let (first_melt, recovered_s) = self.node_ends(problem, state, (t0, a_mid, dx, dt_s));
+        let (first_melt, recovered_s, mut sinks) =
+            self.node_ends(problem, state, (t0, a_mid, dx, dt_s));
+        let noisy = !matches!(problem.config.noise, crate::noise::NoiseKind::Off);
+        if noisy {
+            self.scratch.book_phi.clone_from(&state.physical.phi);
+        }
         noise.apply(&mut state.physical.phi, dt_s);
+        if noisy {
+            let sc = &self.scratch;
+            let after = &state.physical.phi;
+            sinks.noise_work_j =
+                books::noise_work_j(problem, a_mid, (&sc.book_phi, after), &sc.book_eps_path);
+        }
         for (u0, &phi) in state.physical.u0_m.iter_mut().zip(&state.physical.phi) {
             if phi < thr {
                 *u0 = 0.0;
@@ -164,8 +202,11 @@ impl<F: Film + Send + Sync> Stepper for Accurate<F> {
         state.stepper.prev_dt_s = state.stepper.last_dt_s;
         state.stepper.last_dt_s = dt_s;
         problem.update_strain_and_stress(&mut state.physical);
+        let sc = &self.scratch;
+        sinks.sliding_j = books::sliding_j(problem, &state.physical, &sc.book_tau0, &sc.book_slide);
         if let Some(v) = &self.viscous {
             v.add_stress(problem, state, dt_s, dx);
+            sinks.viscous_j = v.loss_j(problem, state, dt_s);
         }
         state.physical.force_n = problem.force_3d_n(&state.physical.tau_pa);
         let kick_after = self.kick_force_n(state);
@@ -182,6 +223,7 @@ impl<F: Film + Send + Sync> Stepper for Accurate<F> {
             first_melt_fraction: first_melt,
             recovered_at_s: recovered_s,
             coupling_rms_m,
+            sinks,
         })
     }
 }
@@ -274,13 +316,16 @@ impl<F: Film> Accurate<F> {
 
     /// (d) Everything else, node by node: the error estimate's pieces, melting located in the
     /// step, φ and u0 at the step's end. The fraction of the step at which the first node
-    /// melted (1: none), and the latest located recovery crossing, s (−∞: none).
+    /// melted (1: none), the latest located recovery crossing, s (−∞: none), and the energy
+    /// books' Landau and reset sinks (the held advances kept per node for the sliding work).
     fn node_ends(
         &mut self,
         problem: &Problem,
         state: &mut SimState,
         (t0, a_mid, dx, dt_s): (f64, f64, f64, f64),
-    ) -> (f64, f64) {
+    ) -> (f64, f64, StepSinks) {
+        let mut sinks = StepSinks::default();
+        let h0_m = problem.config.contact.film_thickness_m;
         let params = problem.config.lubricant;
         let (a, two_gamma) = (params.a_pa, 2.0 * params.gamma_per_pa_s);
         let thr = problem.config.melt_threshold;
@@ -323,22 +368,41 @@ impl<F: Film> Accurate<F> {
             sc.est_norm[i] = 0.5 / y1.max(y_scale_min);
             let u0 = state.physical.u0_m[i];
             let whole = (phi0, eps_eff, 0.0, dt_s);
+            // The drop of f along the exact path at the frozen strain: the Landau dissipation.
+            let f_drop = |phi_a: f64, phi_b: f64, eps: f64| {
+                params.free_energy_pa(phi_a, eps, a_mid) - params.free_energy_pa(phi_b, eps, a_mid)
+            };
+            let mut node = NodeSinks::default();
             let (phi_end, u0_end, melted_at, path): NodeEnd = match (solid0, phi1 >= thr) {
-                (true, true) => (phi1, u0 + dx, None, whole),
+                (true, true) => {
+                    node.landau_pa = f_drop(phi0, phi1, eps_eff);
+                    (phi1, u0 + dx, None, whole)
+                }
                 (false, true) => {
                     let theta = self.film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
+                    node.landau_pa = f_drop(phi0, phi1, eps_eff);
+                    node.held_m = theta * dx;
                     (phi1, (1.0 - theta) * dx, None, whole)
                 }
-                (false, false) => (phi1, 0.0, None, whole),
+                (false, false) => {
+                    node.landau_pa = f_drop(phi0, phi1, eps_eff);
+                    node.held_m = dx;
+                    (phi1, 0.0, None, whole)
+                }
                 (true, false) => self.melting_node(
                     problem,
                     state,
                     i,
                     (a_mid, dx, dt_s),
                     (eps_eff, eps1),
-                    y_scale_min,
+                    (y_scale_min, &mut node),
                 ),
             };
+            let w = problem.energy_weights_m2[i] * h0_m;
+            sinks.landau_j += w * node.landau_pa;
+            sinks.reset_j += w * node.reset_pa;
+            self.scratch.book_slide[i] = node.held_m;
+            self.scratch.book_eps_path[i] = path.1;
             if let Some(theta) = melted_at {
                 first_melt = first_melt.min(theta);
             }
@@ -363,7 +427,7 @@ impl<F: Film> Accurate<F> {
             state.physical.u0_m[i] = u0_end;
             state.physical.phi[i] = phi_end;
         }
-        (first_melt, recovered_s)
+        (first_melt, recovered_s, sinks)
     }
 
     /// Node `i`, solid at the step's start, melts within it at θ: u0 drops to 0 there, and
@@ -378,7 +442,7 @@ impl<F: Film> Accurate<F> {
         i: usize,
         (a_mid, dx, dt_s): (f64, f64, f64),
         (eps_eff, eps1): (f64, f64),
-        y_scale_min: f64,
+        (y_scale_min, book): (f64, &mut NodeSinks),
     ) -> NodeEnd {
         let params = problem.config.lubricant;
         let (a, two_gamma) = (params.a_pa, 2.0 * params.gamma_per_pa_s);
@@ -408,16 +472,27 @@ impl<F: Film> Accurate<F> {
         let u3d = state.physical.u3d_m[i];
         let eps_a = -(u3d + theta * du3d) / h0;
         let c_a = params.bernoulli_c_pa(eps_a, a_mid);
+        // The books: f's drop on the solid path to the threshold, then the reset's elastic
+        // energy at θ (strain ε_c before, ε_a after), then f's drop on the rest of the path.
+        let f = |phi: f64, eps: f64| params.free_energy_pa(phi, eps, a_mid);
+        book.landau_pa = f(phi0, eps_eff) - f(thr, eps_eff);
+        book.reset_pa = 0.5 * params.a_pa * ys * (eps_c * eps_c - eps_a * eps_a);
         if film.regrows(thr, c_a) {
             let eps_b = ((1.0 - theta) * dx - (u3d + du3d)) / h0;
             let lambda = film.rate(c_a, thr, thr * thr);
             let eps_rest = eps_a + linear_forcing_weight(lambda * rest_s) * (eps_b - eps_a);
             let phi2 = film.step(thr, eps_rest, a_mid, rest_s);
             let u0_end = if phi2 >= thr { (1.0 - theta) * dx } else { 0.0 };
+            book.landau_pa += f(thr, eps_rest) - f(phi2, eps_rest);
+            if phi2 < thr {
+                book.held_m = (1.0 - theta) * dx;
+            }
             let path = (thr, eps_rest, theta * dt_s, rest_s);
             (phi2, u0_end, Some(theta), path)
         } else {
             let phi2 = film.step(thr, eps_a, a_mid, rest_s);
+            book.landau_pa += f(thr, eps_a) - f(phi2, eps_a);
+            book.held_m = (1.0 - theta) * dx;
             (phi2, 0.0, Some(theta), (thr, eps_a, theta * dt_s, rest_s))
         }
     }
@@ -550,77 +625,6 @@ impl<F: Film> Accurate<F> {
                     }
                 }
             }
-        }
-    }
-}
-
-/// The quadratic prediction of u3D is used only where its bend is at least this many times
-/// the coupling solve's absolute residual floor (`Problem::coupling_abs_rms_m`): u3D is
-/// solved only to that floor, and the quadratic through three such values amplifies their
-/// noise about fourfold. Measured with the ramp step: the SFA contact (sfa.toml, 0 → 0.11 s,
-/// its long stick on the h0 = 1 nm film) in 6646 + 1266 rejected steps against 18 056 + 2989
-/// without this condition and 7267 + 720 with the linear prediction alone; fig2 (N = 2000) in
-/// 1486 + 168 against 2948 + 58 with the linear one alone.
-const BEND_NOISE_FACTOR: f64 = 3.0;
-
-/// The substrate's displacement change over the coming step, per node, from its last values:
-/// the quadratic through the last three (u3D's error O(Δt³), so the strain the film steps
-/// under is off by O(Δt³) and the error estimate's end-strain part is that small where u3D
-/// is smooth), or the linear one through the last two where the quadratic's bend is more
-/// than half the linear change — in a melting cascade, where u3D's history has kinks the
-/// quadratic would throw forward — or below [`BEND_NOISE_FACTOR`] times the coupling's
-/// residual floor (noise), and where there is no history yet. Fixed steps keep the
-/// linear one: no error estimate rejects a step whose quadratic overshoots a kink there (the
-/// hard case of fig2 at Δt = 1 µs had its onsets 5.55 µs off the reference with it, beyond
-/// the case's 5·Δt), and their runs stay bit for bit what they were.
-struct SubstratePredictor {
-    /// The linear extrapolation's factor Δt/Δt_last on u − u_prev (0 without a last step).
-    ratio: f64,
-    /// Lagrange weights of the quadratic's change (u, u_prev, u_prev2), when three values
-    /// exist.
-    quadratic: Option<(f64, f64, f64)>,
-    /// The smallest bend of the quadratic that is taken as signal, m.
-    noise_m: f64,
-}
-
-impl SubstratePredictor {
-    fn new(memory: &super::state::StepperMemory, dt_s: f64, adaptive: bool, noise_m: f64) -> Self {
-        let (h_last, h_prev) = (memory.last_dt_s, memory.prev_dt_s);
-        let ratio = if h_last > 0.0 { dt_s / h_last } else { 0.0 };
-        let has_three = adaptive
-            && h_last > 0.0
-            && h_prev > 0.0
-            && memory.u3d_prev2_m.len() == memory.u3d_prev_m.len();
-        // Lagrange weights at t_n + x from t_n, t_n − a, t_n − b, less 1 on u: the change.
-        let (x, a, b) = (dt_s, h_last, h_last + h_prev);
-        let quadratic = has_three.then(|| {
-            (
-                (x + a) * (x + b) / (a * b) - 1.0,
-                -x * (x + b) / (a * (b - a)),
-                x * (x + a) / (b * (b - a)),
-            )
-        });
-        Self {
-            ratio,
-            quadratic,
-            noise_m,
-        }
-    }
-
-    #[inline(always)]
-    fn du3d(&self, u: f64, prev: f64, prev2: Option<f64>) -> f64 {
-        let linear = self.ratio * (u - prev);
-        match (self.quadratic, prev2) {
-            (Some((w0, w1, w2)), Some(prev2)) => {
-                let quadratic = w0 * u + w1 * prev + w2 * prev2;
-                let bend = (quadratic - linear).abs();
-                if bend <= 0.5 * linear.abs() && bend >= self.noise_m {
-                    quadratic
-                } else {
-                    linear
-                }
-            }
-            _ => linear,
         }
     }
 }

@@ -2,6 +2,7 @@
 //! the noise generators' positions kept in the state (so that a checkpoint resumes the same
 //! random numbers), the state checked, and the events observed ([`super::watch`]).
 
+use super::books;
 use super::problem::Problem;
 use super::stepper::{StepReport, Stepper};
 use super::{NumericalFailure, SimState, watch};
@@ -24,6 +25,7 @@ impl Engine {
         state: &mut SimState,
         dt_s: f64,
     ) -> Result<StepReport, NumericalFailure> {
+        let start = books::StepStart::of(&self.problem, &state.physical);
         let report = self
             .stepper
             .step(&self.problem, state, &mut self.noise, dt_s)?;
@@ -33,7 +35,11 @@ impl Engine {
             self.noise.write_state(&mut state.physical.noise);
         }
         watch::check_state(&self.problem, state)?;
-        watch::observe_events(&self.problem, state, &report);
+        let books = (
+            books::step_flows(&self.problem, &start, &state.physical, &report.sinks),
+            books::stored(&self.problem, &state.physical),
+        );
+        watch::observe_events(&self.problem, state, &report, books);
         Ok(report)
     }
 }

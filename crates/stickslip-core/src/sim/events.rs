@@ -33,6 +33,7 @@
 //! tracker also counts the time during which no node was solid after the first onset, for
 //! the `sliding` regime.
 
+use super::energy::{EnergyBooks, EnergyFlows, StoredEnergy};
 use serde::{Deserialize, Serialize};
 
 pub use crate::config::EventConfig;
@@ -71,6 +72,41 @@ pub struct MeltingEvent {
     /// Area fraction of the contact that melted at least once during the event (1 when the
     /// front reached the axis): converges as Δt → 0, unlike the instantaneous fraction.
     pub melted_area: f64,
+    /// The energy books from this onset to the next one (or the end of the run); `None` for a
+    /// run resumed from a checkpoint written before the books existed.
+    #[serde(default)]
+    pub energy: Option<CycleEnergy>,
+}
+
+/// The energy books over one cycle, from an onset (located inside its step, the books
+/// interpolated linearly there) to the next onset or the end of the run, J.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct CycleEnergy {
+    /// The flows over the cycle (drive, temperature, noise, and each sink).
+    pub flows: EnergyFlows,
+    /// The change of the stored energy over the cycle, J.
+    pub stored_change_j: f64,
+    /// in − sinks − stored change over the cycle, J (see [`super::energy`]).
+    pub residual_j: f64,
+}
+
+impl CycleEnergy {
+    /// The cycle from the books `start` to `end` (each: flows since t = 0, stored energy).
+    #[must_use]
+    pub fn between(start: &(EnergyFlows, StoredEnergy), end: &(EnergyFlows, StoredEnergy)) -> Self {
+        let flows = end.0.plus_scaled(&start.0, -1.0);
+        Self {
+            flows,
+            stored_change_j: end.1.total_j() - start.1.total_j(),
+            residual_j: super::energy::residual_j(&flows, &start.1, &end.1),
+        }
+    }
+
+    /// Every sink together over the cycle, J.
+    #[must_use]
+    pub fn dissipated_j(&self) -> f64 {
+        self.flows.dissipated_j()
+    }
 }
 
 /// What the tracker needs from one step.
@@ -113,6 +149,10 @@ pub struct StepSample {
     /// The unstrained solid film φ_eq now: √(A(t)/a) (0 when A ≤ 0), or the first-order film's
     /// φ₊(0) (0 when no solid branch exists).
     pub phi_eq: f64,
+    /// The energy books' flows over the step (zero for the initial state), J.
+    pub energy_step: EnergyFlows,
+    /// The energy stored at `t_s`, J.
+    pub stored: StoredEnergy,
 }
 
 /// Running sums of the open cycle (from the last onset on).
@@ -144,6 +184,12 @@ pub struct EventTracker {
     /// Time and force of the step before the previous one (t_end is located no earlier).
     prev_t_s: f64,
     prev_f_n: f64,
+    /// The energy books since t = 0; `None` when resumed from a checkpoint without them.
+    #[serde(default)]
+    books: Option<EnergyBooks>,
+    /// The books at the open cycle's onset (flows since t = 0, stored energy).
+    #[serde(default)]
+    cycle_books: Option<(EnergyFlows, StoredEnergy)>,
 }
 
 /// Field by field, so that `clone_from` reuses the event list's buffer (see `SimState`).
@@ -161,6 +207,8 @@ impl Clone for EventTracker {
             no_solid_s,
             prev_t_s,
             prev_f_n,
+            books,
+            cycle_books,
         } = self;
         Self {
             config: *config,
@@ -174,6 +222,8 @@ impl Clone for EventTracker {
             no_solid_s: *no_solid_s,
             prev_t_s: *prev_t_s,
             prev_f_n: *prev_f_n,
+            books: *books,
+            cycle_books: *cycle_books,
         }
     }
 
@@ -190,6 +240,8 @@ impl Clone for EventTracker {
             no_solid_s,
             prev_t_s,
             prev_f_n,
+            books,
+            cycle_books,
         } = source;
         self.config = *config;
         self.events.clone_from(events);
@@ -202,6 +254,8 @@ impl Clone for EventTracker {
         self.no_solid_s = *no_solid_s;
         self.prev_t_s = *prev_t_s;
         self.prev_f_n = *prev_f_n;
+        self.books = *books;
+        self.cycle_books = *cycle_books;
     }
 }
 
@@ -221,6 +275,8 @@ impl EventTracker {
             no_solid_s: 0.0,
             prev_t_s: f64::NAN,
             prev_f_n: f64::NAN,
+            books: None,
+            cycle_books: None,
         }
     }
 
@@ -233,6 +289,22 @@ impl EventTracker {
     /// Feeds one step (or the initial state, with `t_s` = 0).
     pub fn observe(&mut self, s: &StepSample) {
         let dt = s.t_s - self.last_t_s;
+        let books_before = self.books;
+        match &mut self.books {
+            Some(b) if dt > 0.0 => {
+                b.flows = b.flows.plus_scaled(&s.energy_step, 1.0);
+                b.stored = s.stored;
+            }
+            Some(_) => {}
+            None if s.t_s == 0.0 && self.last_t_s == 0.0 && self.events.is_empty() => {
+                self.books = Some(EnergyBooks {
+                    flows: EnergyFlows::default(),
+                    stored: s.stored,
+                    stored_initial: s.stored,
+                });
+            }
+            None => {}
+        }
         if !self.events.is_empty() && dt > 0.0 {
             self.cycle.force_integral_ns += 0.5 * (self.last_f_n + s.f_n) * dt;
             self.cycle.duration_s += dt;
@@ -256,8 +328,21 @@ impl EventTracker {
                     ev.t_end_s = None;
                 }
             } else {
+                // The books at the onset, interpolated inside its step.
+                let at_onset = books_before.map(|b| {
+                    let w = if dt > 0.0 {
+                        ((s.first_melt_s - (s.t_s - dt)) / dt).clamp(0.0, 1.0)
+                    } else {
+                        1.0
+                    };
+                    (
+                        b.flows.plus_scaled(&s.energy_step, w),
+                        b.stored.lerp(&s.stored, w),
+                    )
+                });
                 // The step up to here belongs to the cycle that this onset closes.
-                self.write_cycle();
+                self.write_cycle(at_onset);
+                self.cycle_books = at_onset;
                 self.events.push(MeltingEvent {
                     k: self.events.len() + 1,
                     t_onset_s: s.first_melt_s,
@@ -271,6 +356,7 @@ impl EventTracker {
                     recovery: 0.0,
                     f_mean_n: 0.0,
                     melted_area: 0.0,
+                    energy: None,
                 });
                 self.f_max_since_onset_n = s.f_n;
                 self.cycle = CycleSums::default();
@@ -299,13 +385,19 @@ impl EventTracker {
                 ev.t_end_s = Some(t_end);
             }
         }
-        self.write_cycle();
+        self.write_cycle(self.books.map(|b| (b.flows, b.stored)));
     }
 
-    /// Copies the open cycle's statistics into the last event.
-    fn write_cycle(&mut self) {
+    /// Copies the open cycle's statistics into the last event, its energy books up to
+    /// `books_end`.
+    fn write_cycle(&mut self, books_end: Option<(EnergyFlows, StoredEnergy)>) {
         let cycle = self.cycle;
+        let energy = match (&self.cycle_books, &books_end) {
+            (Some(start), Some(end)) => Some(CycleEnergy::between(start, end)),
+            _ => None,
+        };
         if let Some(ev) = self.events.last_mut() {
+            ev.energy = energy;
             ev.recovery = cycle.recovery;
             ev.f_mean_n = if cycle.duration_s > 0.0 {
                 cycle.force_integral_ns / cycle.duration_s
@@ -331,6 +423,12 @@ impl EventTracker {
     #[must_use]
     pub fn is_open(&self) -> bool {
         self.open
+    }
+
+    /// The energy books since t = 0 (`None` when resumed from a checkpoint without them).
+    #[must_use]
+    pub fn books(&self) -> Option<&EnergyBooks> {
+        self.books.as_ref()
     }
 
     /// Time after the first onset during which no node was solid, s.
@@ -363,7 +461,50 @@ mod tests {
             swept_fraction: melted as f64 / 10.0,
             phi_mean: 1.0,
             phi_eq: 1.0,
+            energy_step: EnergyFlows::default(),
+            stored: StoredEnergy::default(),
         }
+    }
+
+    #[test]
+    fn a_cycles_energy_runs_from_its_onset_located_inside_its_step() {
+        let mut tr = EventTracker::new(EventConfig::default());
+        tr.observe(&sample(0.0, 0, 0));
+        // Each step of 1 s brings 1 J of drive work and 0.25 J of Landau dissipation, and
+        // stores the rest (stored = 0.75·t).
+        let step = EnergyFlows {
+            drive_work_j: 1.0,
+            landau_j: 0.25,
+            ..EnergyFlows::default()
+        };
+        for (t, melted) in [(1.0, 0), (2.0, 1), (3.0, 0), (4.0, 0)] {
+            let mut s = sample(t, melted, melted);
+            s.energy_step = step;
+            s.stored.spring_j = 0.75 * t;
+            if melted > 0 {
+                s.first_melt_s = 1.5;
+            }
+            tr.observe(&s);
+        }
+        let e = tr.events()[0].energy.expect("books from t = 0");
+        // From the located onset at 1.5 s to 4 s.
+        assert!((e.flows.drive_work_j - 2.5).abs() < 1e-12, "{e:?}");
+        assert!((e.dissipated_j() - 0.625).abs() < 1e-12, "{e:?}");
+        assert!((e.stored_change_j - 1.875).abs() < 1e-12, "{e:?}");
+        assert!(e.residual_j.abs() < 1e-12, "{e:?}");
+        let books = tr.books().expect("books");
+        assert!((books.flows.drive_work_j - 4.0).abs() < 1e-12);
+        assert!(books.residual_j().abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_tracker_restored_without_books_reports_none() {
+        // A checkpoint written before the books existed: no initial state is observed.
+        let mut tr = EventTracker::new(EventConfig::default());
+        tr.last_t_s = 1.0;
+        tr.observe(&sample(2.0, 1, 1));
+        assert!(tr.books().is_none());
+        assert!(tr.events()[0].energy.is_none());
     }
 
     #[test]

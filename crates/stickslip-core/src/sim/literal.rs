@@ -2,6 +2,7 @@
 //! of the elastic coupling, plain sums.
 
 use super::drive_step;
+use super::energy::StepSinks;
 use super::problem::{Contact, Problem};
 use super::stepper::{StepReport, Stepper};
 use super::{NumericalFailure, SimState};
@@ -9,15 +10,18 @@ use crate::config::Substrate;
 use crate::landau::{first_order, second_order_rhs};
 use crate::noise::NoiseSource;
 
-/// The paper's literal scheme, with its scratch: the stresses' transform for the lagged sweep.
+/// The paper's literal scheme, with its scratch: the stresses' transform for the lagged sweep,
+/// and φ at the step's start for the energy books.
 pub(super) struct Literal {
     q: Vec<f64>,
+    phi0: Vec<f64>,
 }
 
 impl Literal {
     pub fn new(problem: &Problem) -> Self {
         Self {
             q: vec![0.0; problem.nodes()],
+            phi0: vec![0.0; problem.nodes()],
         }
     }
 }
@@ -34,6 +38,7 @@ impl Stepper for Literal {
         let a_coeff = problem.config.temperature.a_coeff_pa(t0);
         let params = problem.config.lubricant;
         let thr = problem.config.melt_threshold;
+        self.phi0.clone_from(&state.physical.phi);
         for (was_solid, &phi) in state
             .events
             .melted_in_step
@@ -99,6 +104,7 @@ impl Stepper for Literal {
             });
         }
         noise.apply(&mut state.physical.phi, dt_s);
+        let landau_j = self.landau_j(problem, state, a_coeff);
         let (dx, anchor) = drive_step::open(
             problem,
             &mut state.physical.drive,
@@ -106,16 +112,12 @@ impl Stepper for Literal {
             None,
             dt_s,
         );
-        for i in 0..state.physical.phi.len() {
-            let melted = state.physical.phi[i] < thr;
-            let newly = melted && state.events.melted_in_step[i];
-            state.events.melted_in_step[i] = newly;
-            if newly {
-                state.events.last_melt_s[i] = t0 + dt_s;
-            }
-            let u0 = &mut state.physical.u0_m[i];
-            *u0 = if melted { 0.0 } else { *u0 + dx };
-        }
+        let reset_j = reset_u0(problem, state, dx, t0 + dt_s);
+        let sinks = StepSinks {
+            landau_j,
+            reset_j,
+            ..StepSinks::default()
+        };
         problem.update_strain_and_stress(&mut state.physical);
         // One lagged sweep: the substrate answers the stress just computed, for the next step.
         let p = &mut state.physical;
@@ -136,8 +138,55 @@ impl Stepper for Literal {
         }
         p.force_n = problem.force_3d_n(&p.tau_pa);
         drive_step::close(problem, &mut p.drive, p.force_n, None, (dt_s, &anchor));
-        Ok(StepReport::default())
+        Ok(StepReport {
+            sinks,
+            ..StepReport::default()
+        })
     }
+}
+
+impl Literal {
+    /// The books' Landau sink, J: f's drop over the step at the step's strain (the Euler
+    /// step's own form; the noise and the floor, applied before, at the same strain).
+    fn landau_j(&self, problem: &Problem, state: &SimState, a_coeff: f64) -> f64 {
+        let params = problem.config.lubricant;
+        let h0 = problem.config.contact.film_thickness_m;
+        let p = &state.physical;
+        let f = |phi: f64, eps: f64| params.free_energy_pa(phi, eps, a_coeff);
+        let mut sum = 0.0;
+        for (i, &w) in problem.energy_weights_m2.iter().enumerate() {
+            sum += w * (f(self.phi0[i], p.eps[i]) - f(p.phi[i], p.eps[i]));
+        }
+        h0 * sum
+    }
+}
+
+/// u0 after the stamp's advance `dx_m`: grown where the film is solid, reset to 0 where it has
+/// melted (once per step), with the melting recorded at `t_end_s`; the energy the resets
+/// removed, J: the elastic energy u0 + ΔX would have carried less that at u0 = 0 (the held
+/// advance is in it).
+fn reset_u0(problem: &Problem, state: &mut SimState, dx_m: f64, t_end_s: f64) -> f64 {
+    let thr = problem.config.melt_threshold;
+    let h0 = problem.config.contact.film_thickness_m;
+    let a = problem.config.lubricant.a_pa;
+    let mut reset_j = 0.0;
+    for i in 0..state.physical.phi.len() {
+        let melted = state.physical.phi[i] < thr;
+        let newly = melted && state.events.melted_in_step[i];
+        state.events.melted_in_step[i] = newly;
+        if newly {
+            state.events.last_melt_s[i] = t_end_s;
+        }
+        let p = &mut state.physical;
+        if melted {
+            let (u3d, y) = (p.u3d_m[i], p.phi[i] * p.phi[i]);
+            let (kept, reset) = ((p.u0_m[i] + dx_m - u3d) / h0, -u3d / h0);
+            reset_j +=
+                problem.energy_weights_m2[i] * h0 * 0.5 * a * y * (kept * kept - reset * reset);
+        }
+        p.u0_m[i] = if melted { 0.0 } else { p.u0_m[i] + dx_m };
+    }
+    reset_j
 }
 
 /// φ ← φ + Δt·rhs(φ, ε) at every node (explicit Euler); the first node where φ turned

@@ -32,9 +32,11 @@
 mod accurate;
 mod adaptive;
 mod advance;
+mod books;
 mod contact_spring;
 pub mod coupling;
 mod drive_step;
+pub mod energy;
 pub mod error_estimate;
 pub mod events;
 mod film;
@@ -190,7 +192,13 @@ impl Simulation {
             saved: None,
             observe_q: vec![0.0; n],
         };
-        watch::observe_events(&sim.engine.problem, &mut sim.state, &sim.report);
+        let stored = books::stored(&sim.engine.problem, &sim.state.physical);
+        watch::observe_events(
+            &sim.engine.problem,
+            &mut sim.state,
+            &sim.report,
+            (energy::EnergyFlows::default(), stored),
+        );
         Ok(sim)
     }
 

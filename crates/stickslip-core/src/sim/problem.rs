@@ -34,6 +34,9 @@ pub(super) struct Problem {
     pub radii_m: Vec<f64>,
     /// Area weights of the nodes, summing to 1.
     pub area_weights: Vec<f64>,
+    /// The weights of ∫·dA over the contact for the energy books (the force's quadrature,
+    /// F = Σ w_i·τ_i), m².
+    pub energy_weights_m2: Vec<f64>,
     /// κ = a/(h0·G*), 1/m: the coupling's scale per unit φ².
     pub kappa: f64,
     /// The solid film's φ at t = 0 (every node's first value).
@@ -110,11 +113,16 @@ impl Problem {
             contact,
             radii_m,
             area_weights,
+            energy_weights_m2: Vec::new(),
             kappa,
             phi_init,
             rho0: 0.0,
             contact_spring: std::sync::OnceLock::new(),
             flow_stiffness_n_per_m: 0.0,
+        };
+        problem.energy_weights_m2 = match &problem.contact {
+            Contact::Radial(ops) => ops.force_3d_weights_m2().to_vec(),
+            Contact::Homogeneous { area_m2, .. } => vec![*area_m2],
         };
         problem.rho0 = problem.contraction_with(&vec![phi_init * phi_init; n]);
         if matches!(problem.config.drive, Drive::Spring(_))

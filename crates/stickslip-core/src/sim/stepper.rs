@@ -8,6 +8,7 @@
 //! [`Stepper`] and one arm in `stepper_for` (`sim/mod.rs`); the implementations (`literal`, `accurate`)
 //! do not refer to each other.
 
+use super::energy::StepSinks;
 use super::problem::Problem;
 use super::{NumericalFailure, SimState};
 use crate::noise::NoiseSource;
@@ -42,6 +43,8 @@ pub struct StepReport {
     pub recovered_at_s: f64,
     /// The coupling solve's residual, root mean square over the nodes, m (0 without a solve).
     pub coupling_rms_m: f64,
+    /// The energy books' sinks the stepper computed from its own film step.
+    pub sinks: StepSinks,
 }
 
 impl Default for StepReport {
@@ -51,6 +54,7 @@ impl Default for StepReport {
             first_melt_fraction: 1.0,
             recovered_at_s: f64::NEG_INFINITY,
             coupling_rms_m: 0.0,
+            sinks: StepSinks::default(),
         }
     }
 }

@@ -207,6 +207,24 @@ impl Viscous {
         memory.mean_v_m_per_s = dx_m / dt_s;
     }
 
+    /// The film's viscous dissipation over the step just taken, J: η·r²/h0 = τ_v·r per area
+    /// (r = Ẋ − u̇3D = h0·τ_v/η) by the trapezoidal rule, from the start's rates and the end's
+    /// viscous stress τ − a·φ²·ε (after [`add_stress`](Self::add_stress)).
+    pub(super) fn loss_j(&self, problem: &Problem, state: &SimState, dt_s: f64) -> f64 {
+        let a = problem.config.lubricant.a_pa;
+        let h0 = problem.config.contact.film_thickness_m;
+        let p = &state.physical;
+        let mut sum = 0.0;
+        for (i, &w) in problem.energy_weights_m2.iter().enumerate() {
+            let tau_v1 = p.tau_pa[i] - a * p.phi[i] * p.phi[i] * p.eps[i];
+            let r1 = h0 * tau_v1 / self.eta_pa_s;
+            let r0 = self.rate_before[i];
+            let tau_v0 = self.eta_pa_s * r0 / h0;
+            sum += w * 0.5 * (tau_v0 * r0 + tau_v1 * r1);
+        }
+        sum * dt_s
+    }
+
     /// The local error in u3D of the step's viscous coupling, m, for the strain's part of the
     /// step error; keeps this step's start rates for the next one. The stamp's advance enters
     /// exactly and the film's relaxation r = Ẋ − u̇3D = h0·τ_v/η implicitly: for a step short

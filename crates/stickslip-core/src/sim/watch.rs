@@ -2,6 +2,7 @@
 //! running away, with advice that names the scene's keys), and the step's outcome handed to
 //! the event tracker ([`super::events`]).
 
+use super::energy::{EnergyFlows, StoredEnergy};
 use super::events::StepSample;
 use super::problem::Problem;
 use super::stepper::StepReport;
@@ -15,8 +16,14 @@ fn is_melted(problem: &Problem, state: &SimState, i: usize) -> bool {
 }
 
 /// Hands the event tracker what the step just taken ended with (`report`: what the stepper
-/// located inside it).
-pub(super) fn observe_events(problem: &Problem, state: &mut SimState, report: &StepReport) {
+/// located inside it; `energy`: the step's flows and the energy stored at its end, for the
+/// books).
+pub(super) fn observe_events(
+    problem: &Problem,
+    state: &mut SimState,
+    report: &StepReport,
+    energy: (EnergyFlows, StoredEnergy),
+) {
     let thr = problem.config.melt_threshold;
     let a_coeff = problem
         .config
@@ -109,6 +116,8 @@ pub(super) fn observe_events(problem: &Problem, state: &mut SimState, report: &S
         swept_fraction: swept,
         phi_mean,
         phi_eq,
+        energy_step: energy.0,
+        stored: energy.1,
     };
     state.events.tracker.observe(&sample);
 }

@@ -4,13 +4,14 @@ use super::csv::{NumericCsv, opt, write_cells, write_num, write_opt};
 use super::table::Table;
 use super::{Column, SchemaError};
 use std::io::{self, Write};
-use stickslip_core::sim::events::MeltingEvent;
+use stickslip_core::sim::energy::EnergyFlows;
+use stickslip_core::sim::events::{CycleEnergy, MeltingEvent};
 
 /// File name.
 pub const FILE: &str = "events.csv";
 
 /// Columns in file order.
-pub const COLUMNS: [Column; 12] = [
+pub const COLUMNS: [Column; 23] = [
     Column {
         name: "k",
         unit: "–",
@@ -71,7 +72,109 @@ pub const COLUMNS: [Column; 12] = [
         unit: "–",
         meaning: "area fraction that melted at least once during the event (1 when the front reached the axis)",
     },
+    Column {
+        name: "dissipated_energy",
+        unit: "J",
+        meaning: "every sink together from this onset to the next (or the end): landau + reset + sliding + viscous + dashpot (empty for a run resumed from a checkpoint without the energy books)",
+    },
+    Column {
+        name: "drive_work",
+        unit: "J",
+        meaning: "work of the drive on the stamp over the cycle",
+    },
+    Column {
+        name: "landau_energy",
+        unit: "J",
+        meaning: "the film's Landau dissipation γ·(∂f/∂φ)² over the cycle",
+    },
+    Column {
+        name: "reset_energy",
+        unit: "J",
+        meaning: "elastic energy removed by the u0 resets at the cycle's meltings",
+    },
+    Column {
+        name: "sliding_energy",
+        unit: "J",
+        meaning: "work of the stamp on melted nodes, whose u0 is held (small; can be negative)",
+    },
+    Column {
+        name: "viscous_energy",
+        unit: "J",
+        meaning: "the film's viscous dissipation (0 without lubricant.viscosity)",
+    },
+    Column {
+        name: "dashpot_energy",
+        unit: "J",
+        meaning: "the drive's dashpot dissipation (0 without drive.damping)",
+    },
+    Column {
+        name: "temperature_work",
+        unit: "J",
+        meaning: "free energy the film gained from the change of A(t) (0 at constant temperature)",
+    },
+    Column {
+        name: "noise_work",
+        unit: "J",
+        meaning: "free energy the phi floor or the noise added to the film",
+    },
+    Column {
+        name: "stored_energy_change",
+        unit: "J",
+        meaning: "change of the energy stored in spring, stamp, film and substrate over the cycle",
+    },
+    Column {
+        name: "energy_residual",
+        unit: "J",
+        meaning: "drive_work + temperature_work + noise_work − dissipated_energy − stored_energy_change: the books' error (time stepping and the discrete operators)",
+    },
 ];
+
+/// Columns a file written before the energy books existed has (they read as none there).
+const COLUMNS_BEFORE_ENERGY: usize = 12;
+
+/// The energy columns of one event, in file order (NaN without books).
+fn energy_cells(e: &MeltingEvent) -> [f64; 11] {
+    match &e.energy {
+        None => [f64::NAN; 11],
+        Some(c) => {
+            let f = &c.flows;
+            [
+                c.dissipated_j(),
+                f.drive_work_j,
+                f.landau_j,
+                f.reset_j,
+                f.sliding_j,
+                f.viscous_j,
+                f.dashpot_j,
+                f.temperature_work_j,
+                f.noise_work_j,
+                c.stored_change_j,
+                c.residual_j,
+            ]
+        }
+    }
+}
+
+/// The books from the energy cells (none when any is empty).
+fn energy_from_cells(r: &[f64]) -> Option<CycleEnergy> {
+    if r.len() < 11 || r[..11].iter().any(|v| v.is_nan()) {
+        return None;
+    }
+    Some(CycleEnergy {
+        flows: EnergyFlows {
+            drive_work_j: r[1],
+            landau_j: r[2],
+            reset_j: r[3],
+            sliding_j: r[4],
+            viscous_j: r[5],
+            dashpot_j: r[6],
+            temperature_work_j: r[7],
+            noise_work_j: r[8],
+        },
+        stored_change_j: r[9],
+        residual_j: r[10],
+    })
+}
 
 /// Columns a file written before `melted_area` existed has (it reads as NaN there).
 const COLUMNS_BEFORE_MELTED_AREA: usize = 11;
@@ -108,7 +211,7 @@ impl Events {
     /// The columns in file order, by name (`k` as a float; none as NaN).
     #[must_use]
     pub fn columns(&self) -> Vec<(&'static str, Vec<f64>)> {
-        let get: [fn(&MeltingEvent) -> f64; 12] = [
+        let get: [fn(&MeltingEvent) -> f64; 23] = [
             |e| e.k as f64,
             |e| e.t_onset_s,
             |e| e.r_first_m,
@@ -121,6 +224,17 @@ impl Events {
             |e| e.recovery,
             |e| e.f_mean_n,
             |e| e.melted_area,
+            |e| energy_cells(e)[0],
+            |e| energy_cells(e)[1],
+            |e| energy_cells(e)[2],
+            |e| energy_cells(e)[3],
+            |e| energy_cells(e)[4],
+            |e| energy_cells(e)[5],
+            |e| energy_cells(e)[6],
+            |e| energy_cells(e)[7],
+            |e| energy_cells(e)[8],
+            |e| energy_cells(e)[9],
+            |e| energy_cells(e)[10],
         ];
         COLUMNS
             .iter()
@@ -148,6 +262,12 @@ impl Table for Events {
                 w.write_all(b",")?;
                 write_num(w, v)?;
             }
+            for v in energy_cells(e) {
+                w.write_all(b",")?;
+                if !v.is_nan() {
+                    write_num(w, v)?;
+                }
+            }
             w.write_all(b"\n")?;
         }
         Ok(())
@@ -162,6 +282,8 @@ impl Table for Events {
             .get(COLUMNS_BEFORE_MELTED_AREA)
             .map(String::as_str)
             == Some(names[COLUMNS_BEFORE_MELTED_AREA]);
+        let has_energy = csv.header.get(COLUMNS_BEFORE_ENERGY).map(String::as_str)
+            == Some(names[COLUMNS_BEFORE_ENERGY]);
         let events = csv
             .rows
             .iter()
@@ -187,6 +309,11 @@ impl Table for Events {
                     recovery: r[9],
                     f_mean_n: r[10],
                     melted_area: if has_melted_area { r[11] } else { f64::NAN },
+                    energy: if has_energy {
+                        energy_from_cells(&r[COLUMNS_BEFORE_ENERGY..])
+                    } else {
+                        None
+                    },
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;

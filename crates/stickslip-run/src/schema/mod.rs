@@ -186,7 +186,12 @@ pub fn markdown() -> String {
          melted_time_fraction, regime, steady, n_slips, stamp_regime, and `cycles`: \
          `settled_from`, `slip_drop` and, for `meltings` and for `slips`, `count` and \
          `interval`, `peak`, `drop`, `advance` (each `{n, median, mean, min, max, cv}` or \
-         null) and `f_mean`) and, only for a run resumed from another build's \
+         null) and `f_mean`; `energy_per_cycle`: the energy dissipated over the last complete \
+         cycle, J; `energy`: the energy books of the whole run, J: `flows` (`drive_work_j`, \
+         `temperature_work_j`, `noise_work_j`, and the sinks `landau_j`, `reset_j`, \
+         `sliding_j`, `viscous_j`, `dashpot_j`), `stored_change_j` (spring, stamp, film and \
+         substrate) and `residual_j` (in − sinks − stored change; docs/model.md#the-energy-books)) \
+         and, only for a run resumed from another build's \
          checkpoint, `resumed_across_builds` (`[{checkpoint_build, build}, …]`, one per such \
          resume).\n",
     );

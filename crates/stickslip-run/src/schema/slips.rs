@@ -1,7 +1,7 @@
 //! slips.csv: one row per slip of the stamp (docs/model.md#two-scales-meltings-and-slips; the
 //! columns of docs/reference.md, section slips.csv).
 
-use super::csv::{NumericCsv, write_cells};
+use super::csv::{NumericCsv, opt, write_cells, write_opt};
 use super::table::Table;
 use super::{Column, SchemaError};
 use crate::slips::Slip;
@@ -11,7 +11,7 @@ use std::io::{self, Write};
 pub const FILE: &str = "slips.csv";
 
 /// Columns in file order.
-pub const COLUMNS: [Column; 11] = [
+pub const COLUMNS: [Column; 12] = [
     Column {
         name: "k",
         unit: "–",
@@ -67,7 +67,15 @@ pub const COLUMNS: [Column; 11] = [
         unit: "–",
         meaning: "meltings inside the slip: the one that set it off (the last onset at or before t_start after the previous slip) and every onset up to t_end",
     },
+    Column {
+        name: "dissipated_energy",
+        unit: "J",
+        meaning: "energy dissipated from t_start to t_end, every sink of the energy books (events.csv: landau_energy … dashpot_energy); empty for a slip that began before a resume from a checkpoint without the books",
+    },
 ];
+
+/// Columns a file written before the energy books existed has.
+const COLUMNS_BEFORE_ENERGY: usize = 11;
 
 /// slips.csv.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -83,7 +91,7 @@ impl Slips {
     /// The columns in file order, by name (`k` and `meltings` as floats).
     #[must_use]
     pub fn columns(&self) -> Vec<(&'static str, Vec<f64>)> {
-        let get: [fn(&Slip) -> f64; 11] = [
+        let get: [fn(&Slip) -> f64; 12] = [
             |s| s.k as f64,
             |s| s.t_start_s,
             |s| s.t_end_s,
@@ -95,6 +103,7 @@ impl Slips {
             Slip::jump_m,
             Slip::duration_s,
             |s| s.meltings as f64,
+            |s| s.dissipated_energy_j,
         ];
         COLUMNS
             .iter()
@@ -128,7 +137,9 @@ impl Table for Slips {
                     s.duration_s(),
                 ],
             )?;
-            writeln!(w, ",{}", s.meltings)?;
+            write!(w, ",{}", s.meltings)?;
+            write_opt(w, opt(s.dissipated_energy_j))?;
+            writeln!(w)?;
         }
         Ok(())
     }
@@ -136,7 +147,9 @@ impl Table for Slips {
     /// The derived columns are recomputed, not read.
     fn from_csv(csv: NumericCsv) -> Result<Self, SchemaError> {
         let names: Vec<&str> = COLUMNS.iter().map(|c| c.name).collect();
-        csv.expect_header(&names, FILE)?;
+        csv.expect_header(&names[..COLUMNS_BEFORE_ENERGY], FILE)?;
+        let has_energy = csv.header.get(COLUMNS_BEFORE_ENERGY).map(String::as_str)
+            == Some(names[COLUMNS_BEFORE_ENERGY]);
         let count = |v: f64, what: &str, line: usize| {
             if v >= 0.0 && v.fract() == 0.0 {
                 Ok(v as usize)
@@ -162,6 +175,11 @@ impl Table for Slips {
                     x_start_m: r[6],
                     x_end_m: r[7],
                     meltings: count(r[10], "meltings", i + 2)?,
+                    dissipated_energy_j: if has_energy {
+                        r[COLUMNS_BEFORE_ENERGY]
+                    } else {
+                        f64::NAN
+                    },
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
@@ -185,6 +203,7 @@ mod tests {
                 x_start_m: 1e-7,
                 x_end_m: 1.1e-6,
                 meltings: 78,
+                dissipated_energy_j: 1.25e-10,
             },
             Slip {
                 k: 2,
@@ -195,6 +214,7 @@ mod tests {
                 x_start_m: 1.2e-6,
                 x_end_m: 2.0e-6,
                 meltings: 56,
+                dissipated_energy_j: 1.25e-10,
             },
         ]);
         let mut text = Vec::new();
@@ -202,7 +222,15 @@ mod tests {
         let text = String::from_utf8(text).unwrap();
         assert_eq!(Slips::parse(&text).unwrap(), slips);
         assert_eq!(slips.columns()[5].1[0], slips.0[0].drop_n());
-        let bad = text.replace(",78\n", ",7.5\n");
+        let bad = text.replace(",78,", ",7.5,");
         assert!(Slips::parse(&bad).unwrap_err().message.contains("meltings"));
+        // A file written before the energy column reads its slips without energy.
+        let old: String = text
+            .lines()
+            .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+            .collect();
+        let read = Slips::parse(&old).unwrap();
+        assert!(read.0.iter().all(|s| s.dissipated_energy_j.is_nan()));
+        assert_eq!(read.0[1].meltings, 56);
     }
 }

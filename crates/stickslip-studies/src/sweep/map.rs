@@ -5,8 +5,8 @@
 //! `n_events`, `t_first_onset`, `period_last`, `x_period_last`, `f_peak_first`,
 //! `f_peak_last`, `f_mean`, `recovery`, `melted_time_fraction`, `wall_s`, `message` (quoted),
 //! `steady`, `level`, `stamp_regime`, `n_slips`, `slip_interval_median`,
-//! `melting_interval_median` (the columns after `message` appended later, in this order:
-//! files without them still read).
+//! `melting_interval_median`, `energy_per_cycle` (the columns after `message` appended later,
+//! in this order: files without them still read).
 //! Numbers in shortest round-trip `{:e}` form; an empty cell is "no value".
 
 use super::record::{PointRecord, PointStatus};
@@ -53,6 +53,14 @@ pub const STAMP_COLUMNS: [Column; 4] = [
         meaning: "median time between meltings over the settled part",
     },
 ];
+
+/// The last column, after the stamp's scale: the energy dissipated over the last complete
+/// cycle (run.json's `summary.energy_per_cycle`).
+pub const ENERGY_COLUMN: Column = Column {
+    name: "energy_per_cycle",
+    unit: "J",
+    meaning: "energy dissipated over the last complete cycle (every sink of the energy books)",
+};
 
 /// The summary columns after the axes and status, in order.
 pub const SUMMARY_COLUMNS: [Column; 11] = [
@@ -177,6 +185,7 @@ impl MapRow {
             "n_slips" => Some(s.n_slips as f64),
             "slip_interval_median" => self.slip_interval_median,
             "melting_interval_median" => self.melting_interval_median,
+            "energy_per_cycle" => s.energy_per_cycle,
             _ => None,
         };
         v.unwrap_or(f64::NAN)
@@ -243,6 +252,7 @@ impl MapTable {
         h.push(STEADY_COLUMN.into());
         h.push(LEVEL_COLUMN.into());
         h.extend(STAMP_COLUMNS.iter().map(|c| c.name.to_string()));
+        h.push(ENERGY_COLUMN.name.into());
         h
     }
 
@@ -278,6 +288,7 @@ impl MapTable {
             cells.push(s.n_slips.to_string());
             cells.push(num(r.slip_interval_median));
             cells.push(num(r.melting_interval_median));
+            cells.push(num(s.energy_per_cycle));
             out.push_str(&cells.join(","));
             out.push('\n');
         }
@@ -292,12 +303,13 @@ impl MapTable {
         let bad = |line: usize, m: String| SchemaError::new(CSV_FILE, Some(line), m);
         let mut lines = text.lines();
         let header = cells(lines.next().ok_or_else(|| bad(1, "empty file".into()))?);
-        // Columns appended after `message`, in this order: `steady`, `level`, then the stamp's
-        // scale. A map.csv written before them reads as not steady, at level 0, without a
-        // stamp-scale regime, with no slips.
+        // Columns appended after `message`, in this order: `steady`, `level`, the stamp's
+        // scale, the energy per cycle. A map.csv written before them reads as not steady, at
+        // level 0, without a stamp-scale regime, with no slips and no energy.
         let appended: Vec<&str> = [STEADY_COLUMN, LEVEL_COLUMN]
             .into_iter()
             .chain(STAMP_COLUMNS.iter().map(|c| c.name))
+            .chain([ENERGY_COLUMN.name])
             .collect();
         let n_appended = (0..=appended.len())
             .rev()
@@ -305,7 +317,8 @@ impl MapTable {
             .unwrap_or(0);
         let has_steady = n_appended >= 1;
         let has_level = n_appended >= 2;
-        let has_stamp = n_appended == appended.len();
+        let has_stamp = n_appended >= 2 + STAMP_COLUMNS.len();
+        let has_energy = n_appended == appended.len();
         let fixed = 1 + 1 + SUMMARY_COLUMNS.len() + 1 + n_appended;
         if header.len() < fixed || header[0] != "point" {
             return Err(bad(1, format!("header {header:?}")));
@@ -372,6 +385,8 @@ impl MapTable {
                         _ => None,
                     },
                     cycles: None,
+                    energy_per_cycle: if has_energy { f(base + 19)? } else { None },
+                    energy: None,
                 },
                 wall_s: f(base + 11)?.unwrap_or(f64::NAN),
                 message: c[base + 12].clone(),

@@ -2,7 +2,7 @@
 //! regime rules, written from the definitions they describe (the thresholds' defaults, the
 //! summary columns, the point limit), so the reference cannot drift from the code.
 
-use super::map::{LEVEL_COLUMN, SUMMARY_COLUMNS};
+use super::map::{ENERGY_COLUMN, LEVEL_COLUMN, STAMP_COLUMNS, SUMMARY_COLUMNS};
 use super::record::PointStatus;
 use super::refine::{MAX_AXES, ON_REGIME};
 use super::{HARD_MAX_POINTS, MAX_POINTS};
@@ -150,6 +150,9 @@ pub fn markdown() -> String {
          every point of a sweep without `[refine]`), k for the points of cells split k times (a \
          map.csv without this column reads as 0) |\n"
     ));
+    for c in STAMP_COLUMNS.iter().chain(std::iter::once(&ENERGY_COLUMN)) {
+        out.push_str(&format!("| `{}` | {} | {} |\n", c.name, c.unit, c.meaning));
+    }
 
     out.push_str(
         "\n### Regimes\n\nDecided in this order (R: the largest area-weighted ⟨φ⟩/√(A/a) (the \
