@@ -19,7 +19,9 @@
 //! the independent implementation of `validation/independent/` (Python) beside stickslip and
 //! compares their converged values; [`margins`] gives each claim's margin to its threshold;
 //! [`sensitivity`] reruns the scenes of C4, C5 and C13 with
-//! the melting threshold or the φ floor changed; [`staleness`] lists committed reports whose
+//! the melting threshold or the φ floor changed; [`energy`] checks the energy books (fig2 at
+//! its defaults, the residual's orders in Δt, the tolerance and N) and writes
+//! `reports/energy.json` and its figure; [`staleness`] lists committed reports whose
 //! sources changed since the commit they record; [`validate`] ties it together.
 //!
 //! Invariants: the claims read output files only (through the schema; C11's loop takes only the
@@ -30,6 +32,7 @@
 
 pub mod claims;
 pub mod claims_first_order;
+pub mod energy;
 pub mod events_rule;
 pub mod facts;
 pub mod figures;

@@ -86,6 +86,8 @@ pub struct Outcome<'a> {
     pub independent: Option<&'a Result<crate::independent::Comparison, String>>,
     /// The claims' sensitivity to the melting threshold and the φ floor.
     pub sensitivity: &'a [crate::sensitivity::Row],
+    /// The energy books' checks.
+    pub energy: &'a crate::energy::EnergyCheck,
 }
 
 fn round(x: f64, digits: i32) -> f64 {
@@ -144,6 +146,11 @@ pub fn summary_json(o: &Outcome<'_>) -> Value {
         })),
         "event_rule": events_rule::to_json(o.event_rule),
         "verify_check": verify_check::to_json(o.verify_check),
+        "energy_books": json!({
+            "passes": o.energy.passes(),
+            "i3_bound_holds": o.energy.i3_bound_holds(),
+            "orders_hold": o.energy.orders_hold(),
+        }),
         "reduced": match &o.reduced {
             Ok(f) => json!(f),
             Err(e) => json!({ "error": e }),
@@ -387,6 +394,7 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
         None => {}
     }
     s.push_str(&crate::sensitivity::markdown(o.sensitivity));
+    s.push_str(&crate::energy::markdown(o.energy));
     let _ = writeln!(s, "## Melting events: what the event rule changes\n");
     let (k, gap) = o.runs.get("fig2").map_or((f64::NAN, f64::NAN), |r| {
         (

@@ -28,6 +28,9 @@ pub struct Options {
     /// Only run the comparison with the independent implementation and write
     /// `reports/independent.json` and its figure (`--independent-only`).
     pub independent_only: bool,
+    /// Only run the energy books' checks and write `reports/energy.json` and its figure
+    /// (`--energy-only`).
+    pub energy_only: bool,
 }
 
 /// Runs the validation. `Ok(true)` when every claim passes and verify covers every known error
@@ -57,10 +60,30 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         print!("{}", crate::independent::report::markdown(&comparison));
         return Ok(comparison.all_agree());
     }
+    if opts.energy_only {
+        let runner = Runner::new(bin.clone(), root.clone(), out_root);
+        let results = run_all_with(
+            &runner,
+            &scenes,
+            crate::energy::specs(),
+            Vec::new(),
+            opts.jobs,
+        );
+        let mut runs = Runs::default();
+        for (name, r) in &results {
+            runs.map.insert(name.clone(), r.output());
+        }
+        let energy = crate::energy::evaluate(&runs);
+        let mut files = ReportFiles::create(&root.join("reports"))?;
+        write_energy(&mut files, &energy)?;
+        print!("{}", crate::energy::markdown(&energy));
+        return Ok(energy.passes());
+    }
     // The verify check's references first: the sfa one is the longest run.
     let mut specs = crate::verify_check::reference_specs();
     specs.extend(specs_list());
     specs.extend(crate::sensitivity::specs());
+    specs.extend(crate::energy::specs());
     println!(
         "validate: {} runs and {} verify runs, {} at a time, outputs in {}",
         specs.len(),
@@ -83,6 +106,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     claims.extend(crate::claims_first_order::evaluate(&runs));
     let sensitivity = crate::sensitivity::evaluate(&runs);
     crate::sensitivity::annotate(&mut claims, &sensitivity);
+    let energy = crate::energy::evaluate(&runs);
     let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
     let verify_check = crate::verify_check::evaluate(&verify_runs, &runs);
     // Not under --check: summary.json does not hold it, and it takes minutes.
@@ -102,6 +126,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         verify_check: &verify_check,
         independent: independent.as_ref(),
         sensitivity: &sensitivity,
+        energy: &energy,
     };
     let summary = summary_json(&outcome);
     println!("\nclaims:\n{}", claims_table_text(&claims));
@@ -114,6 +139,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     // converged).
     let all_pass = claims.iter().all(|c| c.pass)
         && crate::verify_check::all_covered(&verify_check)
+        && energy.passes()
         && independent.as_ref().is_none_or(|c| {
             c.as_ref()
                 .is_ok_and(crate::independent::Comparison::all_agree)
@@ -159,6 +185,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     if let Some(Ok(c)) = &independent {
         write_independent(&mut files, c)?;
     }
+    write_energy(&mut files, &energy)?;
     match crate::figures::margins_svg(&claims) {
         Ok(svg) => files.put(crate::figures::MARGINS_SVG, svg)?,
         Err(e) => println!("figure {} not drawn: {e}", crate::figures::MARGINS_SVG),
@@ -214,6 +241,21 @@ fn write_independent(
                 "figure {} not drawn: {e}",
                 crate::independent::report::FIGURE
             );
+            Ok(())
+        }
+    }
+}
+
+/// reports/energy.json and the energy books' figure.
+fn write_energy(
+    files: &mut ReportFiles,
+    energy: &crate::energy::EnergyCheck,
+) -> Result<(), String> {
+    files.put_json("energy.json", energy)?;
+    match crate::energy::figure(energy) {
+        Ok(svg) => files.put(crate::energy::FIGURE, svg),
+        Err(e) => {
+            println!("figure {} not drawn: {e}", crate::energy::FIGURE);
             Ok(())
         }
     }

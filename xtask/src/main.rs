@@ -32,6 +32,9 @@ Commands:
       --independent-only  only compare with the independent implementation
                 (validation/independent/, NumPy and SciPy in target/python-venv) and write
                 reports/independent.{json,svg}; exits 1 if a quantity disagrees
+      --energy-only  only run the energy books' checks and write
+                reports/energy.{json} and energy_books.svg (index.md's section is written by a
+                full run); exits 1 if a target is not met
   convergence   run the full convergence study (crate stickslip-convergence, release build)
                 and write reports/convergence.{md,json} and reports/convergence_*.svg;
                 options are passed on (`cargo xtask convergence --help`)
@@ -83,6 +86,7 @@ fn validate(args: &[String]) -> ExitCode {
         hard_only: false,
         python: None,
         independent_only: false,
+        energy_only: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -90,6 +94,7 @@ fn validate(args: &[String]) -> ExitCode {
             "--check" => opts.check = true,
             "--hard-only" => opts.hard_only = true,
             "--independent-only" => opts.independent_only = true,
+            "--energy-only" => opts.energy_only = true,
             "--jobs" => match it.next().and_then(|v| v.parse::<usize>().ok()) {
                 Some(n) if n > 0 => opts.jobs = n,
                 _ => {

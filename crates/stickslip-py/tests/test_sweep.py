@@ -86,6 +86,12 @@ def test_columns_and_types(table: dict) -> None:
     assert table["stamp_regime"][0] == "steady_sliding" and table["n_slips"][0] == 0
     for name in ("slip_interval_median", "melting_interval_median"):
         assert table[name].dtype == np.float64
+    # The energy dissipated over the last complete cycle: a number where two or more events
+    # give one, none (NaN) where there is no complete cycle.
+    energy = table["energy_per_cycle"]
+    cycles = table["n_events"] >= 2
+    assert cycles.any() and np.all(energy[cycles] > 0)
+    assert np.all(np.isnan(energy[~cycles]))
 
 
 def test_same_numbers_as_the_cli(table: dict, sweep_file: Path, cli: Path, tmp_path: Path) -> None:
