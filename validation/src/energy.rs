@@ -17,6 +17,8 @@ use std::fmt::Write as _;
 use stickslip_core::sim::events::CycleEnergy;
 use stickslip_report::palette::PALETTE;
 use stickslip_report::plot::{Marker, Panel, Series, render_svg};
+use stickslip_run::keys::words::Stepping;
+use stickslip_run::keys::{Setting, drive, output, time};
 
 /// The figure's file in reports/.
 pub const FIGURE: &str = "energy_books.svg";
@@ -41,8 +43,13 @@ struct Study {
     levels: &'static [f64],
     /// Whether the levels are node counts (refinement: N grows) or steps/tolerances (they fall).
     nodes: bool,
-    /// The other keys.
-    sets: &'static [&'static str],
+    /// The keys set at a level (the refined one among them, unless it is the node count).
+    sets: fn(f64) -> Vec<Setting>,
+}
+
+/// fig2 to a little after its second onset: one complete cycle.
+fn fig2_short() -> Vec<Setting> {
+    vec![time::END.set(8e-4), output::PROFILE_TIMES.set(vec![8e-4])]
 }
 
 const STUDIES: [Study; 4] = [
@@ -52,11 +59,11 @@ const STUDIES: [Study; 4] = [
         refined: "time.dt",
         levels: &[8e-8, 4e-8, 2e-8, 1e-8],
         nodes: false,
-        sets: &[
-            "time.stepping=fixed",
-            "time.end=8e-4",
-            "output.profile_times=[8e-4]",
-        ],
+        sets: |dt| {
+            let mut v = fig2_short();
+            v.extend([time::STEPPING.set(Stepping::Fixed), time::DT.set(dt)]);
+            v
+        },
     },
     Study {
         key: "rigid_dt",
@@ -64,13 +71,16 @@ const STUDIES: [Study; 4] = [
         refined: "time.dt",
         levels: &[4e-9, 2e-9, 1e-9, 5e-10],
         nodes: false,
-        sets: &[
-            "time.stepping=fixed",
-            "drive.velocity=1.0",
-            "time.end=2e-5",
-            "output.profile_times=[2e-5]",
-            "output.probe_radii=[]",
-        ],
+        sets: |dt| {
+            vec![
+                time::STEPPING.set(Stepping::Fixed),
+                time::DT.set(dt),
+                drive::VELOCITY.set(1.0),
+                time::END.set(2e-5),
+                output::PROFILE_TIMES.set(vec![2e-5]),
+                output::PROBE_RADII.set(Vec::new()),
+            ]
+        },
     },
     Study {
         key: "fig2_tol",
@@ -78,7 +88,11 @@ const STUDIES: [Study; 4] = [
         refined: "time.tolerance",
         levels: &[5e-5, 5e-6, 5e-7, 5e-8],
         nodes: false,
-        sets: &["time.end=8e-4", "output.profile_times=[8e-4]"],
+        sets: |tol| {
+            let mut v = fig2_short();
+            v.push(time::TOLERANCE.set(tol));
+            v
+        },
     },
     Study {
         key: "sfa_n",
@@ -86,7 +100,7 @@ const STUDIES: [Study; 4] = [
         refined: "contact.nodes",
         levels: &[100.0, 200.0, 400.0, 800.0],
         nodes: true,
-        sets: &["time.tolerance=5e-7"],
+        sets: |_| vec![time::TOLERANCE.set(5e-7)],
     },
 ];
 
@@ -113,11 +127,9 @@ pub fn specs() -> Vec<RunSpec> {
                 s.scene,
                 &format!("energy books: {} = {v:e}", s.refined),
             );
-            spec.sets = s.sets.iter().map(ToString::to_string).collect();
+            spec.sets = (s.sets)(v).iter().map(ToString::to_string).collect();
             if s.nodes {
                 spec.nodes = v as usize;
-            } else {
-                spec.sets.push(format!("{}={v:e}", s.refined));
             }
             all.push(spec);
         }
