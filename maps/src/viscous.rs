@@ -129,6 +129,58 @@ fn critical_speeds(map: &Map, jobs: usize) -> Result<Vec<Critical>, String> {
     Ok(out)
 }
 
+/// The critical viscosity at one stiffness, found by `boundary` along η on the film's scale:
+/// the change to `sliding` (the film stays liquid), with its error.
+struct CriticalEta {
+    k: f64,
+    scan: Scan,
+}
+
+impl CriticalEta {
+    /// The lowest change into `sliding`, if found.
+    fn change(&self) -> Option<&stickslip_studies::boundary::scan::Change> {
+        self.scan
+            .changes
+            .iter()
+            .find(|c| c.above.regime.name() == Regime::Sliding.name())
+    }
+}
+
+/// Runs `boundary` along η over the map's range at each of the map's stiffnesses.
+fn critical_viscosities(map: &Map, jobs: usize) -> Result<Vec<CriticalEta>, String> {
+    let base = map.unswept_scene()?;
+    let etas = map.values(ETA);
+    let range = (etas[0], etas[etas.len() - 1]);
+    let mut out = Vec::new();
+    for k in map.values(K) {
+        let scene = base
+            .with_overrides(&[stickslip_run::keys::drive::STIFFNESS.set(k).to_string()])
+            .map_err(|e| e.to_string())?;
+        let found = scan(
+            &scene,
+            ETA,
+            range,
+            ETA_RTOL,
+            ScanOptions {
+                points: 7,
+                jobs,
+                scale: Scale::Film,
+                cache: None,
+            },
+            RegimeThresholds::default(),
+            None,
+            &|_| {},
+            &mut || {},
+        )
+        .map_err(|e| format!("critical viscosity at K = {k}: {e}"))?;
+        out.push(CriticalEta { k, scan: found });
+    }
+    Ok(out)
+}
+
+/// The bisection's relative bracket for the critical viscosity.
+pub const ETA_RTOL: f64 = 0.05;
+
 /// The viscous map's section.
 ///
 /// # Errors
@@ -201,6 +253,49 @@ pub fn section(map: &Map, jobs: usize) -> Result<Section, String> {
         .map(|(k, e, _)| format!("{} Pa·s at K = {} N/m", sig(*e, 2), sig(*k, 3)))
         .collect::<Vec<_>>()
         .join(", ");
+    // The same critical viscosity by bisection, with its error (the bracket plus its move at
+    // 2N and a tenth of the tolerance): the map's cells are a factor √10 wide.
+    let eta_scans = critical_viscosities(map, jobs)?;
+    let eta_found: Vec<(f64, f64, f64)> = eta_scans
+        .iter()
+        .filter_map(|c| c.change().map(|ch| (c.k, ch.value, ch.error)))
+        .collect();
+    let inside_cells = eta_found.len() == ks.len()
+        && eta_found.iter().all(|(k, v, _)| {
+            critical_eta
+                .iter()
+                .find(|(kk, _, _)| (kk / k - 1.0).abs() < 1e-9)
+                .is_some_and(|(_, mid, ratio)| {
+                    let (lo, hi) = (mid / ratio.sqrt(), mid * ratio.sqrt());
+                    *v >= lo && *v <= hi
+                })
+        });
+    let eta_describe = eta_found
+        .iter()
+        .map(|(k, v, e)| {
+            format!(
+                "K = {} N/m: η_c = {} ± {} Pa·s",
+                sig(*k, 3),
+                sig(*v, 4),
+                sig(*e, 2)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    checks.push(Check {
+        claim: format!(
+            "`boundary` along η (7 scan points over the map's range, bisected to {}, errors \
+             from 2N and a tenth of the tolerance) finds the change into `sliding` at every \
+             stiffness, inside the map's cell where the film begins to stay liquid",
+            sig(ETA_RTOL, 2)
+        ),
+        measured: if eta_describe.is_empty() {
+            "no change into sliding found".into()
+        } else {
+            eta_describe.clone()
+        },
+        pass: inside_cells,
+    });
     // Kinetic friction where the film is liquid throughout the settled sliding and the
     // spring has had time to take up the drag: its approach time c_v/K (overdamped) well
     // inside the settled part.
@@ -315,7 +410,8 @@ pub fn section(map: &Map, jobs: usize) -> Result<Section, String> {
          see: below a critical viscosity the stamp slips; above it the molten film's viscous \
          stress keeps the substrate strained past εc = {}, the film stays liquid and the stamp \
          slides steadily with the Couette force. The critical viscosity at this speed (the geometric \
-         middle of the cell where the film begins to stay liquid): {}, against {} Pa·s on paper (no \
+         middle of the cell where the film begins to stay liquid, a factor {} wide): {}; found by \
+         `stickslip boundary` along η with its error: {}; against {} Pa·s on paper (no \
          spring in it). The critical-speed scans (N = {}, η = {} \
          Pa·s, 7 scan points from 3e-6 to 1e-4 m/s, bisected to 5 %, errors from 2N and a \
          tenth of the tolerance): {}.",
@@ -332,10 +428,16 @@ pub fn section(map: &Map, jobs: usize) -> Result<Section, String> {
         sig(etas[0], 3),
         sig(etas[etas.len() - 1], 3),
         sig(eps_c, 3),
+        sig(etas[1] / etas[0], 3),
         if per_k.is_empty() {
             "none found".to_string()
         } else {
             per_k
+        },
+        if eta_describe.is_empty() {
+            "none found".to_string()
+        } else {
+            eta_describe
         },
         sig(vc_eta_paper / v0, 3),
         c.nodes,
