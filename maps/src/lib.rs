@@ -21,6 +21,7 @@
 //! Invariant: every number in the report's prose is computed from the maps it describes;
 //! nothing here steps a simulation (the sweep engine does).
 
+pub mod deeper;
 pub mod model;
 pub mod model_first_order;
 pub mod rigid;
@@ -67,6 +68,8 @@ pub struct Map {
     pub json: MapJson,
     /// Wall-clock seconds of this process's run of the points (0 when all were done).
     pub points_wall_s: f64,
+    /// The spot checks whose regime changed, followed to 4N.
+    pub deeper: Vec<deeper::Deeper>,
 }
 
 impl Map {
@@ -185,9 +188,20 @@ pub fn run_map(file: &Path, dir: &Path, jobs: usize, resume: bool) -> Result<Map
         );
     }
     let json = MapJson::read(dir).map_err(|e| e.to_string())?;
+    let deeper = deeper::rerun(&sweep, &json)?;
+    if !deeper.is_empty() {
+        println!(
+            "maps: {}: {} changed points rerun at {}N, {} settled",
+            sweep.name,
+            deeper.len(),
+            deeper::FACTOR,
+            deeper.iter().filter(|d| d.settled()).count()
+        );
+    }
     Ok(Map {
         json,
         points_wall_s: report.wall_s,
+        deeper,
     })
 }
 
@@ -244,6 +258,55 @@ fn spot_checks_markdown(maps: &[(&str, &Map)]) -> String {
             r.checked, r.sampled, r.at_boundaries
         );
     }
+    out.push_str(&spot_checks_discussion(maps));
+    out
+}
+
+/// What the spot checks' changes mean, map by map: each changed point followed to 4N, and
+/// the point whose numbers moved most where the regime held, with its regimes (a number of a
+/// regime without it, such as the period of a film in steady sliding, may move freely).
+fn spot_checks_discussion(maps: &[(&str, &Map)]) -> String {
+    let mut out = format!(
+        "\nEvery point whose regime changed in the spot checks is run again at {}N and a tenth \
+         of the tolerance. Where that run agrees with the 2N one, the map's regime at the point \
+         is a resolution artefact of its N (a point next to a boundary, where the boundary \
+         moves by less than a cell); where it does not, the point is unconverged, and the \
+         verdicts of its map say so.\n\n",
+        deeper::FACTOR
+    );
+    for (title, m) in maps {
+        let Some(r) = &m.json.spot_checks else {
+            continue;
+        };
+        let mut parts = Vec::new();
+        if !m.deeper.is_empty() {
+            parts.push(deeper::sentence(&m.deeper));
+        }
+        if let Some((column, v, p)) = &r.max_change {
+            let regimes =
+                m.json
+                    .table
+                    .rows
+                    .iter()
+                    .find(|row| row.point == *p)
+                    .map_or(String::new(), |row| {
+                        format!(
+                            " (its regime {}, stamp regime {})",
+                            row.summary.regime.name(),
+                            row.summary
+                                .stamp_regime
+                                .map_or("–", stickslip_run::cycles::StampRegime::name)
+                        )
+                    });
+            parts.push(format!(
+                "where the regime held, `{column}` moved most, by {:.2} % at point {p}{regimes}",
+                100.0 * v
+            ));
+        }
+        if !parts.is_empty() {
+            let _ = writeln!(out, "- **{title}**: {}.", parts.join("; "));
+        }
+    }
     out
 }
 
@@ -263,7 +326,7 @@ fn verdict(pass: bool) -> &'static str {
 }
 
 /// The report's Markdown.
-fn markdown(sections: &[Section], spot: &str) -> String {
+fn markdown(sections: &[Section], spot: &str, notes: &[Option<String>]) -> String {
     let mut out = format!(
         "# Friction maps\n\n{}\n\n",
         stickslip_report::provenance::sentence(
@@ -281,15 +344,19 @@ fn markdown(sections: &[Section], spot: &str) -> String {
          redraws any quantity.\n\n## Checks\n\n| map | what physics says | measured | verdict |\n\
          |---|---|---|---|\n",
     );
-    for s in sections {
+    for (s, note) in sections
+        .iter()
+        .zip(notes.iter().chain(std::iter::repeat(&None)))
+    {
         for c in &s.checks {
             let _ = writeln!(
                 out,
-                "| {} | {} | {} | {} |",
+                "| {} | {} | {} | {}{} |",
                 s.title,
                 c.claim,
                 c.measured,
-                verdict(c.pass)
+                verdict(c.pass),
+                note.as_deref().unwrap_or("")
             );
         }
     }
@@ -370,7 +437,11 @@ pub fn run(opts: &Options) -> Result<bool, String> {
         .map(|s| s.title.as_str())
         .zip(maps)
         .collect();
-    let md = markdown(&sections, &spot_checks_markdown(&titled));
+    let notes: Vec<Option<String>> = maps
+        .iter()
+        .map(|m| deeper::verdict_note(&m.deeper))
+        .collect();
+    let md = markdown(&sections, &spot_checks_markdown(&titled), &notes);
     files.put("maps.md", md)?;
     let all = sections.iter().flat_map(|s| &s.checks).all(|c| c.pass);
     for s in &sections {

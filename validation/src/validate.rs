@@ -251,7 +251,14 @@ fn write_energy(
     files: &mut ReportFiles,
     energy: &crate::energy::EnergyCheck,
 ) -> Result<(), String> {
-    files.put_json("energy.json", energy)?;
+    files.put_json(
+        "energy.json",
+        &serde_json::json!({
+            "generated_by": "cargo xtask validate",
+            "commit": stickslip_report::provenance::Commit::of_workspace(),
+            "energy_books": energy,
+        }),
+    )?;
     match crate::energy::figure(energy) {
         Ok(svg) => files.put(crate::energy::FIGURE, svg),
         Err(e) => {
