@@ -1,8 +1,8 @@
 //! The spot checks taken one level further: every checked point whose regime changed at 2N
 //! or at a tenth of the tolerance is run again at 4N (and a tenth of the tolerance), so that
-//! the report can say whether the map's regime there was a resolution artefact that the 2N
-//! regime settles (the 4N run agrees with 2N) or is still moving (unconverged), and mark the
-//! map's verdicts accordingly.
+//! the report can say whether the map's regime there was a resolution artefact that the
+//! refinement settles (the 4N run agrees with the refined regime) or is still moving
+//! (unconverged), and mark the map's verdicts accordingly.
 
 use stickslip_run::keys::{contact, time};
 use stickslip_run::{Control, NullSink};
@@ -26,12 +26,15 @@ pub struct Deeper {
 }
 
 impl Deeper {
-    /// The 4N run agrees with the 2N one: the map's regime was a resolution artefact there.
+    /// The 4N run (at a tenth of the tolerance too) agrees with the refinement that changed
+    /// the regime: the refined regime holds, and the map's regime there was a resolution
+    /// artefact of its N or its tolerance. Otherwise (the 4N run back at the map's regime, or
+    /// at a third) the point is unconverged.
     #[must_use]
     pub fn settled(&self) -> bool {
         self.at_4n
             .as_ref()
-            .is_ok_and(|r| self.checked.first() == Some(r))
+            .is_ok_and(|r| self.checked.iter().any(|c| c != &self.at_n && c == r))
     }
 }
 
@@ -99,7 +102,7 @@ pub fn sentence(deeper: &[Deeper]) -> String {
                 d.at_n,
                 d.checked.join(" / "),
                 if d.settled() {
-                    "the 2N regime holds: the map's regime there is a resolution artefact"
+                    "the refined regime holds: the map's regime there is a resolution artefact"
                 } else {
                     "still moving: unconverged"
                 }

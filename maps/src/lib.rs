@@ -268,8 +268,9 @@ fn spot_checks_markdown(maps: &[(&str, &Map)]) -> String {
 fn spot_checks_discussion(maps: &[(&str, &Map)]) -> String {
     let mut out = format!(
         "\nEvery point whose regime changed in the spot checks is run again at {}N and a tenth \
-         of the tolerance. Where that run agrees with the 2N one, the map's regime at the point \
-         is a resolution artefact of its N (a point next to a boundary, where the boundary \
+         of the tolerance. Where that run agrees with the refined regime (2N's or the tenth \
+         tolerance's, whichever changed), the map's regime at the point is a resolution \
+         artefact of its N or its tolerance (a point next to a boundary, where the boundary \
          moves by less than a cell); where it does not, the point is unconverged, and the \
          verdicts of its map say so.\n\n",
         deeper::FACTOR
