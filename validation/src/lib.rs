@@ -22,7 +22,9 @@
 //! the melting threshold or the φ floor changed; [`energy`] checks the energy books (fig2 at
 //! its defaults, the residual's orders in Δt, the tolerance and N) and writes
 //! `reports/energy.json` and its figure; [`staleness`] lists committed reports whose
-//! sources changed since the commit they record; [`validate`] ties it together.
+//! sources changed since the commit they record; [`uncertainty`] repeats the claims' runs at
+//! 2N and a tenth of the tolerance and gives each margin its numerical uncertainty;
+//! [`validate`] ties it together.
 //!
 //! Invariants: the claims read output files only (through the schema; C11's loop takes only the
 //! film's parameters from a run's run.json); every number in the
@@ -48,5 +50,6 @@ pub mod runner;
 pub mod sensitivity;
 pub mod sizes;
 pub mod staleness;
+pub mod uncertainty;
 pub mod validate;
 pub mod verify_check;

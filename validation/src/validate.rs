@@ -81,7 +81,9 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     }
     // The verify check's references first: the sfa one is the longest run.
     let mut specs = crate::verify_check::reference_specs();
-    specs.extend(specs_list());
+    let base = specs_list();
+    specs.extend(crate::uncertainty::specs(&base, &scenes));
+    specs.extend(base);
     specs.extend(crate::sensitivity::specs());
     specs.extend(crate::energy::specs());
     println!(
@@ -106,6 +108,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     claims.extend(crate::claims_first_order::evaluate(&runs));
     let sensitivity = crate::sensitivity::evaluate(&runs);
     crate::sensitivity::annotate(&mut claims, &sensitivity);
+    let margin_errors = crate::uncertainty::evaluate(&runs, &claims);
     let energy = crate::energy::evaluate(&runs);
     let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
     let verify_check = crate::verify_check::evaluate(&verify_runs, &runs);
@@ -127,6 +130,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         independent: independent.as_ref(),
         sensitivity: &sensitivity,
         energy: &energy,
+        margin_errors: &margin_errors,
     };
     let summary = summary_json(&outcome);
     println!("\nclaims:\n{}", claims_table_text(&claims));
