@@ -299,6 +299,7 @@ pub fn numbers(s: &RunSummary, onsets_s: &[f64]) -> Vec<(String, &'static str, O
         ("f_peak_last".to_string(), "N", s.f_peak_last),
         ("f_mean".to_string(), "N", s.f_mean),
         ("recovery".to_string(), "–", s.recovery),
+        ("energy_per_cycle".to_string(), "J", s.energy_per_cycle),
     ];
     for (k, t) in onsets_s.iter().take(MAX_ONSETS).enumerate() {
         out.push((format!("onset_{}", k + 1), "s", Some(*t)));
