@@ -92,6 +92,34 @@ impl Critical {
     }
 }
 
+/// `boundary`'s scan of `scene` along `key` over `range` (7 points, bisected to `rtol`, each
+/// change rerun at 2N and a tenth of the tolerance), following the regime of `scale`.
+fn scan_along(
+    scene: &stickslip_run::ResolvedScene,
+    key: &str,
+    range: (f64, f64),
+    rtol: f64,
+    scale: Scale,
+    jobs: usize,
+) -> Result<Scan, stickslip_studies::boundary::BoundaryError> {
+    scan(
+        scene,
+        key,
+        range,
+        rtol,
+        ScanOptions {
+            points: 7,
+            jobs,
+            scale,
+            cache: None,
+        },
+        RegimeThresholds::default(),
+        None,
+        &|_| {},
+        &mut || {},
+    )
+}
+
 /// Runs `boundary` on the stamp's scale along the drive speed for each of [`SCAN_K`].
 fn critical_speeds(map: &Map, jobs: usize) -> Result<Vec<Critical>, String> {
     let base = map.unswept_scene()?;
@@ -107,21 +135,13 @@ fn critical_speeds(map: &Map, jobs: usize) -> Result<Vec<Critical>, String> {
                 stickslip_run::keys::time::END.set(end).to_string(),
             ])
             .map_err(|e| e.to_string())?;
-        let found = scan(
+        let found = scan_along(
             &scene,
             "drive.velocity",
             SCAN_RANGE,
             0.05,
-            ScanOptions {
-                points: 7,
-                jobs,
-                scale: Scale::Stamp,
-                cache: None,
-            },
-            RegimeThresholds::default(),
-            None,
-            &|_| {},
-            &mut || {},
+            Scale::Stamp,
+            jobs,
         )
         .map_err(|e| format!("critical speed at K = {k}: {e}"))?;
         out.push(Critical { k, scan: found });
@@ -156,23 +176,8 @@ fn critical_viscosities(map: &Map, jobs: usize) -> Result<Vec<CriticalEta>, Stri
         let scene = base
             .with_overrides(&[stickslip_run::keys::drive::STIFFNESS.set(k).to_string()])
             .map_err(|e| e.to_string())?;
-        let found = scan(
-            &scene,
-            ETA,
-            range,
-            ETA_RTOL,
-            ScanOptions {
-                points: 7,
-                jobs,
-                scale: Scale::Film,
-                cache: None,
-            },
-            RegimeThresholds::default(),
-            None,
-            &|_| {},
-            &mut || {},
-        )
-        .map_err(|e| format!("critical viscosity at K = {k}: {e}"))?;
+        let found = scan_along(&scene, ETA, range, ETA_RTOL, Scale::Film, jobs)
+            .map_err(|e| format!("critical viscosity at K = {k}: {e}"))?;
         out.push(CriticalEta { k, scan: found });
     }
     Ok(out)

@@ -187,9 +187,10 @@ impl LandauParams {
     /// at the rate γ·(∂f/∂φ)², the Landau dissipation; ∂f/∂ε = τ (Eq. 12).
     #[must_use]
     pub fn free_energy_pa(&self, phi: f64, eps: f64, a_coeff_pa: f64) -> f64 {
-        let y = phi * phi;
-        0.5 * self.bernoulli_c_pa(eps, a_coeff_pa) * y - self.cubic_pa / 3.0 * y * phi
-            + 0.25 * self.b_pa() * y * y
+        // b once (the books call this twice per node and step).
+        let (y, b) = (phi * phi, self.b_pa());
+        let c = self.a_pa * eps * eps - a_coeff_pa * b / self.a_pa;
+        0.5 * c * y - self.cubic_pa / 3.0 * y * phi + 0.25 * b * y * y
     }
 
     /// The solid film's order parameter at strain ε: [`equilibrium_phi`] (Eq. 3) for b₃ = 0;
