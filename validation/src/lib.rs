@@ -32,6 +32,7 @@
 //! times (those belong to reports/performance.md), so an unchanged validation rewrites them
 //! byte for byte.
 
+pub mod advance;
 pub mod claims;
 pub mod claims_first_order;
 pub mod energy;

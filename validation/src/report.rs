@@ -88,6 +88,8 @@ pub struct Outcome<'a> {
     pub sensitivity: &'a [crate::sensitivity::Row],
     /// The energy books' checks.
     pub energy: &'a crate::energy::EnergyCheck,
+    /// The stamp's advance per cycle against its estimate.
+    pub advance: &'a crate::advance::AdvanceCheck,
     /// Each claim's margin uncertainty, by id.
     pub margin_errors: &'a BTreeMap<&'static str, crate::uncertainty::MarginError>,
 }
@@ -151,6 +153,7 @@ pub fn summary_json(o: &Outcome<'_>) -> Value {
         })),
         "event_rule": events_rule::to_json(o.event_rule),
         "verify_check": verify_check::to_json(o.verify_check),
+        "advance_per_cycle": crate::advance::summary(o.advance),
         "energy_books": json!({
             "passes": o.energy.passes(),
             "i3_bound_holds": o.energy.i3_bound_holds(),
@@ -417,6 +420,7 @@ pub fn index_md(o: &Outcome<'_>, figures: &[Figure]) -> String {
          [docs/model.md](../docs/model.md#the-first-order-film)). Coefficients of variation are \
          sample ones (n − 1).\n"
     );
+    s.push_str(&crate::advance::markdown(o.advance));
     resolution_section(&mut s, o);
     s.push_str(&verify_check::markdown(o.verify_check));
     match o.independent {

@@ -110,6 +110,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     crate::sensitivity::annotate(&mut claims, &sensitivity);
     let margin_errors = crate::uncertainty::evaluate(&runs, &claims);
     let energy = crate::energy::evaluate(&runs);
+    let advance = crate::advance::evaluate(&runs);
     let (event_rule, event_rule_missing) = crate::events_rule::compare(&runs);
     let verify_check = crate::verify_check::evaluate(&verify_runs, &runs);
     // Not under --check: summary.json does not hold it, and it takes minutes.
@@ -130,6 +131,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
         independent: independent.as_ref(),
         sensitivity: &sensitivity,
         energy: &energy,
+        advance: &advance,
         margin_errors: &margin_errors,
     };
     let summary = summary_json(&outcome);
@@ -144,6 +146,7 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     let all_pass = claims.iter().all(|c| c.pass)
         && crate::verify_check::all_covered(&verify_check)
         && energy.passes()
+        && advance.passes()
         && independent.as_ref().is_none_or(|c| {
             c.as_ref()
                 .is_ok_and(crate::independent::Comparison::all_agree)
@@ -193,6 +196,10 @@ pub fn validate(opts: &Options) -> Result<bool, String> {
     match crate::figures::margins_svg(&claims) {
         Ok(svg) => files.put(crate::figures::MARGINS_SVG, svg)?,
         Err(e) => println!("figure {} not drawn: {e}", crate::figures::MARGINS_SVG),
+    }
+    match crate::advance::figure(&advance) {
+        Ok(svg) => files.put(crate::advance::FIGURE, svg)?,
+        Err(e) => println!("figure {} not drawn: {e}", crate::advance::FIGURE),
     }
     files.put("index.md", index_md(&outcome, &figures))?;
     files.put_json("summary.json", &summary)?;

@@ -28,6 +28,7 @@
 pub use stickslip_studies::verify::celik;
 pub mod fig2;
 pub mod grid_study;
+pub mod n_reference;
 pub mod noise;
 pub mod operators;
 pub mod performance;
@@ -340,7 +341,7 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
         .grid
         .as_ref()
         .map(|g| grid_study::study(g, &mut |line| log(line)));
-    Results {
+    let mut results = Results {
         commit: stickslip_report::provenance::Commit::of_workspace(),
         generated_by: "cargo xtask convergence (stickslip-convergence)".into(),
         total_wall_s: start.elapsed().as_secs_f64(),
@@ -366,7 +367,9 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
         tolerance,
         noise,
         grid,
-    }
+    };
+    n_reference::apply(&mut results);
+    results
 }
 
 /// Re-derives the theory annotations of the studies from the current code (used when
@@ -476,6 +479,7 @@ pub fn run_convergence_cli(args: &[String]) -> ExitCode {
         match serde_json::from_str::<Results>(&text) {
             Ok(mut r) => {
                 refresh_annotations(&mut r);
+                n_reference::apply(&mut r);
                 if grid_only {
                     let settings = if quick {
                         grid_study::GridSettings::quick()

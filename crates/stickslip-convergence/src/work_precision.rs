@@ -38,6 +38,10 @@ pub struct Reference {
     pub force_uncertainty_rel: Option<f64>,
     /// Wall seconds of the three runs.
     pub wall_s: Vec<f64>,
+    /// The correction in N applied to the onsets and peak forces above (none: the reference
+    /// is extrapolated in Δt only, at N = `nodes`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub n_extrapolation: Option<crate::n_reference::NExtrapolation>,
     /// Extrapolated F(t) samples (not written to JSON).
     #[serde(skip)]
     pub force_n: Vec<f64>,
@@ -116,6 +120,7 @@ pub fn reference(
         force_order: None,
         force_uncertainty_rel: None,
         wall_s: runs.iter().map(|r| r.wall_s).collect(),
+        n_extrapolation: None,
         force_n: Vec::new(),
     };
     let extrapolate = |k: usize, get: fn(&EventRecord) -> f64| -> (f64, f64, Option<f64>) {

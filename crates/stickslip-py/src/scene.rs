@@ -152,7 +152,8 @@ impl PyScene {
     /// when a run would stop before its first step), ``derived`` (as run.json's: b Pa, A Pa,
     /// eps_c, phi0, omega rad/s, g_eff Pa, nodes, steps_planned, lagged_sweep_contraction,
     /// melting_force N, critical_displacement m, spring_period s, euler_number,
-    /// first_onset_estimate s; with a viscous film also viscous_drag N·s/m, the drag
+    /// first_onset_estimate s, onset_displacement m (the stamp advance to the contact's
+    /// quasi-static melting); with a viscous film also viscous_drag N·s/m, the drag
     /// η·πa0²/h0, and viscous_time s, η·a0/(h0·G*); plus stamp_travel m, the free stamp's
     /// position at time.end),
     /// ``cost`` (probe_steps, seconds_per_step s, steps, seconds s: the estimated wall time of

@@ -259,7 +259,36 @@ pub(crate) fn reference_onset_uncertainty_s(r: &Results) -> f64 {
         .onset_uncertainty_s
         .iter()
         .fold(0.0_f64, |m, &v| m.max(v));
+    if r.work_precision.reference.n_extrapolation.is_some() {
+        // The N part is inside the corrected reference's uncertainty already.
+        return gci;
+    }
     gci + reference_n_error_s(r).unwrap_or(0.0)
+}
+
+/// Largest relative uncertainty of the reference's peak forces.
+pub(crate) fn reference_f_peak_uncertainty_rel(r: &Results) -> f64 {
+    let rf = &r.work_precision.reference;
+    rf.f_peak_uncertainty_n
+        .iter()
+        .zip(&rf.f_peaks_n)
+        .fold(0.0_f64, |m, (u, f)| m.max((u / f).abs()))
+}
+
+/// The reference's uncertainty as a horizontal line on an error panel of `obs` (`onset` in
+/// µs, `f_peak` relative): errors below it are not resolved by the reference.
+pub(crate) fn reference_band(r: &Results, obs: &str) -> Option<(f64, String)> {
+    let what = if r.work_precision.reference.n_extrapolation.is_some() {
+        "reference ± (Δt and N GCI)"
+    } else {
+        "reference ± (Δt GCI + N error)"
+    };
+    match obs {
+        "onset" => Some((reference_onset_uncertainty_s(r) * 1e6, what.to_string())),
+        "f_peak" => Some((reference_f_peak_uncertainty_rel(r), what.to_string())),
+        _ => None,
+    }
+    .filter(|(v, _)| *v > 0.0)
 }
 
 /// N-error of the reference's onsets, estimated by the accurate N study, s.

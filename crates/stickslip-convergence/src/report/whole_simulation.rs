@@ -58,9 +58,14 @@ pub(super) fn section(md: &mut String, r: &Results, paper: &Paper) {
     let _ = writeln!(
         md,
         "![against the reference](convergence_vs_reference.svg)\n\n*Figure 4. The same runs \
-         measured against the reference of §4 (accurate scheme, N = {}, extrapolated in Δt). \
+         measured against the reference of §4 (accurate scheme, N = {}, extrapolated in Δt{}). \
          What to see: {}*\n",
         r.work_precision.reference.nodes,
+        if r.work_precision.reference.n_extrapolation.is_some() {
+            " and, by the N study, in N; F(t) in Δt only"
+        } else {
+            ""
+        },
         reference_caption(r, paper)
     );
 }
@@ -495,17 +500,14 @@ fn reference_caption(r: &Results, paper: &Paper) -> String {
     };
     let onset_us = |x: &RunSummary| x.onset_error_s.map(|e| e * 1e6);
     format!(
-        "refining N alone (top) leaves the accurate onset error at {} µs: that floor is set by \
-         the reference's own spatial error (the reference is at N = {}; runs at that N and \
-         above are judged by an answer no finer than theirs, so their errors are bounded by it, \
-         not measured), and refining Δt (bottom) takes it from {} µs against the {} line \
-         (dashed). The literal \
+        "refining N alone (top) leaves the accurate onset error at {} µs: {}, and refining Δt \
+         (bottom) takes it from {} µs against the {} line (dashed). The literal \
          onset error sits at {} (stable levels) — a different limit (the axis melts first) — \
          while its f_peak error falls from {} and its F(t) error \
          from {} with N; along Δt (stable levels) they stay at {} and {} (N = {} dominates), \
          and {}.",
         onset_range("N", "accurate"),
-        r.work_precision.reference.nodes,
+        floor_words(r),
         ends("dt", "accurate", onset_us),
         tol_text(),
         {
@@ -523,6 +525,46 @@ fn reference_caption(r: &Results, paper: &Paper) -> String {
         r.settings.sim_dts_nodes,
         beyond_words(r, paper),
     )
+}
+
+/// What sets the floor of the accurate onset error along N, from the data: the runs' own Δt
+/// error at the N study's step (measured by the Δt study), or the reference's uncertainty.
+fn floor_words(r: &Results) -> String {
+    let floor = runs(r, "N", "accurate")
+        .iter()
+        .filter_map(|x| x.onset_error_s)
+        .fold(f64::INFINITY, f64::min);
+    let dt_part = max_error_per_level(&sims(r, "accurate", Refined::Dt, "onset"), 1e-6)
+        .iter()
+        .find(|(l, _)| super::same(*l, r.settings.sim_nodes_dt_s))
+        .map(|&(_, e)| e * 1e-6);
+    let ref_unc = super::reference_onset_uncertainty_s(r);
+    let judged = if r.work_precision.reference.n_extrapolation.is_some() {
+        "the reference extrapolated in N and Δt"
+    } else {
+        "the reference at its own N"
+    };
+    match dt_part {
+        Some(d) if d >= ref_unc => format!(
+            "against {judged} (± {} µs, its horizontal line), that floor is the runs' own Δt error \
+             at Δt = {:e} s ({} µs by the Δt study at N = {}), not the reference's",
+            sig(ref_unc * 1e6, 2),
+            r.settings.sim_nodes_dt_s,
+            sig(d * 1e6, 2),
+            r.settings.sim_dts_nodes
+        ),
+        Some(d) => format!(
+            "against {judged}, that floor is within the reference's own uncertainty (± {} µs, \
+             its horizontal line; the runs' Δt error at Δt = {:e} s is {} µs): bounded, not measured",
+            sig(ref_unc * 1e6, 2),
+            r.settings.sim_nodes_dt_s,
+            sig(d * 1e6, 2)
+        ),
+        None => format!(
+            "(floor {} µs; the Δt study has no level at the N study's step)",
+            sig(floor * 1e6, 2)
+        ),
+    }
 }
 
 /// Literal dashed with squares, accurate solid with circles.
@@ -631,6 +673,9 @@ pub(super) fn reference_figure(r: &Results) -> Result<String, String> {
             }
             if obs == "onset" {
                 p = p.hline(ONSET_TOL_S * 1e6, tol_text());
+            }
+            if let Some((v, label)) = super::reference_band(r, obs) {
+                p = p.hline(v, label);
             }
             panels.push(p);
         }

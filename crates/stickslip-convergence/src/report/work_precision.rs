@@ -57,6 +57,29 @@ pub(super) fn section(md: &mut String, r: &Results, paper: &Paper) {
             .unwrap_or(0),
         reference_n_error_s(r).map_or("–".into(), |e| sig(e * 1e6, 2))
     );
+    if let Some(x) = &rf.n_extrapolation {
+        let _ = writeln!(
+            md,
+            "**Extrapolated in N.** The estimate above is applied: the accurate N study's three \
+             finest levels (N = {:?}, Δt = {:e} s) give each event's limit and order in N \
+             (Celik), the error model e(N) = (φ_m − φ∞)·(m/N)^p from the level m nearest above \
+             N = {} gives the reference's own N error, and it is subtracted: the onsets move by \
+             up to {} µs (orders in N {}). The uncertainties below hold the Δt GCI, the N \
+             GCI and the spread of e between the two levels above N = {} (the model's distance \
+             from a pure power); the Δt and N errors are assumed to add. Runs are judged again \
+             from their stored events; {} work–precision points, stored without theirs, carry \
+             the bound old error + largest correction. The F(t) reference stays at N = {}.\n",
+            x.levels,
+            r.settings.sim_nodes_dt_s,
+            rf.nodes,
+            sig(x.max_onset_correction_s() * 1e6, 2),
+            range(x.onset_order.iter().flatten().copied())
+                .map_or("–".into(), |(lo, hi)| span(lo, hi, 2)),
+            rf.nodes,
+            x.bounded_points,
+            rf.nodes
+        );
+    }
     header(
         md,
         &[
@@ -265,6 +288,9 @@ pub(super) fn figure(r: &Results) -> Result<String, String> {
         }
         if obs == "onset" {
             p = p.hline(ONSET_TOL_S * 1e6, tol_text());
+        }
+        if let Some((v, label)) = super::reference_band(r, obs) {
+            p = p.hline(v, label);
         }
         panels.push(p);
     }

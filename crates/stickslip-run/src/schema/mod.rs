@@ -176,7 +176,8 @@ pub fn markdown() -> String {
          `failed`, the failure's quantity `io`), `version`, `scene` (as \
          resolved), `derived` (b, A, eps_c, phi0, omega, g_eff, nodes, steps_planned, \
          lagged_sweep_contraction, melting_force, critical_displacement, spring_period, \
-         euler_number, first_onset_estimate; for a first-order film also cubic, eps_melt, \
+         euler_number, first_onset_estimate, onset_displacement (m, the stamp advance to the \
+         contact's quasi-static melting; absent when nothing can melt); for a first-order film also cubic, eps_melt, \
          eps_solidify, hysteresis_width, tau_melt and, when A <= 0, metastable_solid), \
          `warnings`, `steps`, `accepted_steps`, \
          `rejected_steps`, `forced_steps`, `onset_retakes`, `t_final`, `wall_seconds`, \

@@ -104,6 +104,13 @@ pub struct DerivedReport {
     /// Estimate of the first onset, s, whatever time.end (null: the drive never reaches the
     /// melting strain).
     pub first_onset_estimate: Option<f64>,
+    /// Stamp advance at which the contact first melts under quasi-static loading, m: the
+    /// melting point of the contact as a spring (the target of `first_onset_estimate`; on an
+    /// elastic radial contact the static problem's fold, which holds the substrate's share
+    /// and the film's softening; εc·h0 on a rigid one). Absent when nothing can melt, and in
+    /// run.json files written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub onset_displacement: Option<f64>,
     /// First-order film only (absent for b₃ = 0): b₃, Pa.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cubic: Option<f64>,
@@ -150,6 +157,7 @@ impl DerivedReport {
             spring_period: preflight.spring_period_s,
             euler_number: preflight.euler_number,
             first_onset_estimate: preflight.first_onset_estimate_s,
+            onset_displacement: preflight.contact_spring.map(|c| c.x_melt_m),
             cubic: preflight.first_order.map(|f| f.cubic_pa),
             eps_melt: preflight.first_order.map(|f| f.eps_melt),
             eps_solidify: preflight.first_order.map(|f| f.eps_solidify),
