@@ -42,6 +42,7 @@ pub mod film_steps;
 pub mod grid_cost;
 pub mod refine;
 pub mod report;
+pub mod spread;
 pub mod step_trace;
 pub mod sweep;
 mod targets;
@@ -198,6 +199,8 @@ impl Resolved {
 pub struct Measured {
     /// Wall time of the whole process, s.
     pub wall_s: f64,
+    /// CPU time of the whole process (user + system, all threads), s; none when unknown.
+    pub cpu_s: Option<f64>,
     /// Wall time of the time loop (run.json `wall_seconds`), s.
     pub loop_s: f64,
     /// Steps taken (run.json `steps`: the accepted steps when adaptive).
@@ -275,6 +278,7 @@ pub fn run_cli_scene(
     }
     Ok(Measured {
         wall_s: run.process.wall_s,
+        cpu_s: run.process.cpu_s,
         loop_s: info.wall_seconds,
         steps: info.steps,
         rejected_steps: info.rejected_steps,
@@ -333,6 +337,9 @@ pub struct Timed {
     pub loop_s: f64,
     /// All process wall times, s.
     pub walls_s: Vec<f64>,
+    /// All process CPU times (user + system, all threads), s, where measured.
+    #[serde(default)]
+    pub cpus_s: Vec<f64>,
     /// Steps of the last run.
     pub steps: u64,
     /// Rejected steps of the last run.
@@ -405,11 +412,13 @@ fn timed_scene(
     reference_s: &[f64],
 ) -> Result<Timed, String> {
     let mut walls = Vec::new();
+    let mut cpus = Vec::new();
     let mut loops = Vec::new();
     let mut last = None;
     for _ in 0..repeats.max(1) {
         let r = run_cli_scene(s, scene, tag, sets, threads)?;
         walls.push(r.wall_s);
+        cpus.extend(r.cpu_s);
         loops.push(r.loop_s);
         last = Some(r);
     }
@@ -421,6 +430,7 @@ fn timed_scene(
         wall_s: median(&walls),
         loop_s: median(&loops),
         walls_s: walls,
+        cpus_s: cpus,
         steps: last.steps,
         rejected_steps: last.rejected_steps,
         onset_retakes: last.onset_retakes,
@@ -442,6 +452,12 @@ pub struct CostPoint {
     pub us_per_step: f64,
     /// Threads.
     pub threads: usize,
+    /// Coupling-solver iterations per step (the last repeat).
+    #[serde(default)]
+    pub coupling_iterations_per_step: f64,
+    /// Process wall times of the repeats, s.
+    #[serde(default)]
+    pub walls_s: Vec<f64>,
 }
 
 /// One point of the work–precision diagram.
@@ -514,6 +530,9 @@ pub struct Performance {
     pub slope_dense: f64,
     /// T3 points.
     pub cost_per_step: Vec<CostPoint>,
+    /// T3's window: each point simulates [0, this] with fixed steps, s.
+    #[serde(default)]
+    pub sweep_window_s: f64,
     /// T4 points (N = [`T4_NODES`]).
     pub work_precision: Vec<WpPoint>,
     /// P3's same-N reference (N = [`T1_NODES`], fixed steps, Richardson).
@@ -778,6 +797,8 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
                 operator: operator.to_string(),
                 us_per_step: t.us_per_step(),
                 threads: 2,
+                coupling_iterations_per_step: t.coupling_iterations as f64 / t.steps.max(1) as f64,
+                walls_s: t.walls_s.clone(),
             });
         }
     }
@@ -897,6 +918,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         slope,
         slope_dense,
         cost_per_step,
+        sweep_window_s: s.sweep_steps as f64 * paper_dt_s,
         work_precision,
         p3_reference,
         t4_reference,

@@ -170,6 +170,7 @@ fn markdown(p: &Performance) -> String {
         verdict(best_adaptive < best_fixed)
     );
     super::targets::p1_section(&mut m, p);
+    super::spread::section(&mut m, p);
     t2_section(&mut m, p);
     t1_section(&mut m, p);
     super::targets::p4_section(&mut m, p);
@@ -361,6 +362,7 @@ mod tests {
             wall_s,
             loop_s: 0.9 * wall_s,
             walls_s: vec![wall_s],
+            cpus_s: vec![1.5 * wall_s],
             steps,
             rejected_steps: 10,
             onset_retakes: 10,
@@ -469,7 +471,10 @@ mod tests {
                 operator: "fast".into(),
                 us_per_step: 314.0,
                 threads: 2,
+                coupling_iterations_per_step: 1.1,
+                walls_s: vec![0.8],
             }],
+            sweep_window_s: 2e-5,
             work_precision: vec![WpPoint {
                 method: "adaptive".into(),
                 parameter: DEFAULT_TOLERANCE,
