@@ -316,7 +316,7 @@ pub fn run_all(settings: &Settings, log: &mut dyn FnMut(&str)) -> Results {
                 nodes: p.nodes,
                 dt_s: p.dt_s,
                 wall_s: p.wall_s,
-                events: Vec::new(),
+                events: p.event_records.clone(),
                 failure: p.failure.clone(),
                 onset_error_s: p.onset_error_s,
                 f_peak_error_rel: p.f_peak_error_rel,

@@ -174,8 +174,25 @@ pub fn apply(r: &mut Results) {
         run.f_peak_error_rel = max_error(run, &peaks, |e| e.f_peak_n, true);
     }
     for p in &mut r.work_precision.points {
-        p.onset_error_s = p.onset_error_s.map(|e| e + max_c);
-        p.f_peak_error_rel = p.f_peak_error_rel.map(|e| e + max_fc);
+        if p.event_records.is_empty() {
+            p.onset_error_s = p.onset_error_s.map(|e| e + max_c);
+            p.f_peak_error_rel = p.f_peak_error_rel.map(|e| e + max_fc);
+            continue;
+        }
+        let as_run = RunSummary {
+            role: String::new(),
+            scheme: p.method.clone(),
+            nodes: p.nodes,
+            dt_s: p.dt_s,
+            wall_s: p.wall_s,
+            events: p.event_records.clone(),
+            failure: p.failure.clone(),
+            onset_error_s: None,
+            f_peak_error_rel: None,
+            force_error_rel: None,
+        };
+        p.onset_error_s = max_error(&as_run, &onsets, |e| e.onset_s, false);
+        p.f_peak_error_rel = max_error(&as_run, &peaks, |e| e.f_peak_n, true);
     }
     r.work_precision.reference.n_extrapolation = Some(x);
 }

@@ -68,6 +68,10 @@ pub struct WpPoint {
     pub force_error_rel: Option<f64>,
     /// Events of the run (the reference has `Reference::onsets_s.len()`).
     pub events: usize,
+    /// The events themselves (onsets, peak forces), so that a later reference can judge the
+    /// point again; empty in studies made before they were kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub event_records: Vec<crate::fig2::EventRecord>,
     /// The core's error message if the run failed.
     pub failure: Option<String>,
 }
@@ -192,6 +196,7 @@ pub fn point(run: &RunRecord, reference: &Reference, walls_s: Vec<f64>) -> WpPoi
         f_peak_error_rel,
         force_error_rel,
         events: run.events.len(),
+        event_records: run.events.clone(),
         failure: run.failure.clone(),
     }
 }

@@ -67,8 +67,7 @@ pub(super) fn section(md: &mut String, r: &Results, paper: &Paper) {
              up to {} µs (orders in N {}). The uncertainties below hold the Δt GCI, the N \
              GCI and the spread of e between the two levels above N = {} (the model's distance \
              from a pure power); the Δt and N errors are assumed to add. Runs are judged again \
-             from their stored events; {} work–precision points, stored without theirs, carry \
-             the bound old error + largest correction. The F(t) reference stays at N = {}.\n",
+             from their stored events{}. The F(t) reference stays at N = {}.\n",
             x.levels,
             r.settings.sim_nodes_dt_s,
             rf.nodes,
@@ -76,7 +75,15 @@ pub(super) fn section(md: &mut String, r: &Results, paper: &Paper) {
             range(x.onset_order.iter().flatten().copied())
                 .map_or("–".into(), |(lo, hi)| span(lo, hi, 2)),
             rf.nodes,
-            x.bounded_points,
+            if x.bounded_points > 0 {
+                format!(
+                    "; {} work–precision points, stored without theirs, carry the bound old \
+                     error + largest correction",
+                    x.bounded_points
+                )
+            } else {
+                String::new()
+            },
             rf.nodes
         );
     }
