@@ -1,13 +1,9 @@
 //! Criterion bench: the roofline of one evaluation at N = 2000 on this machine — what one
-//! coupled evaluation of the accurate step cannot be cheaper than.
+//! coupled evaluation of the accurate step cannot be cheaper than (`evaluation_floor`, shared
+//! with `cargo xtask bench`'s roofline target).
 //!
-//! - `node_pass`: one fused pass over the nodes with one exponential per node (vectorised,
-//!   `vexp::exp_expm1_all`), the film's exact frozen-strain step of u = 1/φ² from it, the
-//!   stress, a relative error norm and the force sum: the least per-node work of an
-//!   evaluation, without temporaries beyond the exponentials' two arrays;
-//! - `two_applies`: the forward and back MDR transforms of fig2's default operators (product
-//!   integration on the edge-graded grid, hierarchical form), which every coupled evaluation
-//!   applies at least once each;
+//! - `node_pass`: the fused node pass with one vectorised exponential per node;
+//! - `two_applies`: the forward and back MDR transforms of fig2's default operators;
 //! - `roofline`: both, in sequence, as one evaluation would run them.
 //!
 //! The stepper's evaluation is `step_per_n/accurate/2000` of the `steps` bench (one fixed
@@ -15,110 +11,20 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
-use stickslip_core::grid::{Grading, Grid};
-use stickslip_core::mdr::{MdrOperators, OperatorForm, Quadrature};
-use stickslip_core::vexp;
+use stickslip_benches::evaluation_floor::Floor;
 
 const N: usize = 2000;
-/// Accumulators per reduction (N is a multiple).
-const LANES: usize = 4;
-
-/// fig2's film: τmax = a = 1e6 Pa, εmax = 1, γ = 10 1/(Pa·s); b = 2a²εmax³/τmax.
-const A_PA: f64 = 1e6;
-const B_PA: f64 = 2.0 * A_PA * A_PA / 1e6;
-const TWO_GAMMA: f64 = 20.0;
-/// The step, s.
-const H_S: f64 = 2e-8;
-
-/// The nodes' state: φ² and the strains at the step's ends, spread over solid, near-melting
-/// and molten values so that no branch is always taken.
-struct Nodes {
-    phi_sq: Vec<f64>,
-    eps0: Vec<f64>,
-    eps1: Vec<f64>,
-    weights_m2: Vec<f64>,
-    exponent: Vec<f64>,
-    e: Vec<f64>,
-    em1: Vec<f64>,
-}
-
-impl Nodes {
-    fn new(radii_m: &[f64]) -> Self {
-        let n = radii_m.len();
-        let s = |i: usize| i as f64 / n as f64;
-        Self {
-            phi_sq: (0..n).map(|i| 0.01 + 0.99 * (1.0 - s(i))).collect(),
-            eps0: (0..n).map(|i| 1.8 * s(i)).collect(),
-            eps1: (0..n).map(|i| 1.8 * s(i) + 1e-6).collect(),
-            weights_m2: radii_m
-                .iter()
-                .map(|r| 2.0 * std::f64::consts::PI * r * 2e-8)
-                .collect(),
-            exponent: vec![0.0; n],
-            e: vec![0.0; n],
-            em1: vec![0.0; n],
-        }
-    }
-
-    /// One fused pass: the exponentials, then the step, stress, error and force per node.
-    /// Returns (force, N; largest relative change of φ²).
-    fn pass(&mut self, a_coeff_pa: f64) -> (f64, f64) {
-        let c0 = a_coeff_pa * B_PA / A_PA;
-        for (x, (&e0, &e1)) in self
-            .exponent
-            .iter_mut()
-            .zip(self.eps0.iter().zip(&self.eps1))
-        {
-            let eps = 0.5 * (e0 + e1);
-            *x = -TWO_GAMMA * (A_PA * eps * eps - c0) * H_S;
-        }
-        vexp::exp_expm1_all(&self.exponent, &mut self.e, &mut self.em1);
-        // Four independent accumulators per reduction, so that the loop vectorises (a single
-        // floating-point sum is sequential).
-        let mut force = [0.0; LANES];
-        let mut error = [0.0_f64; LANES];
-        let chunks = self.phi_sq.len() / LANES;
-        for c in 0..chunks {
-            for l in 0..LANES {
-                let i = c * LANES + l;
-                let eps = 0.5 * (self.eps0[i] + self.eps1[i]);
-                let rate = TWO_GAMMA * (A_PA * eps * eps - c0);
-                let u0 = 1.0 / self.phi_sq[i];
-                // u(h) = u0·e^(Lh) + (g/L)·(e^(Lh) − 1), g = 2γb; e^(Lh) = 1/e^(−Lh).
-                let grow = 1.0 / self.e[i];
-                let u1 = u0 * grow + TWO_GAMMA * B_PA / rate * (grow - 1.0);
-                let phi_sq1 = 1.0 / u1;
-                let tau = A_PA * phi_sq1 * self.eps1[i];
-                force[l] += self.weights_m2[i] * tau;
-                error[l] = error[l].max((phi_sq1 - self.phi_sq[i]).abs() / phi_sq1.max(1e-2));
-            }
-        }
-        (force.iter().sum(), error.iter().fold(0.0, |m, &e| m.max(e)))
-    }
-}
 
 fn roofline(c: &mut Criterion) {
-    let grid = Grid::graded(2e-5, N, Grading::Edge { power: 3.0 }).expect("valid grid");
-    let ops = MdrOperators::with_form(grid, Quadrature::Product, OperatorForm::Fast);
-    let mut nodes = Nodes::new(&grid.radii_m());
-    let tau: Vec<f64> = (0..N).map(|i| 1e6 * (1.0 - i as f64 / N as f64)).collect();
-    let (mut q, mut u) = (vec![0.0; N], vec![0.0; N]);
+    let mut floor = Floor::fig2(N);
     let mut group = c.benchmark_group("evaluation_roofline_n2000");
     group.throughput(Throughput::Elements(N as u64));
-    group.bench_function("node_pass", |b| b.iter(|| nodes.pass(black_box(1.5e6))));
-    group.bench_function("two_applies", |b| {
-        b.iter(|| {
-            ops.forward(black_box(&tau), &mut q);
-            ops.back(&q, &mut u);
-        });
+    group.bench_function("node_pass", |b| {
+        b.iter(|| floor.node_pass(black_box(1.5e6)))
     });
+    group.bench_function("two_applies", |b| b.iter(|| floor.two_applies()));
     group.bench_function("roofline", |b| {
-        b.iter(|| {
-            let out = nodes.pass(black_box(1.5e6));
-            ops.forward(&tau, &mut q);
-            ops.back(&q, &mut u);
-            out
-        });
+        b.iter(|| floor.evaluation(black_box(1.5e6)))
     });
     group.finish();
 }

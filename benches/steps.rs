@@ -5,37 +5,9 @@
 //! step is one iteration of the driver with nothing recorded.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use stickslip_benches::{Setting, scene};
-use stickslip_run::driver::{Control, Driver, Limit, NullSink};
-use stickslip_run::keys::words::{ContactModel, NoiseKindName, Scheme, Stepping, Substrate};
-use stickslip_run::keys::{contact, noise, output, time};
-
-/// fig2 with fixed steps of 20 ns over a long interval (so the bench never reaches the end),
-/// no rows recorded, advanced into its first stick phase (t = 0.3 ms) so the step measured is
-/// a typical one rather than the trivial first.
-fn warmed(extra: &[Setting]) -> Driver {
-    let mut sets = vec![
-        time::DT.set(2e-8),
-        time::END.set(1.0),
-        time::STEPPING.set(Stepping::Fixed),
-        output::SERIES_INTERVAL.set(1.0),
-        output::PROFILE_TIMES.set(vec![1.0]),
-    ];
-    sets.extend_from_slice(extra);
-    let scene = scene("fig2", &sets);
-    let mut driver = Driver::start(&scene, &mut NullSink).expect("valid scene");
-    driver
-        .advance(&mut NullSink, &mut Control::default(), Limit::Time(3e-4))
-        .expect("no I/O");
-    driver
-}
-
-fn step(driver: &mut Driver) {
-    let stop = driver
-        .advance(&mut NullSink, &mut Control::default(), Limit::Steps(1))
-        .expect("no I/O");
-    assert!(stop.is_none(), "the run stopped: {stop:?}");
-}
+use stickslip_benches::{Setting, step, warmed};
+use stickslip_run::keys::words::{ContactModel, NoiseKindName, Scheme, Substrate};
+use stickslip_run::keys::{contact, noise, time};
 
 fn effects(c: &mut Criterion) {
     let mut group = c.benchmark_group("step_effects_n200");

@@ -42,6 +42,7 @@ pub mod film_steps;
 pub mod grid_cost;
 pub mod refine;
 pub mod report;
+pub mod roofline;
 pub mod spread;
 pub mod step_trace;
 pub mod sweep;
@@ -583,6 +584,8 @@ pub struct Performance {
     pub effects: effects::EffectsBench,
     /// G1: the h0 = 1 nm contact at N = 200 on the graded grid against the uniform one.
     pub grid_cost: grid_cost::GridCostBench,
+    /// The roofline target: the evaluation against the floor of one evaluation.
+    pub roofline: roofline::RooflineBench,
     /// Total time of the benchmark, s.
     pub total_s: f64,
     /// Machine note.
@@ -868,6 +871,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
     let sfa = experiment::measure(s, &progress)?;
     let effects = effects::measure(s, &progress)?;
     let grid_cost = grid_cost::measure(s, &progress)?;
+    let roofline = roofline::measure(&progress);
     let film_steps = film_steps::measure(s, r4, &sfa, &progress)?;
     let build = stickslip_report::build_timing::BuildTiming::read(&s.reports_dir)?;
     let fig2_accurate_s = t1_two.wall_s;
@@ -892,6 +896,7 @@ pub fn measure(s: &BenchSettings) -> Result<Performance, String> {
         sfa,
         effects,
         grid_cost,
+        roofline,
         film_steps,
         paper_nodes,
         paper_dt_s,

@@ -144,6 +144,7 @@ fn markdown(p: &Performance) -> String {
     super::experiment::targets_rows(&mut m, &p.sfa);
     super::effects::targets_row(&mut m, &p.effects);
     super::grid_cost::targets_row(&mut m, &p.grid_cost);
+    super::roofline::targets_row(&mut m, &p.roofline);
     let cheapest = |method: &str| {
         p.work_precision
             .iter()
@@ -574,6 +575,7 @@ mod tests {
             sfa: sfa(),
             effects: super::super::effects::EffectsBench::default(),
             grid_cost: super::super::grid_cost::GridCostBench::default(),
+            roofline: super::super::roofline::RooflineBench::default(),
             total_s: 97.0,
             machine: "2 logical CPUs".into(),
         };
