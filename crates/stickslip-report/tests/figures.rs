@@ -2,20 +2,13 @@
 //! legends, axis and point labels, by the plotting layer's own width estimate
 //! (`plot::svg_check`), so that no browser clips a legend or a title.
 
-use std::path::Path;
+mod common;
+
 use stickslip_report::plot::svg_check::text_outside;
 
 #[test]
 fn every_report_figure_keeps_its_text_on_the_canvas() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reports");
-    let mut figures: Vec<_> = std::fs::read_dir(&dir)
-        .expect("reports/")
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
-        .collect();
-    figures.sort();
-    assert!(figures.len() > 30, "{} figures", figures.len());
+    let figures = common::report_figures();
     let mut clipped = Vec::new();
     for p in &figures {
         let svg = std::fs::read_to_string(p).expect("readable figure");

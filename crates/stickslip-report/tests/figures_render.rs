@@ -7,7 +7,7 @@
 
 use resvg::tiny_skia::{Pixmap, Transform};
 use resvg::usvg::{Group, Node, Options, Tree};
-use std::path::Path;
+mod common;
 
 /// How far (px) a glyph's box may pass the canvas's edge: anti-aliasing, not clipping.
 const SLACK_PX: f32 = 0.5;
@@ -105,15 +105,7 @@ fn a_clipped_label_and_a_broken_file_are_found() {
 
 #[test]
 fn every_report_figure_renders_with_its_text_on_the_canvas() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../reports");
-    let mut figures: Vec<_> = std::fs::read_dir(&dir)
-        .expect("reports/")
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
-        .collect();
-    figures.sort();
-    assert!(figures.len() > 30, "{} figures", figures.len());
+    let figures = common::report_figures();
     let opt = options();
     let mut faults = Vec::new();
     let mut texts_checked = 0;

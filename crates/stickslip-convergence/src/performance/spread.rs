@@ -140,44 +140,35 @@ fn per_step_costs(m: &mut String, p: &Performance) {
          | measurement | window | loop µs per step | coupling iterations per step |\n|---|---|---|---|",
         p.paper_nodes, p.paper_dt_s
     );
+    // (measurement, window end in µs with its digits, loop µs per step, iterations per step)
+    let per_step = |t: &Timed| t.coupling_iterations as f64 / t.steps.max(1) as f64;
+    let mut rows = Vec::new();
     if let Some(w) = window {
-        let _ = writeln!(
-            m,
-            "| P2 profile | 0 → {} µs | {} | {} |",
-            sig(p.full_resolution_window_s * 1e6, 2),
-            sig(w.us_per_step(), 3),
-            sig(w.coupling_iterations as f64 / w.steps.max(1) as f64, 3)
-        );
+        let end = sig(p.full_resolution_window_s * 1e6, 2);
+        rows.push(("P2 profile", end, w.us_per_step(), per_step(w)));
     }
-    let _ = writeln!(
-        m,
-        "| T3 | 0 → {} µs | {} | {} |",
-        sig(p.sweep_window_s * 1e6, 2),
-        sig(t3.us_per_step, 3),
-        sig(t3.coupling_iterations_per_step, 3)
-    );
+    let t3_end = sig(p.sweep_window_s * 1e6, 2);
+    rows.push((
+        "T3",
+        t3_end,
+        t3.us_per_step,
+        t3.coupling_iterations_per_step,
+    ));
     if let Some(w) = whole {
+        let end = sig(p.scene_end_s * 1e6, 3);
+        rows.push(("P2 whole run", end, w.us_per_step(), per_step(w)));
+    }
+    for (name, end, us, iterations) in &rows {
         let _ = writeln!(
             m,
-            "| P2 whole run | 0 → {} µs | {} | {} |",
-            sig(p.scene_end_s * 1e6, 3),
-            sig(w.us_per_step(), 3),
-            sig(w.coupling_iterations as f64 / w.steps.max(1) as f64, 3)
+            "| {name} | 0 → {end} µs | {} | {} |",
+            sig(*us, 3),
+            sig(*iterations, 3)
         );
     }
-    let costs: Vec<f64> = window
-        .iter()
-        .chain(whole.iter())
-        .map(|t| t.us_per_step())
-        .chain(std::iter::once(t3.us_per_step))
-        .collect();
+    let costs: Vec<f64> = rows.iter().map(|r| r.2).collect();
     let (lo, hi) = min_max(&costs);
-    let iterations: Vec<f64> = window
-        .iter()
-        .chain(whole.iter())
-        .map(|t| t.coupling_iterations as f64 / t.steps.max(1) as f64)
-        .chain(std::iter::once(t3.coupling_iterations_per_step))
-        .collect();
+    let iterations: Vec<f64> = rows.iter().map(|r| r.3).collect();
     let (ilo, ihi) = min_max(&iterations);
     let _ = writeln!(
         m,
