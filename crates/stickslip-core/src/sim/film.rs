@@ -9,7 +9,7 @@
 
 use super::error_estimate;
 use crate::landau::{
-    LandauParams, bernoulli_exponent, bernoulli_finish, bernoulli_phi, first_order,
+    LandauParams, bernoulli_exponent, bernoulli_finish_select, bernoulli_phi, first_order,
 };
 
 /// What the accurate step needs from the film's kinetics (y = φ²; c = a·ε² − A·b/a, Pa).
@@ -94,9 +94,15 @@ impl Film for SecondOrder {
             *o = bernoulli_exponent(ep, a_coeff, p, dt_s);
         }
         crate::vexp::exp_expm1_all(out, e, m);
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = bernoulli_finish(phi0[i], eps[i], a_coeff, p, dt_s, (e[i], m[i]));
-        }
+        faer::traits::pulp::Arch::new().dispatch(FinishKernel {
+            phi0,
+            eps,
+            em: (e, m),
+            hoisted: (p, self.b, self.two_gamma),
+            a_coeff,
+            dt_s,
+            out,
+        });
     }
 
     fn rate(&self, c: f64, _phi: f64, y: f64) -> f64 {
@@ -133,6 +139,40 @@ impl Film for SecondOrder {
 
     fn regrows(&self, _phi: f64, c: f64) -> bool {
         c < 0.0
+    }
+}
+
+/// [`SecondOrder::step_all`]'s closed form over all nodes, compiled once per instruction set
+/// (pulp's run-time dispatch) and branch-free ([`bernoulli_finish_select`]), so that it
+/// vectorises; the bits are those of [`crate::landau::bernoulli_finish`] node by node.
+struct FinishKernel<'a> {
+    phi0: &'a [f64],
+    eps: &'a [f64],
+    em: (&'a [f64], &'a [f64]),
+    hoisted: (&'a LandauParams, f64, f64),
+    a_coeff: f64,
+    dt_s: f64,
+    out: &'a mut [f64],
+}
+
+impl faer::traits::pulp::WithSimd for FinishKernel<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: faer::traits::pulp::Simd>(self, _simd: S) {
+        let n = self.out.len();
+        let (phi0, eps) = (&self.phi0[..n], &self.eps[..n]);
+        let (e, m) = (&self.em.0[..n], &self.em.1[..n]);
+        for i in 0..n {
+            self.out[i] = bernoulli_finish_select(
+                phi0[i],
+                eps[i],
+                self.a_coeff,
+                self.hoisted,
+                self.dt_s,
+                (e[i], m[i]),
+            );
+        }
     }
 }
 
