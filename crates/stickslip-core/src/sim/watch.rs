@@ -170,24 +170,24 @@ pub(super) fn check_state(problem: &Problem, state: &SimState) -> Result<(), Num
         }
     };
     let viscous = problem.config.lubricant.viscosity_pa_s > 0.0;
-    let mut worst = (0usize, 0.0_f64);
-    let mut sum = 0.0;
-    for (i, (&tau, &phi)) in s.tau_pa.iter().zip(&s.phi).enumerate() {
-        sum += tau + phi + s.u3d_m[i];
-        // The film's elastic stress runs away, not the viscous one, which is the drive's
-        // rate: with viscosity the limit applies to a·φ²·ε alone.
+    // The film's elastic stress runs away, not the viscous one, which is the drive's rate:
+    // with viscosity the limit applies to a·φ²·ε alone. Measured in units of the node's own
+    // limit.
+    let excess = |i: usize| {
+        let phi = s.phi[i];
         let tau_film = if viscous {
             l.a_pa * phi * phi * s.eps[i]
         } else {
-            tau
+            s.tau_pa[i]
         };
-        // Measured in units of the node's own limit.
-        let excess = tau_film.abs() / order_factor(phi);
-        if excess > worst.1 {
-            worst = (i, excess);
-        }
-    }
-    if !sum.is_finite() {
+        tau_film.abs() / order_factor(phi)
+    };
+    let scan = faer::traits::pulp::Arch::new().dispatch(NodeScan {
+        n: s.phi.len(),
+        excess: &excess,
+        values: (&s.tau_pa, &s.phi, &s.u3d_m),
+    });
+    if !scan.all_finite {
         for (i, ((&tau, &phi), &u)) in s.tau_pa.iter().zip(&s.phi).zip(&s.u3d_m).enumerate() {
             for (q, v) in [("phi", phi), ("tau", tau), ("u3d", u)] {
                 if !v.is_finite() {
@@ -196,6 +196,15 @@ pub(super) fn check_state(problem: &Problem, state: &SimState) -> Result<(), Num
             }
         }
     }
+    // The first node with the largest excess (NaN never counts).
+    let worst = if scan.max_excess > limit {
+        let i = (0..s.phi.len())
+            .find(|&i| excess(i) == scan.max_excess)
+            .unwrap_or(0);
+        (i, scan.max_excess)
+    } else {
+        (0, scan.max_excess)
+    };
     if worst.1 > limit {
         return fail(
             worst.0,
@@ -262,4 +271,40 @@ fn non_finite_advice(config: &SimConfig) -> String {
 /// contact melted" must read as 1).
 pub(super) fn whole_area(sum: f64, count: usize, n: usize) -> f64 {
     if count == n { 1.0 } else { sum }
+}
+
+/// [`check_state`]'s pass over the nodes under the CPU's best instruction set (pulp's
+/// run-time dispatch), written so that it vectorises: whether every φ, τ and u3D is finite
+/// and the largest excess over the runaway limit (a maximum, whatever the order).
+struct NodeScan<'a, E> {
+    n: usize,
+    excess: &'a E,
+    values: (&'a [f64], &'a [f64], &'a [f64]),
+}
+
+/// What [`NodeScan`] found.
+struct Scanned {
+    all_finite: bool,
+    max_excess: f64,
+}
+
+impl<E: Fn(usize) -> f64> faer::traits::pulp::WithSimd for NodeScan<'_, E> {
+    type Output = Scanned;
+
+    #[inline(always)]
+    fn with_simd<S: faer::traits::pulp::Simd>(self, _simd: S) -> Scanned {
+        let (tau, phi, u3d) = self.values;
+        let (tau, phi, u3d) = (&tau[..self.n], &phi[..self.n], &u3d[..self.n]);
+        let mut finite = true;
+        let mut max_excess = 0.0_f64;
+        for i in 0..self.n {
+            // `&`, not `&&`: no early exit, so the loop vectorises.
+            finite &= tau[i].is_finite() & phi[i].is_finite() & u3d[i].is_finite();
+            max_excess = max_excess.max((self.excess)(i));
+        }
+        Scanned {
+            all_finite: finite,
+            max_excess,
+        }
+    }
 }
