@@ -8,6 +8,7 @@ use super::drive_step;
 use super::energy::StepSinks;
 use super::error_estimate;
 use super::film::Film;
+use super::node_pass::{self, NodeScratch};
 use super::problem::{Contact, Problem};
 use super::stepper::{StepError, StepReport, Stepper};
 use super::substrate::{BEND_NOISE_FACTOR, SubstratePredictor, SubstrateSolver};
@@ -26,54 +27,6 @@ pub(super) struct Accurate<F> {
     /// `None` for η = 0, which then costs nothing and changes no bit.
     viscous: Option<Viscous>,
     scratch: NodeScratch,
-}
-
-/// Per node, what the accurate step's passes hand each other. The exponentials of all nodes
-/// are taken in vectorised loops ([`crate::vexp::exp_expm1_all`]): their arguments, e^x and
-/// e^x − 1; the film's φ at the step's end; the predicted u3D change over the step, m; the
-/// frozen strain's place θ on the step's strain ramp. For the error estimate after the
-/// coupling solve (see [`error_estimate`]): the start's defect term h·w0·D(0) (or a melting
-/// node's whole estimate), the end's gain h·w1·(−2γ·a·y1), the effective strain, and
-/// 1/(2·max(y1, thr²)).
-struct NodeScratch {
-    arg: Vec<f64>,
-    exp: Vec<f64>,
-    expm1: Vec<f64>,
-    phi1: Vec<f64>,
-    du3d: Vec<f64>,
-    theta: Vec<f64>,
-    est_base: Vec<f64>,
-    est_gain: Vec<f64>,
-    est_eps_eff: Vec<f64>,
-    est_norm: Vec<f64>,
-    /// The energy books' per-node parts: the elastic stress a·φ²·ε at the step's start, Pa;
-    /// the stamp's advance over which the node's u0 was held, m; the strain of the node's
-    /// last exact path; φ before the noise.
-    book_tau0: Vec<f64>,
-    book_slide: Vec<f64>,
-    book_eps_path: Vec<f64>,
-    book_phi: Vec<f64>,
-}
-
-impl NodeScratch {
-    fn new(n: usize) -> Self {
-        Self {
-            arg: vec![0.0; n],
-            exp: vec![0.0; n],
-            expm1: vec![0.0; n],
-            phi1: vec![0.0; n],
-            du3d: vec![0.0; n],
-            theta: vec![0.0; n],
-            est_base: vec![0.0; n],
-            est_gain: vec![0.0; n],
-            est_eps_eff: vec![0.0; n],
-            est_norm: vec![0.0; n],
-            book_tau0: vec![0.0; n],
-            book_slide: vec![0.0; n],
-            book_eps_path: vec![0.0; n],
-            book_phi: vec![0.0; n],
-        }
-    }
 }
 
 /// What the film's step at one node ends with: φ and u0 at the step's end, the melting's
@@ -314,7 +267,7 @@ impl<F: Film> Accurate<F> {
         crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
     }
 
-    /// (d) Everything else, node by node: the error estimate's pieces, melting located in the
+    /// (d) Everything else: the error estimate's pieces ([`node_pass`], every node at once), melting located in the
     /// step, φ and u0 at the step's end. The fraction of the step at which the first node
     /// melted (1: none), the latest located recovery crossing, s (−∞: none), and the energy
     /// books' Landau and reset sinks (the held advances kept per node for the sliding work).
@@ -327,7 +280,6 @@ impl<F: Film> Accurate<F> {
         let mut sinks = StepSinks::default();
         let h0_m = problem.config.contact.film_thickness_m;
         let params = problem.config.lubricant;
-        let (a, two_gamma) = (params.a_pa, 2.0 * params.gamma_per_pa_s);
         let thr = problem.config.melt_threshold;
         let h0 = problem.config.contact.film_thickness_m;
         // The film's recovery level at the step's end: the last node to cross it upwards,
@@ -341,6 +293,21 @@ impl<F: Film> Accurate<F> {
         let y_scale_min = phi_scale * phi_scale;
         let mut first_melt = 1.0_f64;
         let mut recovered_s = f64::NEG_INFINITY;
+        // Every node's estimate and dissipation as if it did not melt, vectorised; the loop
+        // below replaces them for the nodes that melt.
+        self.scratch.estimate_ends(
+            (&state.physical.phi, &state.physical.eps),
+            node_pass::EndConstants {
+                params,
+                threshold: thr,
+                h0_m: h0,
+                dx_m: dx,
+                dt_s,
+                a_mid_pa: a_mid,
+                y_scale_min,
+                ramp: F::RAMP,
+            },
+        );
         for i in 0..state.physical.phi.len() {
             let phi0 = state.physical.phi[i];
             let solid0 = phi0 >= thr;
@@ -349,43 +316,25 @@ impl<F: Film> Accurate<F> {
             let du0 = if solid0 { dx } else { 0.0 };
             let eps0 = state.physical.eps[i];
             let eps1 = eps0 + (du0 - sc.du3d[i]) / h0;
-            let y0 = phi0 * phi0;
-            let eps_eff = sc.est_eps_eff[i];
+            let eps_eff = sc.book_eps_path[i];
             let phi1 = sc.phi1[i];
-            // The error estimate's pieces (see `error_estimate`): the defect at the start now,
-            // at the end once the coupling solve has given the end strain.
-            let y1 = phi1 * phi1;
-            let (w0, w1) =
-                error_estimate::defect_weights_from(-sc.arg[i], (sc.exp[i], sc.expm1[i]));
-            sc.est_base[i] = dt_s * w0 * (-two_gamma * a * y0 * (eps_eff * eps_eff - eps0 * eps0));
-            sc.est_gain[i] = dt_s * w1 * (-two_gamma * a * y1);
-            if F::RAMP {
-                // The ramp step's error: its second-order remainder, and the end strain's
-                // prediction error (the defect at the end against ε1, the ramp's end).
-                sc.est_base[i] = y1 * sc.theta[i];
-                sc.est_eps_eff[i] = eps1;
-            }
-            sc.est_norm[i] = 0.5 / y1.max(y_scale_min);
             let u0 = state.physical.u0_m[i];
             let whole = (phi0, eps_eff, 0.0, dt_s);
-            // The drop of f along the exact path at the frozen strain: the Landau dissipation.
-            let f_drop = |phi_a: f64, phi_b: f64, eps: f64| {
-                params.free_energy_pa(phi_a, eps, a_mid) - params.free_energy_pa(phi_b, eps, a_mid)
-            };
+            let landau_pa = sc.landau_pa[i];
             let mut node = NodeSinks::default();
             let (phi_end, u0_end, melted_at, path): NodeEnd = match (solid0, phi1 >= thr) {
                 (true, true) => {
-                    node.landau_pa = f_drop(phi0, phi1, eps_eff);
+                    node.landau_pa = landau_pa;
                     (phi1, u0 + dx, None, whole)
                 }
                 (false, true) => {
                     let theta = self.film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
-                    node.landau_pa = f_drop(phi0, phi1, eps_eff);
+                    node.landau_pa = landau_pa;
                     node.held_m = theta * dx;
                     (phi1, (1.0 - theta) * dx, None, whole)
                 }
                 (false, false) => {
-                    node.landau_pa = f_drop(phi0, phi1, eps_eff);
+                    node.landau_pa = landau_pa;
                     node.held_m = dx;
                     (phi1, 0.0, None, whole)
                 }

@@ -41,6 +41,7 @@ pub mod error_estimate;
 pub mod events;
 mod film;
 mod literal;
+mod node_pass;
 mod problem;
 mod ramp;
 pub mod state;
