@@ -185,8 +185,26 @@ impl<F: Film> Accurate<F> {
     /// The film's step at every node up to φ1 (the passes (a)–(c)): the per-node step in
     /// passes, so that each pass's exponentials are taken for all nodes in one vectorised loop
     /// (`vexp`) rather than by a library call per node; the arithmetic per node is the same as
-    /// in one pass.
+    /// in one pass. The passes run under the CPU's best instruction set ([`FilmPasses`]).
     fn film_passes(
+        &mut self,
+        problem: &Problem,
+        state: &SimState,
+        predictor: &SubstratePredictor,
+        args: (f64, f64, f64),
+    ) {
+        faer::traits::pulp::Arch::new().dispatch(FilmPasses {
+            stepper: self,
+            problem,
+            state,
+            predictor,
+            args,
+        });
+    }
+
+    /// [`Accurate::film_passes`]'s body, inlined into [`FilmPasses`]'s kernel.
+    #[inline(always)]
+    fn film_passes_body(
         &mut self,
         problem: &Problem,
         state: &SimState,
@@ -198,18 +216,18 @@ impl<F: Film> Accurate<F> {
         let h0 = problem.config.contact.film_thickness_m;
         let (film, sc, p) = (&self.film, &mut self.scratch, &state.physical);
         let n = p.phi.len();
-        // (a) The weight θ's argument −λΔt.
+        // (a) The weight θ's argument −λΔt, and the substrate's predicted change.
+        let (phi, eps) = (&p.phi[..n], &p.eps[..n]);
         for i in 0..n {
-            let phi0 = p.phi[i];
-            let eps0 = p.eps[i];
+            let (phi0, eps0) = (phi[i], eps[i]);
             let lambda = film.rate(params.bernoulli_c_pa(eps0, a_mid), phi0, phi0 * phi0);
             sc.arg[i] = -(lambda * dt_s);
-            sc.du3d[i] = predictor.du3d(
-                p.u3d_m[i],
-                state.stepper.u3d_prev_m[i],
-                state.stepper.u3d_prev2_m.get(i).copied(),
-            );
         }
+        let memory = &state.stepper;
+        predictor.du3d_all(
+            (&p.u3d_m, &memory.u3d_prev_m, &memory.u3d_prev2_m),
+            &mut sc.du3d,
+        );
         crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
         // (b) The effective strain, then the film's step at every node.
         for i in 0..n {
@@ -578,6 +596,27 @@ impl<F: Film> Accurate<F> {
     }
 }
 
+/// [`Accurate::film_passes`] compiled once per instruction set (pulp's run-time dispatch), so
+/// that its loops over nodes, branch-free, vectorise where the CPU allows; the arithmetic, and
+/// so the bits, are the same on every instruction set (no fused multiply-add).
+struct FilmPasses<'a, F> {
+    stepper: &'a mut Accurate<F>,
+    problem: &'a Problem,
+    state: &'a SimState,
+    predictor: &'a SubstratePredictor,
+    args: (f64, f64, f64),
+}
+
+impl<F: Film> faer::traits::pulp::WithSimd for FilmPasses<'_, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: faer::traits::pulp::Simd>(self, _simd: S) {
+        self.stepper
+            .film_passes_body(self.problem, self.state, self.predictor, self.args);
+    }
+}
+
 /// Weight θ(z) = 1/(1 − e^(−z)) − 1/z with z = λ·Δt: y' = −λ(y − g(t)) with g linear over
 /// the step is solved exactly by freezing g at g(t0) + θ·(g(t1) − g(t0)).
 /// θ → ½ + z/12 for z → 0, → 1 for z → +∞, → 0 for z → −∞.
@@ -588,9 +627,8 @@ fn linear_forcing_weight(z: f64) -> f64 {
 /// [`linear_forcing_weight`] given e^(−z).
 #[inline(always)]
 fn linear_forcing_weight_from(z: f64, e: f64) -> f64 {
-    if z.abs() < 1e-4 {
-        0.5 + z / 12.0
-    } else {
-        1.0 / (1.0 - e) - 1.0 / z
-    }
+    // Both forms, then a select: no branch, so loops over nodes vectorise.
+    let series = 0.5 + z / 12.0;
+    let closed = 1.0 / (1.0 - e) - 1.0 / z;
+    if z.abs() < 1e-4 { series } else { closed }
 }
