@@ -4,4 +4,5 @@
 mod common;
 
 mod fit;
+mod onset_sigma;
 mod refine;
