@@ -324,16 +324,37 @@ pub fn back_entry(grid: &Grid, i: usize, m: usize) -> f64 {
     row[0]
 }
 
+/// r_0 … r_N of `grid` (r_N = a0), m: [`Grid::node_radius_m`] once each.
+fn node_radii(grid: &Grid) -> Vec<f64> {
+    (0..=grid.nodes()).map(|i| grid.node_radius_m(i)).collect()
+}
+
+/// [`Grid::cell_width_m`] from the radii `node_radii` gave: the same value, no power.
+#[inline]
+fn cell_width(grid: &Grid, radii: &[f64], k: usize) -> f64 {
+    if grid.grading().is_uniform() {
+        grid.spacing_m()
+    } else {
+        radii[k + 1] - radii[k]
+    }
+}
+
 /// The entries of [`forward`] on demand (N/m per Pa), for the hierarchical build.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct ForwardEntries {
     grid: Grid,
+    /// r_0 … r_N (r_N = a0), m: computed once, since a graded grid's radius costs a power and
+    /// the hierarchical build asks for each many times.
+    radii: Vec<f64>,
 }
 
 impl ForwardEntries {
     /// The forward operator of `grid`, stored nowhere.
     pub fn new(grid: Grid) -> Self {
-        Self { grid }
+        Self {
+            radii: node_radii(&grid),
+            grid,
+        }
     }
 }
 
@@ -424,23 +445,25 @@ impl OperatorEntries for ForwardEntries {
     }
 
     fn entry(&self, i: usize, k: usize) -> f64 {
-        forward_entry(&self.grid, i, k)
+        let mut row = [0.0];
+        self.row_into(i, &[k], &mut row);
+        row[0]
     }
 
     /// Row j: entry (j, m) sums cell m − 1's right weight and cell m's left weight, in
     /// the dense builder's order; consecutive columns share a cell's moments.
     fn row_into(&self, j: usize, cols: &[usize], out: &mut [f64]) {
-        let grid = &self.grid;
+        let (grid, radii) = (&self.grid, &self.radii);
         if !grid.grading().is_uniform() {
             return self.row_into_accurate(j, cols, out);
         }
         let n = grid.nodes();
-        let x = grid.node_radius_m(j);
+        let x = radii[j];
         let cell = |k: usize| {
-            let (i0, i1) = forward_moments(grid.node_radius_m(k), grid.node_radius_m(k + 1), x);
+            let (i0, i1) = forward_moments(radii[k], radii[k + 1], x);
             if k + 1 < n {
-                let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
-                let h = grid.cell_width_m(k);
+                let (a, b) = (radii[k], radii[k + 1]);
+                let h = cell_width(grid, radii, k);
                 (2.0 * (b * i0 - i1) / h, 2.0 * (i1 - a * i0) / h)
             } else {
                 // Constant data on the last cell; no cell to its right takes its right weight.
@@ -453,13 +476,13 @@ impl OperatorEntries for ForwardEntries {
     /// Row j with the cell weights of `forward_cell_weights` (Gauss rules): the same entries to
     /// about 1e-15 relative, without the closed form's rounding noise.
     fn row_into_accurate(&self, j: usize, cols: &[usize], out: &mut [f64]) {
-        let grid = &self.grid;
+        let (grid, radii) = (&self.grid, &self.radii);
         let n = grid.nodes();
-        let x = grid.node_radius_m(j);
+        let x = radii[j];
         // √(r_k² − x²) at the right end of the last cell, the next one's left end.
         let mut end: Option<(usize, f64)> = None;
         let cell = |k: usize| {
-            let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
+            let (a, b) = (radii[k], radii[k + 1]);
             let sa = match end {
                 Some((e, s)) if e == k => s,
                 _ => sqrt_diff_sq(a, x),
@@ -467,7 +490,7 @@ impl OperatorEntries for ForwardEntries {
             let sb = sqrt_diff_sq(b, x);
             end = Some((k + 1, sb));
             if k + 1 < n {
-                forward_cell_weights(a, b, sa, sb, x, grid.cell_width_m(k))
+                forward_cell_weights(a, b, sa, sb, x, cell_width(grid, radii, k))
             } else {
                 // Constant data on the last cell: 2·I0, free of cancellation.
                 (2.0 * forward_moments(a, b, x).0, 0.0)
@@ -483,22 +506,28 @@ impl OperatorEntries for ForwardEntries {
         let a0 = self.grid.radius_m();
         let n = self.grid.nodes();
         let sum: f64 = (0..n)
-            .map(|j| 4.0 * sqrt_diff_sq(a0, self.grid.node_radius_m(j)).powi(2))
+            .map(|j| 4.0 * sqrt_diff_sq(a0, self.radii[j]).powi(2))
             .sum();
         (sum / n as f64).sqrt()
     }
 }
 
 /// The entries of [`back`] on demand (m per m), for the hierarchical build.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct BackEntries {
     grid: Grid,
+    /// r_0 … r_N (r_N = a0), m: computed once, since a graded grid's radius costs a power and
+    /// the hierarchical build asks for each many times.
+    radii: Vec<f64>,
 }
 
 impl BackEntries {
     /// The back operator of `grid`, stored nowhere.
     pub fn new(grid: Grid) -> Self {
-        Self { grid }
+        Self {
+            radii: node_radii(&grid),
+            grid,
+        }
     }
 }
 
@@ -512,21 +541,23 @@ impl OperatorEntries for BackEntries {
     }
 
     fn entry(&self, i: usize, k: usize) -> f64 {
-        back_entry(&self.grid, i, k)
+        let mut row = [0.0];
+        self.row_into(i, &[k], &mut row);
+        row[0]
     }
 
     /// Row i: entry (i, m) sums cell m − 1's right weight and cell m's left weight, in
     /// the dense builder's order; consecutive columns share a cell's moments.
     fn row_into(&self, i: usize, cols: &[usize], out: &mut [f64]) {
-        let grid = &self.grid;
+        let (grid, radii) = (&self.grid, &self.radii);
         if !grid.grading().is_uniform() {
             return self.row_into_accurate(i, cols, out);
         }
-        let r = grid.node_radius_m(i);
+        let r = radii[i];
         let cell = |k: usize| {
-            let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
+            let (a, b) = (radii[k], radii[k + 1]);
             let (j0, j1) = back_moments(a, b, r);
-            let h = grid.cell_width_m(k);
+            let h = cell_width(grid, radii, k);
             (2.0 / PI * (b * j0 - j1) / h, 2.0 / PI * (j1 - a * j0) / h)
         };
         assemble_row(cols, out, |m| back_row_entry(i, m), cell);
@@ -535,19 +566,19 @@ impl OperatorEntries for BackEntries {
     /// Row i with the cell weights of `back_cell_weights` (Gauss rules): the same entries to about
     /// 1e-15 relative, without the closed form's rounding noise.
     fn row_into_accurate(&self, i: usize, cols: &[usize], out: &mut [f64]) {
-        let grid = &self.grid;
-        let r = grid.node_radius_m(i);
+        let (grid, radii) = (&self.grid, &self.radii);
+        let r = radii[i];
         // √(r² − x_k²) at the right end of the last cell, the next one's left end.
         let mut end: Option<(usize, f64)> = None;
         let cell = |k: usize| {
-            let (a, b) = (grid.node_radius_m(k), grid.node_radius_m(k + 1));
+            let (a, b) = (radii[k], radii[k + 1]);
             let ca = match end {
                 Some((e, c)) if e == k => c,
                 _ => sqrt_diff_sq(r, a),
             };
             let cb = sqrt_diff_sq(r, b);
             end = Some((k + 1, cb));
-            back_cell_weights(a, b, ca, cb, r, grid.cell_width_m(k))
+            back_cell_weights(a, b, ca, cb, r, cell_width(grid, radii, k))
         };
         assemble_row(cols, out, |m| back_row_entry(i, m), cell);
     }
