@@ -329,30 +329,24 @@ impl<F: Film> Accurate<F> {
         for i in 0..state.physical.phi.len() {
             let phi0 = state.physical.phi[i];
             let solid0 = phi0 >= thr;
-            let sc = &mut self.scratch;
-            // u0 is held at 0 while melted, so only solid nodes see the stamp's advance.
-            let du0 = if solid0 { dx } else { 0.0 };
-            let eps0 = state.physical.eps[i];
-            let eps1 = eps0 + (du0 - sc.du3d[i]) / h0;
+            let sc = &self.scratch;
             let eps_eff = sc.book_eps_path[i];
             let phi1 = sc.phi1[i];
             let u0 = state.physical.u0_m[i];
             let whole = (phi0, eps_eff, 0.0, dt_s);
-            let landau_pa = sc.landau_pa[i];
-            let mut node = NodeSinks::default();
+            // The dissipation along the whole path; a melting node replaces it.
+            let mut node = NodeSinks {
+                landau_pa: sc.landau_pa[i],
+                ..NodeSinks::default()
+            };
             let (phi_end, u0_end, melted_at, path): NodeEnd = match (solid0, phi1 >= thr) {
-                (true, true) => {
-                    node.landau_pa = landau_pa;
-                    (phi1, u0 + dx, None, whole)
-                }
+                (true, true) => (phi1, u0 + dx, None, whole),
                 (false, true) => {
                     let theta = self.film.crossing(phi0, phi1, thr, eps_eff, a_mid, dt_s);
-                    node.landau_pa = landau_pa;
                     node.held_m = theta * dx;
                     (phi1, (1.0 - theta) * dx, None, whole)
                 }
                 (false, false) => {
-                    node.landau_pa = landau_pa;
                     node.held_m = dx;
                     (phi1, 0.0, None, whole)
                 }
@@ -361,7 +355,8 @@ impl<F: Film> Accurate<F> {
                     state,
                     i,
                     (a_mid, dx, dt_s),
-                    (eps_eff, eps1),
+                    // The ramp's end strain of a solid node (u0 advances by dx).
+                    (eps_eff, state.physical.eps[i] + (dx - sc.du3d[i]) / h0),
                     (y_scale_min, &mut node),
                 ),
             };
