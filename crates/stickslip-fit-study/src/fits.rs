@@ -8,7 +8,7 @@ use crate::jacobian;
 use crate::prepared::{Prepared, prepare};
 use crate::record::{CoverageRun, Curves, FitSummary, JacobianCheck, SingleFit, WidthRun};
 use std::path::Path;
-use stickslip_studies::fit::{FitOutcome, MisfitKind};
+use stickslip_studies::fit::{FitOutcome, MisfitKind, Strategy};
 
 /// The CPU time of this process so far (user and system, all threads), s: from
 /// `/proc/self/stat` in clock ticks of 1/100 s; none where unreadable.
@@ -137,6 +137,35 @@ pub fn coverage(
     }
     let check = check.ok_or("no seeds")?;
     Ok((CoverageRun { case: p.case, fits }, check))
+}
+
+/// The cost target's fits: `case` fitted on each of the seeds `seeds` with `strategy`, each fit's summary (time, runs, χ² against the truth's, intervals) logged as it
+/// ends.
+///
+/// # Errors
+/// As [`coverage`].
+pub fn per_seed(
+    root: &Path,
+    case: Case,
+    seeds: std::ops::RangeInclusive<u64>,
+    (jobs, strategy): (usize, Strategy),
+    log: &mut Log<'_>,
+) -> Result<Vec<(FitSummary, FitOutcome)>, String> {
+    let p = prepare(root, case)?;
+    log(&format!(
+        "{}: {} samples over {} s",
+        p.case.id, p.case.samples, p.case.end_s
+    ));
+    let mut out = Vec::new();
+    for seed in seeds {
+        let trace = p.trace(p.case.samples, seed)?;
+        let cpu0 = cpu_time_s();
+        let fit = p.fit_with(trace, MisfitKind::Events, (jobs, false), strategy)?;
+        let s = summary(&p, &fit, (seed, p.case.samples), cpu0, jobs)?;
+        log(&line(&format!("{} seed {seed}", p.case.id), &s));
+        out.push((s, fit));
+    }
+    Ok(out)
 }
 
 /// Item 2: `case` (set A) sampled at 1, 2, 4, … times its samples, `sizes.width_seeds` seeds

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use stickslip_run::Scene;
 use stickslip_run::scene::ResolvedScene;
 use stickslip_studies::fit::misfit::ModelCurve;
-use stickslip_studies::fit::{FitOptions, FitOutcome, MisfitKind, Progress, Trace};
+use stickslip_studies::fit::{FitOptions, FitOutcome, MisfitKind, Progress, Strategy, Trace};
 
 /// How often a long fit reports its progress.
 const PROGRESS_EVERY: Duration = Duration::from_secs(60);
@@ -70,6 +70,20 @@ impl Prepared {
         jobs: usize,
         known_noise: bool,
     ) -> Result<FitOutcome, String> {
+        self.fit_with(trace, kind, (jobs, known_noise), Strategy::Direct)
+    }
+
+    /// As [`Prepared::fit`], with the search `strategy`.
+    ///
+    /// # Errors
+    /// The fit's error, in words.
+    pub fn fit_with(
+        &self,
+        trace: Trace,
+        kind: MisfitKind,
+        (jobs, known_noise): (usize, bool),
+        strategy: Strategy,
+    ) -> Result<FitOutcome, String> {
         let (mut last, mut stage, mut level) = (Instant::now(), "", 0);
         let began = Instant::now();
         let mut progress = |p: &Progress| {
@@ -93,6 +107,7 @@ impl Prepared {
             &self.case.params,
             FitOptions {
                 misfit: kind,
+                strategy,
                 jobs,
                 noise_n: known_noise.then_some(self.case.noise_n),
                 progress: Some(&mut progress),

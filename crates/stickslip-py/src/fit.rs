@@ -83,6 +83,7 @@ pub fn fit<'py>(
                 interrupt: Some(&stop),
                 progress: Some(&mut on_progress),
                 start: None,
+                ..FitOptions::default()
             },
         )
     });

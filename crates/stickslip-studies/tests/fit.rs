@@ -338,3 +338,46 @@ fn a_coarse_fit_states_its_discretisation_error_and_warns_when_it_exceeds_the_st
         r.warnings
     );
 }
+
+#[test]
+fn the_profile_strategy_pins_the_first_onset_and_finds_three_known_parameters() {
+    // τmax, γ and εmax free: the first onset fixes τmax and εmax together (the film melts
+    // where the stress reaches τmax at εmax), the profile strategy solves one of them at
+    // every point and scans the widest of the rest.
+    let scene = scene();
+    let trace = synthetic(&scene);
+    let mut specs = params();
+    specs.push("lubricant.eps_max=0.5:2".into());
+    let out = stickslip_studies::fit::fit(
+        &scene,
+        trace,
+        &specs,
+        FitOptions {
+            jobs: 2,
+            strategy: stickslip_studies::fit::Strategy::Profile,
+            ..FitOptions::default()
+        },
+    )
+    .unwrap();
+    let r = &out.report;
+    assert_eq!((r.status.as_str(), r.strategy.as_str()), ("ok", "profile"));
+    let scan = r.scan.as_ref().unwrap();
+    assert_eq!(scan.values.len(), stickslip_studies::fit::scan::SCAN_POINTS);
+    assert!(scan.chi2.iter().all(|c| c.is_finite() && *c >= r.misfit));
+    assert!(specs.iter().any(|s| s.starts_with(&scan.pinned)) && scan.key != scan.pinned);
+    assert!(r.onset_runs > 0, "no onset runs: the pin was never solved");
+    for (key, truth) in [
+        ("lubricant.tau_max", TAU_MAX),
+        ("lubricant.gamma", GAMMA),
+        ("lubricant.eps_max", 1.0),
+    ] {
+        let p = r.parameter(key).unwrap();
+        let (lo, hi) = (p.lo95.unwrap(), p.hi95.unwrap());
+        assert!(
+            lo <= truth && truth <= hi,
+            "{key}: {truth} not in [{lo}, {hi}] ({p:?})"
+        );
+    }
+    let back = stickslip_studies::fit::report::FitReport::parse(&r.to_json()).unwrap();
+    assert_eq!(&back, r);
+}

@@ -238,6 +238,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         interrupt: Some(&flag),
         progress: Some(&mut progress),
         start: resume.map(|r| r.parameters.iter().map(|p| p.value).collect()),
+        ..FitOptions::default()
     };
     let outcome = match stickslip_studies::fit::fit(&scene, trace, a.params, options) {
         Ok(o) => o,

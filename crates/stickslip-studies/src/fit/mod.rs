@@ -26,9 +26,11 @@ pub mod linalg;
 pub mod misfit;
 pub mod optimise;
 pub mod params;
+pub mod pin;
 pub mod problem;
 pub mod profile;
 pub mod report;
+pub mod scan;
 pub mod uncertainty;
 
 use crate::fit::report::{FitEvent, FitParameter, FitReport, finite};
@@ -48,11 +50,47 @@ use stickslip_run::scene::ResolvedScene;
 /// The trace misfit's time shift is searched within ± this fraction of the trace's span.
 pub const SHIFT_OF_SPAN: f64 = 0.05;
 
+/// How the fit searches (docs/fit.md#the-profile-strategy).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Strategy {
+    /// The global sample of the box, then the local stage from its best points.
+    #[default]
+    Direct,
+    /// A parameter pinned by the first onset, the weakest one scanned, the rest fitted at
+    /// each value ([`scan`]); the events misfit with three or more parameters.
+    Profile,
+}
+
+impl Strategy {
+    /// The strategy's name (`--strategy`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Direct => "direct",
+            Self::Profile => "profile",
+        }
+    }
+
+    /// The strategy named `name`.
+    ///
+    /// # Errors
+    /// [`FitError::Input`] for another name.
+    pub fn from_name(name: &str) -> Result<Self, FitError> {
+        match name {
+            "direct" => Ok(Self::Direct),
+            "profile" => Ok(Self::Profile),
+            _ => Err(FitError::input("--strategy", name, "direct or profile")),
+        }
+    }
+}
+
 /// How a fit is made.
 #[derive(Default)]
 pub struct FitOptions<'p> {
     /// The misfit.
     pub misfit: MisfitKind,
+    /// The search.
+    pub strategy: Strategy,
     /// σF, N (none: estimated from the data).
     pub noise_n: Option<f64>,
     /// Runs at a time.
@@ -309,109 +347,54 @@ pub fn fit(
         }
         None => None,
     };
-    let global = match resumed {
-        // An interrupted fit's best point: its global sample was made; the local stage goes
-        // on from there.
-        Some(z) => problem.evaluate_all(&[z], false).unwrap_or_default(),
-        None => optimise::global(&mut problem, start).unwrap_or_default(),
-    };
-    let Some(first) = global
-        .iter()
-        .find(|e| e.failed.is_none())
-        .cloned()
-        .or_else(|| problem.best.clone())
-    else {
-        return Err(if problem.interrupted() {
-            FitError::Interrupted {
-                evaluations: problem.evaluations,
-            }
-        } else {
-            FitError::NoRun {
-                evaluations: problem.evaluations,
-                first: problem.first_failure.clone().unwrap_or_default(),
-            }
-        });
+    let profile_applies = options.misfit == MisfitKind::Events
+        && params.iter().filter(|p| p.scene_key).count() >= 3
+        && resumed.is_none();
+    let use_profile = match options.strategy {
+        Strategy::Direct => false,
+        Strategy::Profile if profile_applies => true,
+        Strategy::Profile => {
+            return Err(FitError::input(
+                "--strategy",
+                "profile",
+                "the events misfit with three or more parameters, not a resumed fit (or \
+                 direct)",
+            ));
+        }
     };
     let mut steps = vec![optimise::FD_STEP_START; params.len()];
-    let free: Vec<usize> = (0..params.len()).collect();
     let mut noise: Option<optimise::SolverNoise> = None;
-    let mut local = optimise::Local {
-        best: first.clone(),
-        iterations: 0,
-        converged: false,
+    let mut scan_out = None;
+    let mut local = None;
+    if use_profile {
+        // The scene's own values (the box's centre where outside it) start the scan.
+        let z0 = start.clone().unwrap_or_else(|| vec![0.5; params.len()]);
+        if let Some((l, sc)) = scan::profile_fit(&mut problem, z0, &mut steps, &mut noise) {
+            local = Some(l);
+            scan_out = Some(sc);
+        }
+        if problem.interrupted() && local.is_none() {
+            return Err(FitError::Interrupted {
+                evaluations: problem.evaluations,
+            });
+        }
+        if local.is_none() {
+            // Not applicable after all (the first onset does not move, or the start failed):
+            // the direct search.
+            problem.pin = None;
+        }
+    }
+    let mut local = match local {
+        Some(l) => l,
+        None => {
+            problem.stage = "global";
+            direct_search(&mut problem, resumed, start, &mut steps, &mut noise)?
+        }
     };
-    if let Some(nu) = optimise::measure(&mut problem, &first) {
-        noise = Some(nu);
-        problem.stage = "local";
-        // A few iterations from each start, then the best one on to convergence.
-        let mut screened: Vec<(optimise::Local, Vec<f64>, optimise::SolverNoise)> = Vec::new();
-        for s in optimise::starts(&global) {
-            let (mut h, mut n) = (steps.clone(), nu);
-            let l = optimise::levenberg_marquardt(
-                &mut problem,
-                s,
-                &free,
-                &mut h,
-                &mut n,
-                optimise::SCREEN_ITERATIONS,
-            );
-            screened.push((l, h, n));
-            if problem.interrupted() {
-                break;
-            }
-        }
-        if let Some((l, h, mut n)) = screened
-            .into_iter()
-            .min_by(|a, b| a.0.best.chi2.total_cmp(&b.0.best.chi2))
-        {
-            steps = h;
-            let spent = l.iterations;
-            local = if l.converged || problem.interrupted() {
-                l
-            } else {
-                let mut more = optimise::levenberg_marquardt(
-                    &mut problem,
-                    l.best,
-                    &free,
-                    &mut steps,
-                    &mut n,
-                    optimise::MAX_ITERATIONS,
-                );
-                more.iterations += spent;
-                more
-            };
-            noise = Some(n);
-        }
-    }
-    // Walk the valley the local stage ended in: a sharply determined parameter makes a valley
-    // narrower than the global sample's spacing, with further minima along it.
-    if !problem.interrupted() && params.len() > 1 {
-        let mut n = noise.unwrap_or(optimise::SolverNoise {
-            value: 0.0,
-            at_chi2: local.best.chi2,
-        });
-        for _ in 0..optimise::VALLEY_WALKS {
-            problem.stage = "valley";
-            let Some(j) =
-                optimise::jacobian(&mut problem, &local.best, &free, &mut steps, n.value, false)
-            else {
-                break;
-            };
-            let Some(d) = linalg::svd(&j) else { break };
-            let Some(points) = optimise::valley(&mut problem, &local.best, &free, &d) else {
-                break;
-            };
-            let Some(lower) = points
-                .into_iter()
-                .filter(|e| e.failed.is_none() && e.chi2 < local.best.chi2)
-                .min_by(|a, b| a.chi2.total_cmp(&b.chi2))
-            else {
-                break;
-            };
-            local.best = go_on(&mut problem, lower, &free, &mut steps, &mut n, &mut local);
-        }
-        noise = Some(n);
-    }
+    // The parameters the local stage moves: with a pin, all but the pinned one.
+    let free: Vec<usize> = (0..params.len())
+        .filter(|&j| problem.pin.as_ref().is_none_or(|p| p.k != j))
+        .collect();
     let mut best: Eval = match &problem.best {
         Some(b) if b.chi2 < local.best.chi2 && b.level == problem.level => b.clone(),
         _ => local.best.clone(),
@@ -440,6 +423,10 @@ pub fn fit(
         let nu = n.value;
         // `settle` reports its runs as the noise stage; the Jacobian's are the uncertainty's.
         problem.stage = "uncertainty";
+        // The intervals are every parameter's, the pinned one's too: its column from the
+        // model itself, not solved along the first onset.
+        problem.pin = None;
+        let free: Vec<usize> = (0..params.len()).collect();
         if !problem.interrupted()
             && let Some(j) = optimise::jacobian(&mut problem, &best, &free, &mut steps, nu, true)
             && let Some(d) = linalg::svd(&j)
@@ -474,7 +461,7 @@ pub fn fit(
     if unc.is_none()
         && interrupted
         && let Some(last) = &problem.last_jacobian
-        && last.free == free
+        && last.free.len() == params.len()
         && let Some(d) = linalg::svd(&last.columns)
     {
         unc = Some(uncertainty::uncertainty(&params, &best.z, &d, best.chi2, m));
@@ -566,6 +553,14 @@ pub fn fit(
         failed_runs: problem.failed_runs,
         first_failure: problem.first_failure.clone(),
         profile: profile_out,
+        strategy: if scan_out.is_some() {
+            "profile"
+        } else {
+            "direct"
+        }
+        .into(),
+        scan: scan_out,
+        onset_runs: problem.onset_runs,
         wall_s: started.elapsed().as_secs_f64(),
         discretisation_settings: discretisation.map(|d| d.settings).unwrap_or_default(),
         warnings,
@@ -595,4 +590,120 @@ fn go_on(
     local.iterations += more.iterations;
     local.converged = more.converged;
     more.best
+}
+
+/// The direct search: the global sample (or the resumed point), the local stage from its best
+/// distinct points, and walks along the valley it ends in.
+///
+/// # Errors
+/// [`FitError::Interrupted`] or [`FitError::NoRun`] when no run succeeded.
+fn direct_search(
+    problem: &mut Problem<'_, '_>,
+    resumed: Option<Vec<f64>>,
+    start: Option<Vec<f64>>,
+    steps: &mut [f64],
+    noise: &mut Option<optimise::SolverNoise>,
+) -> Result<optimise::Local, FitError> {
+    let params = problem.params;
+    let global = match resumed {
+        // An interrupted fit's best point: its global sample was made; the local stage goes
+        // on from there.
+        Some(z) => problem.evaluate_all(&[z], false).unwrap_or_default(),
+        None => optimise::global(problem, start).unwrap_or_default(),
+    };
+    let Some(first) = global
+        .iter()
+        .find(|e| e.failed.is_none())
+        .cloned()
+        .or_else(|| problem.best.clone())
+    else {
+        return Err(if problem.interrupted() {
+            FitError::Interrupted {
+                evaluations: problem.evaluations,
+            }
+        } else {
+            FitError::NoRun {
+                evaluations: problem.evaluations,
+                first: problem.first_failure.clone().unwrap_or_default(),
+            }
+        });
+    };
+    let free: Vec<usize> = (0..params.len()).collect();
+    let mut local = optimise::Local {
+        best: first.clone(),
+        iterations: 0,
+        converged: false,
+    };
+    if let Some(nu) = optimise::measure(problem, &first) {
+        *noise = Some(nu);
+        problem.stage = "local";
+        // A few iterations from each start, then the best one on to convergence.
+        let mut screened: Vec<(optimise::Local, Vec<f64>, optimise::SolverNoise)> = Vec::new();
+        for s in optimise::starts(&global) {
+            let (mut h, mut n) = (steps.to_vec(), nu);
+            let l = optimise::levenberg_marquardt(
+                problem,
+                s,
+                &free,
+                &mut h,
+                &mut n,
+                optimise::SCREEN_ITERATIONS,
+            );
+            screened.push((l, h, n));
+            if problem.interrupted() {
+                break;
+            }
+        }
+        if let Some((l, h, mut n)) = screened
+            .into_iter()
+            .min_by(|a, b| a.0.best.chi2.total_cmp(&b.0.best.chi2))
+        {
+            steps.copy_from_slice(&h);
+            let spent = l.iterations;
+            local = if l.converged || problem.interrupted() {
+                l
+            } else {
+                let mut more = optimise::levenberg_marquardt(
+                    problem,
+                    l.best,
+                    &free,
+                    steps,
+                    &mut n,
+                    optimise::MAX_ITERATIONS,
+                );
+                more.iterations += spent;
+                more
+            };
+            *noise = Some(n);
+        }
+    }
+    // Walk the valley the local stage ended in: a sharply determined parameter makes a valley
+    // narrower than the global sample's spacing, with further minima along it.
+    if !problem.interrupted() && params.len() > 1 {
+        let mut n = noise.unwrap_or(optimise::SolverNoise {
+            value: 0.0,
+            at_chi2: local.best.chi2,
+        });
+        for _ in 0..optimise::VALLEY_WALKS {
+            problem.stage = "valley";
+            let Some(j) = optimise::jacobian(problem, &local.best, &free, steps, n.value, false)
+            else {
+                break;
+            };
+            let Some(d) = linalg::svd(&j) else { break };
+            let Some(points) = optimise::valley(problem, &local.best, &free, &d) else {
+                break;
+            };
+            let Some(lower) = points
+                .into_iter()
+                .filter(|e| e.failed.is_none() && e.chi2 < local.best.chi2)
+                .min_by(|a, b| a.chi2.total_cmp(&b.chi2))
+            else {
+                break;
+            };
+            local.best = go_on(problem, lower, &free, steps, &mut n, &mut local);
+        }
+        *noise = Some(n);
+    }
+    Ok(local)
 }

@@ -8,6 +8,7 @@
 use super::forward::{Forward, Run, RunFailure};
 use super::misfit::{Compared, Target};
 use super::params::{Param, TIME_SHIFT};
+use super::pin::{self, Pin};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// One evaluated model.
@@ -82,6 +83,12 @@ pub struct Problem<'a, 'p> {
     /// The last Jacobian made (by the local stage or for the intervals): an interrupted fit
     /// takes its provisional intervals from it.
     pub last_jacobian: Option<LastJacobian>,
+    /// The parameter solved at every point so that the first onset matches (the profile
+    /// strategy, [`super::pin`]); none in the direct strategy.
+    pub pin: Option<Pin>,
+    /// Runs stopped after their first melting, made to solve the pinned parameter (not
+    /// counted in `evaluations`).
+    pub onset_runs: usize,
     /// Wall time and count of the runs so far, per (level, finer): the mean estimates a
     /// batch's remaining time (a finer run costs more than a run at the fit's tolerance).
     run_times: std::collections::HashMap<(u32, bool), (f64, usize)>,
@@ -116,6 +123,8 @@ impl<'a, 'p> Problem<'a, 'p> {
             first_failure: None,
             best: None,
             level: 0,
+            pin: None,
+            onset_runs: 0,
             run_times: std::collections::HashMap::new(),
             stopped: false,
         }
@@ -125,6 +134,11 @@ impl<'a, 'p> Problem<'a, 'p> {
     #[must_use]
     pub fn interrupted(&self) -> bool {
         self.stopped || self.interrupt.is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
+    /// Stops the fit as Ctrl-C does (a stage run on another problem was stopped).
+    pub fn stop(&mut self) {
+        self.stopped = true;
     }
 
     /// The time shift at `z` (0 without one), s.
@@ -166,10 +180,24 @@ impl<'a, 'p> Problem<'a, 'p> {
         let how = (self.interrupt, self.level);
         // Runs ended in this batch and their summed wall time, µs, for the progress's ETA.
         let ended = AtomicUsize::new(0);
+        let onset_runs = AtomicUsize::new(0);
         let spent_us = std::sync::atomic::AtomicU64::new(0);
+        let pinned = self.pin.clone();
+        let slopes = std::sync::Mutex::new(Vec::new());
         let work = |i: usize| {
             let t0 = std::time::Instant::now();
-            let r = run_one(model, how, &zs[i], finer);
+            // A finer run measures the solver's noise at the point itself: the pin held.
+            let r = match pinned.as_ref().filter(|_| !finer) {
+                Some(p) => {
+                    let solved = pin::solve(model, (how.0, how.1, finer), &zs[i], p);
+                    onset_runs.fetch_add(solved.onset_runs, Ordering::Relaxed);
+                    if let Some(s) = solved.slope {
+                        slopes.lock().map(|mut v| v.push(s)).ok();
+                    }
+                    solved.compared.map(|c| (solved.z, c))
+                }
+                None => run_one(model, how, &zs[i], finer).map(|c| (zs[i].clone(), c)),
+            };
             let us = u64::try_from(t0.elapsed().as_micros()).unwrap_or(u64::MAX);
             spent_us.fetch_add(us, Ordering::Relaxed);
             ended.fetch_add(1, Ordering::Relaxed);
@@ -215,9 +243,19 @@ impl<'a, 'p> Problem<'a, 'p> {
         entry.0 += spent_us.load(Ordering::Relaxed) as f64 * 1e-6;
         entry.1 += ended.load(Ordering::Relaxed);
         self.evaluations += zs.len();
+        self.onset_runs += onset_runs.load(Ordering::Relaxed);
+        // The pin's next secants start from the slope found near this batch's solutions (the
+        // first onset is far from linear over the box: its slope near the needle differs
+        // several times from the start's).
+        if let (Some(p), Ok(mut v)) = (self.pin.as_mut(), slopes.into_inner())
+            && !v.is_empty()
+        {
+            v.sort_by(f64::total_cmp);
+            p.slope = v[v.len() / 2];
+        }
         let mut out = Vec::with_capacity(zs.len());
-        for (z, r) in zs.iter().zip(results) {
-            let Some(r) = r else {
+        for r in results {
+            let Some((z, r)) = r else {
                 self.stopped = true;
                 continue;
             };
@@ -232,7 +270,7 @@ impl<'a, 'p> Problem<'a, 'p> {
             };
             let chi2 = residuals.iter().map(|r| r * r).sum();
             out.push(Eval {
-                z: z.clone(),
+                z,
                 residuals,
                 chi2,
                 failed,
@@ -240,12 +278,25 @@ impl<'a, 'p> Problem<'a, 'p> {
             });
         }
         // The runs that ended count for the best model even when the batch was interrupted.
+        // The pin's next first trials move from this batch's best point.
+        if let Some(p) = self.pin.as_mut()
+            && let Some(e) = out
+                .iter()
+                .filter(|e| e.failed.is_none())
+                .min_by(|a, b| a.chi2.total_cmp(&b.chi2))
+        {
+            p.anchor.clone_from(&e.z);
+            p.anchor_residual = e.residuals[0];
+        }
         if !finer {
             for e in &out {
                 if e.failed.is_none() && self.best.as_ref().is_none_or(|b| e.chi2 < b.chi2) {
                     self.best = Some(e.clone());
                 }
             }
+        }
+        if let (Some(p), Some(b)) = (self.pin.as_mut(), self.best.as_ref()) {
+            p.tolerance = pin::tolerance_for(b.chi2, self.target.len());
         }
         if stop {
             self.stopped = true;

@@ -69,6 +69,25 @@ pub struct FitProfile {
     pub hi95: Option<f64>,
 }
 
+/// The profile strategy's scan (docs/fit.md#the-profile-strategy): the parameter pinned by
+/// the first onset, the parameter scanned, and the profile's χ² at each scanned value.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitScan {
+    /// The parameter solved at every point so that the first onset matches.
+    pub pinned: String,
+    /// The parameter scanned.
+    pub key: String,
+    /// Its values, in the order they were fitted.
+    pub values: Vec<f64>,
+    /// χ² at each, the others (but the pinned one) fitted by the local stage.
+    pub chi2: Vec<f64>,
+    /// The value the final fit started from (the profile's least χ²).
+    pub start: f64,
+    /// The data's meltings the scan was made on (its first ones; none: the whole trace).
+    #[serde(default)]
+    pub window_events: Option<usize>,
+}
+
 /// fit.json.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FitReport {
@@ -134,6 +153,17 @@ pub struct FitReport {
     pub first_failure: Option<String>,
     /// The profile likelihood asked for.
     pub profile: Option<FitProfile>,
+    /// How the fit searched: `direct` (global sample, then the local stage) or `profile`
+    /// (a parameter pinned by the first onset, another scanned; see `scan`).
+    #[serde(default)]
+    pub strategy: String,
+    /// The profile strategy's scan.
+    #[serde(default)]
+    pub scan: Option<FitScan>,
+    /// Runs stopped after their first melting, made to solve the pinned parameter (not in
+    /// `evaluations`; each costs a fraction of a whole run).
+    #[serde(default)]
+    pub onset_runs: usize,
     /// Wall time, s.
     pub wall_s: f64,
     /// The refinement the discretisation errors were measured with, as --set text.
