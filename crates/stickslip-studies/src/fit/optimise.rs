@@ -244,7 +244,7 @@ pub fn too_noisy(noise: f64, chi2: f64, m: usize) -> bool {
 
 /// Brings `at` and the `noise` up to date: `at` run again when it was run at an older level;
 /// the noise measured again when it is stale; and while it is [`too_noisy`], the runs'
-/// tolerance tightened tenfold ([`super::forward::MAX_LEVEL`] times at most), `at` run again
+/// tolerance tightened tenfold (to `problem.max_level` at most), `at` run again
 /// and the noise measured anew. The difference steps start again from [`FD_STEP_START`]
 /// whenever the noise is measured. `None` when interrupted, else whether the level rose.
 pub fn settle(
@@ -264,7 +264,7 @@ pub fn settle(
     }
     let m = problem.target.len();
     while problem.forward.tolerance.is_some()
-        && problem.level < super::forward::MAX_LEVEL
+        && problem.level < problem.max_level
         && too_noisy(noise.value, at.chi2, m)
     {
         problem.level += 1;
@@ -512,6 +512,37 @@ pub fn levenberg_marquardt(
     noise: &mut SolverNoise,
     max_iterations: usize,
 ) -> Local {
+    levenberg_marquardt_damped(
+        problem,
+        start,
+        free,
+        (steps, noise),
+        max_iterations,
+        Damping::Steep,
+    )
+}
+
+/// The first iteration's damping of [`levenberg_marquardt_damped`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Damping {
+    /// λ = 1e-2·σ²max: the step follows the sharpest directions first (the direct search's).
+    Steep,
+    /// λ = σ²min: about half the Gauss–Newton step in the weakest direction too (the profile
+    /// strategy's, whose misfit, the needle solved out, is nearly linear over a large part
+    /// of the box; with λ from σ²max the weakest direction moved 10⁻⁴ of its Gauss–Newton
+    /// step per iteration there).
+    Weak,
+}
+
+/// [`levenberg_marquardt`] with the first iteration's damping `damping`.
+pub fn levenberg_marquardt_damped(
+    problem: &mut Problem<'_, '_>,
+    start: Eval,
+    free: &[usize],
+    (steps, noise): (&mut [f64], &mut SolverNoise),
+    max_iterations: usize,
+    damping: Damping,
+) -> Local {
     let mut cur = start;
     let mut lambda: Option<f64> = None;
     // Whether the last iteration was the one more, undamped, try after a stall (below).
@@ -540,9 +571,11 @@ pub fn levenberg_marquardt(
             };
         };
         let g: Vec<f64> = d.u.iter().map(|u| dot(u, &cur.residuals)).collect();
-        let mut lam = lambda
-            .unwrap_or(1e-2 * d.s[0] * d.s[0])
-            .max(1e-12 * d.s[0] * d.s[0]);
+        let first = match damping {
+            Damping::Steep => 1e-2 * d.s[0] * d.s[0],
+            Damping::Weak => d.s.last().map_or(0.0, |s| s * s),
+        };
+        let mut lam = lambda.unwrap_or(first).max(1e-12 * d.s[0] * d.s[0]);
         let mut accepted = None;
         for _ in 0..6 {
             let lambdas: Vec<f64> = (0..tries).map(|k| lam * 16f64.powi(k as i32)).collect();

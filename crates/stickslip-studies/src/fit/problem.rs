@@ -83,6 +83,10 @@ pub struct Problem<'a, 'p> {
     /// The last Jacobian made (by the local stage or for the intervals): an interrupted fit
     /// takes its provisional intervals from it.
     pub last_jacobian: Option<LastJacobian>,
+    /// The highest tolerance level the optimiser may raise `level` to
+    /// ([`super::forward::MAX_LEVEL`]; the profile strategy's search holds it at 0: a global
+    /// search needs the misfit's shape, not its last digits, and a finer run costs twice).
+    pub max_level: u32,
     /// The parameter solved at every point so that the first onset matches (the profile
     /// strategy, [`super::pin`]); none in the direct strategy.
     pub pin: Option<Pin>,
@@ -123,6 +127,7 @@ impl<'a, 'p> Problem<'a, 'p> {
             first_failure: None,
             best: None,
             level: 0,
+            max_level: super::forward::MAX_LEVEL,
             pin: None,
             onset_runs: 0,
             run_times: std::collections::HashMap::new(),

@@ -21,7 +21,7 @@
 use super::forward::Forward;
 use super::linalg::{Svd, svd};
 use super::misfit::{MisfitKind, Target};
-use super::optimise::{self, Local, SolverNoise};
+use super::optimise::{self, Damping, Local, SolverNoise};
 use super::pin::Pin;
 use super::problem::{Eval, Problem};
 use super::report::FitScan;
@@ -85,6 +85,7 @@ pub fn profile_fit(
     let end_s = *short.trace.t_s.last()?;
     let forward = Forward::new(&problem.forward.base, end_s).ok()?;
     let mut sp = Problem::new(&forward, problem.params, &short, problem.jobs);
+    sp.max_level = 0;
     sp.interrupt = problem.interrupt;
     sp.progress = problem.progress.take();
     (sp.evaluations, sp.failed_runs, sp.onset_runs) =
@@ -111,13 +112,13 @@ pub fn profile_fit(
     let k = problem.pin.as_ref()?.k;
     let free: Vec<usize> = (0..problem.params.len()).filter(|&j| j != k).collect();
     problem.stage = "local";
-    let mut local = optimise::levenberg_marquardt(
+    let mut local = optimise::levenberg_marquardt_damped(
         problem,
         first,
         &free,
-        steps,
-        &mut n,
+        (steps, &mut n),
         optimise::MAX_ITERATIONS,
+        Damping::Weak,
     );
     local.iterations += l.iterations;
     *noise = Some(n);
@@ -239,6 +240,7 @@ pub fn profile_search(
             optimise::measure(problem, best)?
         }
     };
+    let max_level = std::mem::replace(&mut problem.max_level, problem.level);
     let mut optima: Vec<Eval> = Vec::with_capacity(values.len());
     for (i, &v) in values.iter().enumerate() {
         let from = sampled
@@ -251,8 +253,14 @@ pub fn profile_search(
         z[s] = v;
         problem.stage = "scan";
         let first = problem.evaluate_all(&[z], false)?.pop()?;
-        let local =
-            optimise::levenberg_marquardt(problem, first, &rest, steps, &mut n, SCAN_ITERATIONS);
+        let local = optimise::levenberg_marquardt_damped(
+            problem,
+            first,
+            &rest,
+            (steps, &mut n),
+            SCAN_ITERATIONS,
+            Damping::Weak,
+        );
         if problem.interrupted() {
             *noise = Some(n);
             return None;
@@ -260,6 +268,7 @@ pub fn profile_search(
         optima.push(local.best);
     }
     *noise = Some(n);
+    problem.max_level = max_level;
     let found = optima;
     let best = found
         .iter()
@@ -284,13 +293,13 @@ pub fn profile_search(
         value: 0.0,
         at_chi2: best.chi2,
     });
-    let local = optimise::levenberg_marquardt(
+    let local = optimise::levenberg_marquardt_damped(
         problem,
         best,
         &free,
-        steps,
-        &mut n,
+        (steps, &mut n),
         optimise::MAX_ITERATIONS,
+        Damping::Weak,
     );
     *noise = Some(n);
     Some((local, scan))
