@@ -174,21 +174,18 @@ impl Forward {
     }
 
     /// The model at `z` run only until its first melting event has ended (`time.max_events
-    /// = 1`), at tolerance `level` (`finer`: a tenth of it): the first onset alone, at about
-    /// a sixth of a first slip's cost (its stick phase is cheap, its meltings are not). The
-    /// steps up to that event are the full run's, so its curve is the full run's up to there.
+    /// = 1`), at tolerance `level`: the first onset alone, at about a third of a first slip's
+    /// cost (its stick phase is cheap, its meltings are not). The steps up to that event are
+    /// the full run's, so its curve is the full run's up to there.
     #[must_use]
     pub fn onset_run(
         &self,
         params: &[Param],
         z: &[f64],
-        (level, finer): (u32, bool),
+        level: u32,
         interrupt: Option<&AtomicBool>,
     ) -> Run {
         let mut overrides = self.overrides_at(params, z, level);
-        if finer {
-            overrides.push(self.finer(level));
-        }
         overrides.push(time::MAX_EVENTS.set(1).to_string());
         self.run_overrides(&overrides, interrupt)
     }
@@ -203,19 +200,13 @@ impl Forward {
         level: u32,
         interrupt: Option<&AtomicBool>,
     ) -> Run {
-        let mut overrides = self.overrides_at(params, z, level);
-        overrides.push(self.finer(level));
-        self.run_overrides(&overrides, interrupt)
-    }
-
-    /// The setting of a run finer than those at `level`: a tenth of the tolerance, or half
-    /// the step with fixed steps.
-    fn finer(&self, level: u32) -> String {
-        match self.tolerance_at(level) {
+        let finer = match self.tolerance_at(level) {
             Some(tol) => time::TOLERANCE.set(tol / 10.0),
             None => time::DT.set(self.base.config.time.dt_s / 2.0),
-        }
-        .to_string()
+        };
+        let mut overrides = self.overrides_at(params, z, level);
+        overrides.push(finer.to_string());
+        self.run_overrides(&overrides, interrupt)
     }
 }
 

@@ -87,10 +87,10 @@ pub struct Solved {
 /// melting; `Err` for a failed run, `None` when interrupted.
 fn onset_residual(
     (forward, params, target): (&Forward, &[Param], &Target),
-    (interrupt, level, finer): (Option<&AtomicBool>, u32, bool),
+    (interrupt, level): (Option<&AtomicBool>, u32),
     z: &[f64],
 ) -> Option<Result<f64, RunFailure>> {
-    match forward.onset_run(params, z, (level, finer), interrupt) {
+    match forward.onset_run(params, z, level, interrupt) {
         Run::Done(curve) => Some(Ok(target.compare(&curve, 0.0).residuals[0])),
         Run::Failed(why) => Some(Err(why)),
         Run::Interrupted => None,
@@ -145,59 +145,32 @@ pub fn next_trial(tried: &[(f64, f64)], slope: f64) -> f64 {
 }
 
 /// Solves the pinned coordinate of `z` (the other coordinates held), then runs the point
-/// whole. A failed onset run is the point's failure; the best trial is taken when the secant
-/// has not reached [`ONSET_TOLERANCE`] within [`MAX_ONSET_RUNS`] runs, or stalls at a face
-/// of the box.
+/// whole with `whole` (the fit's own run and comparison). A failed onset run is the point's
+/// failure; the best trial is taken when the secant has not reached the pin's tolerance
+/// within [`MAX_ONSET_RUNS`] runs, or stalls at a face of the box.
 pub fn solve(
     model: (&Forward, &[Param], &Target),
-    (interrupt, level, finer): (Option<&AtomicBool>, u32, bool),
+    (interrupt, level): (Option<&AtomicBool>, u32),
     z: &[f64],
     pin: &Pin,
+    whole: impl Fn(&[f64]) -> Option<Result<Compared, RunFailure>>,
 ) -> Solved {
-    let (forward, params, _) = model;
     let mut z = z.to_vec();
     z[pin.k] = pin.predict(&z);
     let mut tried: Vec<(f64, f64)> = Vec::new();
-    let mut runs = 0;
-    let whole = |z: &[f64], runs: usize| {
-        let run = if finer {
-            forward.noise_run(params, z, level, interrupt)
-        } else {
-            forward.run_at(params, z, level, interrupt)
-        };
-        let compared = match run {
-            Run::Done(curve) => Some(Ok(model.2.compare(&curve, 0.0))),
-            Run::Failed(why) => Some(Err(why)),
-            Run::Interrupted => None,
-        };
-        Solved {
-            z: z.to_vec(),
+    while tried.len() < MAX_ONSET_RUNS {
+        let ended = |compared| Solved {
+            z: z.clone(),
             compared,
-            onset_runs: runs,
+            onset_runs: tried.len() + 1,
             slope: None,
-        }
-    };
-    while runs < MAX_ONSET_RUNS {
-        let g = match onset_residual(model, (interrupt, level, finer), &z) {
-            Some(Ok(g)) => g,
-            Some(Err(why)) => {
-                return Solved {
-                    z,
-                    compared: Some(Err(why)),
-                    onset_runs: runs + 1,
-                    slope: None,
-                };
-            }
-            None => {
-                return Solved {
-                    z,
-                    compared: None,
-                    onset_runs: runs + 1,
-                    slope: None,
-                };
-            }
         };
-        runs += 1;
+        let g = match onset_residual(model, (interrupt, level), &z) {
+            Some(Ok(g)) => g,
+            // A failed onset run is the point's failure.
+            Some(Err(why)) => return ended(Some(Err(why))),
+            None => return ended(None),
+        };
         tried.push((z[pin.k], g));
         if g.abs() <= pin.tolerance.max(ONSET_TOLERANCE) {
             break;
@@ -212,9 +185,12 @@ pub fn solve(
     if let Some(&(best, _)) = tried.iter().min_by(|a, b| a.1.abs().total_cmp(&b.1.abs())) {
         z[pin.k] = best;
     }
-    let mut solved = whole(&z, runs);
-    solved.slope = slope_near(&tried, pin.slope);
-    solved
+    Solved {
+        compared: whole(&z),
+        z,
+        onset_runs: tried.len(),
+        slope: slope_near(&tried, pin.slope),
+    }
 }
 
 /// Trials this far off (σ) or farther measure the slope above the solver's noise.

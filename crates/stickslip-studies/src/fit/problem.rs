@@ -194,7 +194,8 @@ impl<'a, 'p> Problem<'a, 'p> {
             // A finer run measures the solver's noise at the point itself: the pin held.
             let r = match pinned.as_ref().filter(|_| !finer) {
                 Some(p) => {
-                    let solved = pin::solve(model, (how.0, how.1, finer), &zs[i], p);
+                    let solved =
+                        pin::solve(model, how, &zs[i], p, |z| run_one(model, how, z, false));
                     onset_runs.fetch_add(solved.onset_runs, Ordering::Relaxed);
                     if let Some(s) = solved.slope {
                         slopes.lock().map(|mut v| v.push(s)).ok();

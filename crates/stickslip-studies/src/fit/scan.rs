@@ -288,7 +288,6 @@ pub fn profile_search(
     };
     // The final fit: every parameter but the pinned one, from the profile's best point.
     problem.stage = "local";
-    let free: Vec<usize> = (0..p).filter(|&j| j != k).collect();
     let mut n = noise.unwrap_or(SolverNoise {
         value: 0.0,
         at_chi2: best.chi2,
@@ -296,7 +295,7 @@ pub fn profile_search(
     let local = optimise::levenberg_marquardt_damped(
         problem,
         best,
-        &free,
+        &free_rest,
         (steps, &mut n),
         optimise::MAX_ITERATIONS,
         Damping::Weak,
