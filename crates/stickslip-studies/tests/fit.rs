@@ -381,3 +381,39 @@ fn the_profile_strategy_pins_the_first_onset_and_finds_three_known_parameters() 
     let back = stickslip_studies::fit::report::FitReport::parse(&r.to_json()).unwrap();
     assert_eq!(&back, r);
 }
+
+#[test]
+fn the_profile_strategy_is_refused_where_it_does_not_apply() {
+    // Two parameters (nothing left to scan once one is pinned), and the trace misfit.
+    let scene = scene();
+    let trace = synthetic(&scene);
+    for (specs, misfit) in [
+        (params(), MisfitKind::Events),
+        (
+            {
+                let mut p = params();
+                p.push("lubricant.eps_max=0.5:2".into());
+                p
+            },
+            MisfitKind::Trace,
+        ),
+    ] {
+        let err = stickslip_studies::fit::fit(
+            &scene,
+            trace.clone(),
+            &specs,
+            FitOptions {
+                misfit,
+                strategy: stickslip_studies::fit::Strategy::Profile,
+                ..FitOptions::default()
+            },
+        )
+        .unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.contains("--strategy") && text.contains("three or more parameters"),
+            "{text}"
+        );
+    }
+    assert!(stickslip_studies::fit::Strategy::from_name("scan").is_err());
+}
