@@ -271,6 +271,8 @@ impl SolveProblem {
                 // (adaptive runs also accept a residual below their absolute floor).
                 abs_rms_m: 0.0,
                 spectral_bound: rho0,
+                // One solve from each guess, as a single step of a run takes it.
+                deepen_near_misses: false,
             },
             guesses: [
                 ("cold", vec![0.0; n]),

@@ -67,6 +67,7 @@ impl Problem {
                             abs_rms_m: 0.0,
                             spectral_bound: self.rho0 * phi_sq
                                 / self.phi0_sq().max(f64::MIN_POSITIVE),
+                            deepen_near_misses: false,
                         },
                     );
                     if !report.converged {
@@ -149,6 +150,7 @@ impl Problem {
                         rel_tol: 1e-3 * FOLD_SETTLED,
                         abs_rms_m: 0.0,
                         spectral_bound: rho0 * phi0_sq / own_phi0_sq,
+                        deepen_near_misses: false,
                     },
                 );
                 if !report.converged {

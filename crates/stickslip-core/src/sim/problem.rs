@@ -248,6 +248,7 @@ impl Problem {
             rel_tol: self.config.numerics.coupling_tol,
             abs_rms_m: self.coupling_abs_rms_m(t_s),
             spectral_bound,
+            deepen_near_misses: self.config.time.adaptive.is_none(),
         }
     }
 }
