@@ -97,6 +97,30 @@ pub fn correction(
     e_w: f64,
     h_s: f64,
 ) -> f64 {
+    correction_in::<true>(
+        (u0, u_frozen),
+        (theta, eps_eff, delta),
+        (a_pa, b_pa, two_gamma),
+        c_eff,
+        e_w,
+        h_s,
+    )
+}
+
+/// [`correction`], with Q's series computed only when `SERIES` (without it, Q by the closed
+/// moments whatever z: the same bits wherever |z| ≥ [`SERIES_Z`], which is all a caller may
+/// use it for).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+#[must_use]
+fn correction_in<const SERIES: bool>(
+    (u0, u_frozen): (f64, f64),
+    (theta, eps_eff, delta): (f64, f64, f64),
+    (a_pa, b_pa, two_gamma): (f64, f64, f64),
+    c_eff: f64,
+    e_w: f64,
+    h_s: f64,
+) -> f64 {
     let alpha = 2.0 * a_pa * eps_eff * delta;
     let beta = a_pa * delta * delta;
     // ∫₀¹ (σ − θ) dσ and ∫₀¹ (σ − θ)² dσ.
@@ -106,19 +130,25 @@ pub fn correction(
     let z = -two_gamma * c_eff * h_s;
     let grow = h_s * u_frozen * i0;
     let e = if c_eff <= 0.0 { e_w } else { 1.0 / e_w };
-    let sums = series_sums(z);
-    let d = 1.0 - theta;
-    let (q1s, q2s) = (
-        q_series(&sums, d, -1.0, 0.0),
-        q_series(&sums, d * d, -2.0 * d, 1.0),
-    );
     let (m0, m1, m2) = moments_closed(z, e);
     let mm1 = m1 - theta * m0;
     let mm2 = m2 - 2.0 * theta * m1 + theta * theta * m0;
     let (q1c, q2c) = ((e * p1 - mm1) / z, (e * p2 - mm2) / z);
-    let series = z.abs() < SERIES_Z;
-    let q1 = if series { q1s } else { q1c };
-    let q2 = if series { q2s } else { q2c };
+    let (q1, q2) = if SERIES {
+        let sums = series_sums(z);
+        let d = 1.0 - theta;
+        let (q1s, q2s) = (
+            q_series(&sums, d, -1.0, 0.0),
+            q_series(&sums, d * d, -2.0 * d, 1.0),
+        );
+        let series = z.abs() < SERIES_Z;
+        (
+            if series { q1s } else { q1c },
+            if series { q2s } else { q2c },
+        )
+    } else {
+        (q1c, q2c)
+    };
     let q = two_gamma * (alpha * q1 + beta * q2);
     let general = h_s * (u0 * e * i0 - two_gamma * b_pa * h_s * q);
     let v = if z < -Z_GROW { grow } else { general };
@@ -189,6 +219,26 @@ impl faer::traits::pulp::WithSimd for RampPass<'_> {
 
     #[inline(always)]
     fn with_simd<S: faer::traits::pulp::Simd>(self, _simd: S) {
+        // Q's series (36 multiply-adds a node) only on a step where some node's |z| is
+        // below SERIES_Z: a stick phase's steps have none, a cascade's shortest steps many.
+        // The same bits either way (correction_in).
+        let (a_pa, _, two_gamma) = self.coefficients;
+        let any_series = self.eps_eff.iter().fold(false, |any, &eps_eff| {
+            let c_eff = a_pa * eps_eff * eps_eff - self.c_shift_pa;
+            any | ((-two_gamma * c_eff * self.h_s).abs() < SERIES_Z)
+        });
+        if any_series {
+            self.pass::<true>();
+        } else {
+            self.pass::<false>();
+        }
+    }
+}
+
+impl RampPass<'_> {
+    /// The pass's loop, with Q's series where `SERIES`.
+    #[inline(always)]
+    fn pass<const SERIES: bool>(self) {
         let (a_pa, _, _) = self.coefficients;
         let nodes = self
             .phi0
@@ -208,7 +258,7 @@ impl faer::traits::pulp::WithSimd for RampPass<'_> {
             let delta = (du0 - du3d) / self.h0_m;
             let c_eff = a_pa * eps_eff * eps_eff - self.c_shift_pa;
             let uf = 1.0 / (frozen * frozen);
-            let v = correction(
+            let v = correction_in::<SERIES>(
                 (1.0 / (phi0 * phi0), uf),
                 (*theta, eps_eff, delta),
                 self.coefficients,
