@@ -86,6 +86,7 @@ fn q_series(sums: &[f64; 3], q0: f64, q1: f64, q2: f64) -> f64 {
 /// series for |z| < [`SERIES_Z`] or by the closed moments. Every case is computed and the one
 /// that applies is selected, so a loop over nodes that calls this inline is vectorised
 /// ([`correct_all`]); the cases not selected may be ∞ or NaN, which a select discards.
+#[cfg(test)]
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 #[must_use]
