@@ -228,7 +228,14 @@ impl<F: Film> Accurate<F> {
             (&p.u3d_m, &memory.u3d_prev_m, &memory.u3d_prev2_m),
             &mut sc.du3d,
         );
-        crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
+        // A step long against every node's relaxation (λΔt > THETA_STIFF_Z: a stick phase's
+        // adaptive steps) needs no exponential: e^(−λΔt) is below half an ulp of 1, and θ's
+        // 1/(1 − e) is 1 with e = 0 as with e itself (the same bits).
+        if all_below(&sc.arg, -THETA_STIFF_Z) {
+            sc.exp.fill(0.0);
+        } else {
+            crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
+        }
         // (b) The effective strain, then the film's step at every node.
         for i in 0..n {
             let phi0 = p.phi[i];
@@ -282,7 +289,11 @@ impl<F: Film> Accurate<F> {
             let z = film.exponent(phi0 * phi0, phi1 * phi1, phi0, phi1, c_eff, dt_s);
             sc.arg[i] = -z.max(-40.0);
         }
-        crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
+        // Where every node's z is above STIFF_Z the weights take their stiff forms, which use
+        // no exponential (`defect_weights_select` discards the others): none is taken.
+        if !all_below(&sc.arg, -error_estimate::STIFF_Z) {
+            crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
+        }
     }
 
     /// (d) Everything else: the error estimate's pieces ([`node_pass`], every node at once), melting located in the
@@ -610,6 +621,16 @@ impl<F: Film> faer::traits::pulp::WithSimd for FilmPasses<'_, F> {
         self.stepper
             .film_passes_body(self.problem, self.state, self.predictor, self.args);
     }
+}
+
+/// Above this λΔt, e^(−λΔt) < 3.2e-17, below 2^(−54) (half an ulp of 1) by a margin larger
+/// than the exponential's rounding: 1 − e rounds to 1 exactly.
+const THETA_STIFF_Z: f64 = 38.0;
+
+/// Whether every element is below `bound` (false for a NaN), as one vectorisable fold.
+#[inline(always)]
+fn all_below(values: &[f64], bound: f64) -> bool {
+    values.iter().fold(true, |all, &v| all & (v < bound))
 }
 
 /// Weight θ(z) = 1/(1 − e^(−z)) − 1/z with z = λ·Δt: y' = −λ(y − g(t)) with g linear over
