@@ -206,7 +206,7 @@ pub struct SfaBench {
 
 /// The small outputs and soft spring of P7–P8 up to `end_s`, on the uniform grid the targets
 /// are defined on (the scene's default grid is graded toward the edge).
-fn sfa_sets(end_s: f64) -> Vec<String> {
+pub fn sfa_sets(end_s: f64) -> Vec<String> {
     vec![
         drive::STIFFNESS.set(SFA_STIFFNESS).to_string(),
         contact::GRID.set(GridChoice::Uniform).to_string(),

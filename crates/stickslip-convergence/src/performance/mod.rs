@@ -40,6 +40,7 @@ pub mod effects;
 pub mod experiment;
 pub mod film_steps;
 pub mod grid_cost;
+pub mod phases;
 pub mod refine;
 pub mod report;
 pub mod roofline;
