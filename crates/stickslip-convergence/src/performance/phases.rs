@@ -197,9 +197,8 @@ pub fn classify(rows: &[PhaseRow]) -> Phases {
         } else {
             Phase::InitialStick
         };
-        sums[Phase::ALL.iter().position(|&p| p == phase).unwrap_or(0)]
-            .1
-            .add(row);
+        // `Phase::ALL` lists the phases in their declaration order.
+        sums[phase as usize].1.add(row);
         if phase == Phase::LaterSticks
             && let Some(band) = approach
                 .iter_mut()

@@ -86,35 +86,13 @@ fn q_series(sums: &[f64; 3], q0: f64, q1: f64, q2: f64) -> f64 {
 /// series for |z| < [`SERIES_Z`] or by the closed moments. Every case is computed and the one
 /// that applies is selected, so a loop over nodes that calls this inline is vectorised
 /// ([`correct_all`]); the cases not selected may be ∞ or NaN, which a select discards.
-#[cfg(test)]
+/// `SERIES`: Q's series is computed and selected where |z| < [`SERIES_Z`]; without it Q is
+/// taken by the closed moments whatever z, the same bits wherever |z| ≥ [`SERIES_Z`], which
+/// is all a caller may use it for ([`correct_all`] checks the step's nodes first).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 #[must_use]
-pub fn correction(
-    (u0, u_frozen): (f64, f64),
-    (theta, eps_eff, delta): (f64, f64, f64),
-    (a_pa, b_pa, two_gamma): (f64, f64, f64),
-    c_eff: f64,
-    e_w: f64,
-    h_s: f64,
-) -> f64 {
-    correction_in::<true>(
-        (u0, u_frozen),
-        (theta, eps_eff, delta),
-        (a_pa, b_pa, two_gamma),
-        c_eff,
-        e_w,
-        h_s,
-    )
-}
-
-/// [`correction`], with Q's series computed only when `SERIES` (without it, Q by the closed
-/// moments whatever z: the same bits wherever |z| ≥ [`SERIES_Z`], which is all a caller may
-/// use it for).
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-#[must_use]
-fn correction_in<const SERIES: bool>(
+pub fn correction<const SERIES: bool>(
     (u0, u_frozen): (f64, f64),
     (theta, eps_eff, delta): (f64, f64, f64),
     (a_pa, b_pa, two_gamma): (f64, f64, f64),
@@ -222,7 +200,7 @@ impl faer::traits::pulp::WithSimd for RampPass<'_> {
     fn with_simd<S: faer::traits::pulp::Simd>(self, _simd: S) {
         // Q's series (36 multiply-adds a node) only on a step where some node's |z| is
         // below SERIES_Z: a stick phase's steps have none, a cascade's shortest steps many.
-        // The same bits either way (correction_in).
+        // The same bits either way (`correction`).
         let (a_pa, _, two_gamma) = self.coefficients;
         let any_series = self.eps_eff.iter().fold(false, |any, &eps_eff| {
             let c_eff = a_pa * eps_eff * eps_eff - self.c_shift_pa;
@@ -259,7 +237,7 @@ impl RampPass<'_> {
             let delta = (du0 - du3d) / self.h0_m;
             let c_eff = a_pa * eps_eff * eps_eff - self.c_shift_pa;
             let uf = 1.0 / (frozen * frozen);
-            let v = correction_in::<SERIES>(
+            let v = correction::<SERIES>(
                 (1.0 / (phi0 * phi0), uf),
                 (*theta, eps_eff, delta),
                 self.coefficients,
@@ -346,7 +324,14 @@ mod tests {
                     let c = a * eps_eff * eps_eff - k;
                     let uf = frozen_u(u0, c, b, tg, h);
                     let e_w = (-tg * c.abs() * h).exp();
-                    let v = correction((u0, uf), (theta, eps_eff, delta), (a, b, tg), c, e_w, h);
+                    let v = correction::<true>(
+                        (u0, uf),
+                        (theta, eps_eff, delta),
+                        (a, b, tg),
+                        c,
+                        e_w,
+                        h,
+                    );
                     let exact = reference_u(u0, eps0, delta, k, (a, b, tg), h, 4000);
                     let (before, after) = ((uf - exact).abs(), (uf + v - exact).abs());
                     assert!(
