@@ -140,6 +140,12 @@ pub struct NumericsConfig {
     /// relative down to the melt threshold.
     #[serde(default)]
     pub phi_error_floor: f64,
+    /// The φ error's floor for a step that starts while a melting event is open
+    /// (docs/model.md#adaptive-steps): such a step takes the larger of this and
+    /// `phi_error_floor`; the stick phase up to the next onset (where the onset's error is
+    /// made) keeps `phi_error_floor`. 0 (the default) adds nothing.
+    #[serde(default)]
+    pub event_phi_error_floor: f64,
     /// The factor `time.tolerance` is multiplied by for a step that starts while a melting
     /// event is open (docs/model.md#adaptive-steps): a cascade's steps are taken to a looser
     /// tolerance, the stick phase up to the next onset (where the onset's error is made) to
@@ -173,6 +179,7 @@ impl NumericsConfig {
         operator: None,
         film_step: FilmStep::Ramp,
         phi_error_floor: 0.0,
+        event_phi_error_floor: 0.0,
         event_tolerance_factor: 1.0,
     };
 
@@ -248,6 +255,7 @@ impl SimConfig {
         bounds::COUPLING_TOL.check(n.coupling_tol)?;
         bounds::RUNAWAY_STRESS_FACTOR.check(n.runaway_stress_factor)?;
         bounds::PHI_ERROR_FLOOR.check(n.phi_error_floor)?;
+        bounds::EVENT_PHI_ERROR_FLOOR.check(n.event_phi_error_floor)?;
         bounds::EVENT_TOLERANCE_FACTOR.check(n.event_tolerance_factor)?;
         self.check_derived()
     }

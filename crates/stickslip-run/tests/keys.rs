@@ -138,6 +138,7 @@ runaway_stress_factor = 1.0
 operator = "auto"
 film_step = "frozen"
 phi_error_floor = 0.5
+event_phi_error_floor = 0.5
 event_tolerance_factor = 2.0
 "#;
     full = toml::from_str(text).unwrap_or(full);

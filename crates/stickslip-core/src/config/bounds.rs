@@ -304,6 +304,12 @@ pub const RUNAWAY_STRESS_FACTOR: Bound =
     bound("numerics.runaway_stress_factor", "–", Range::Above(1.0));
 /// `numerics.phi_error_floor`.
 pub const PHI_ERROR_FLOOR: Bound = bound("numerics.phi_error_floor", "–", Range::Closed(0.0, 1.0));
+/// `numerics.event_phi_error_floor`.
+pub const EVENT_PHI_ERROR_FLOOR: Bound = bound(
+    "numerics.event_phi_error_floor",
+    "–",
+    Range::Closed(0.0, 1.0),
+);
 /// `numerics.event_tolerance_factor`: 1 (the same tolerance throughout) up to a factor that
 /// still leaves a step's relative error below 1 at the loosest `time.tolerance` worth using.
 pub const EVENT_TOLERANCE_FACTOR: Bound = bound(

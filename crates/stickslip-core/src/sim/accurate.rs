@@ -317,8 +317,16 @@ impl<F: Film> Accurate<F> {
         let solid_phi_end = params.solid_phi(0.0, a_end);
         let recovery_phi = problem.config.events.recovery_phi(thr, solid_phi_end);
         // The error norm's φ scale: φ itself, but not below the melt threshold nor below
-        // `numerics.phi_error_floor`·φ_s (squared: the norm divides y = φ²'s error).
-        let phi_scale = thr.max(problem.config.numerics.phi_error_floor * solid_phi_end);
+        // `numerics.phi_error_floor`·φ_s (squared: the norm divides y = φ²'s error); in a
+        // step that starts while a melting event is open, not below
+        // `numerics.event_phi_error_floor`·φ_s either (the tracker holds the step's start).
+        let numerics = &problem.config.numerics;
+        let floor = if state.events.tracker.is_open() {
+            numerics.phi_error_floor.max(numerics.event_phi_error_floor)
+        } else {
+            numerics.phi_error_floor
+        };
+        let phi_scale = thr.max(floor * solid_phi_end);
         let y_scale_min = phi_scale * phi_scale;
         let mut first_melt = 1.0_f64;
         let mut recovered_s = f64::NEG_INFINITY;

@@ -65,7 +65,8 @@ impl Default for StepReport {
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct StepError {
     /// Film: the largest |Δφ| / max(φ, melt threshold, `numerics.phi_error_floor`·φ_s) over
-    /// the nodes (φ_s: the solid film's φ at zero strain).
+    /// the nodes (φ_s: the solid film's φ at zero strain; in a step that starts while an event
+    /// is open, the floor is the larger of it and `numerics.event_phi_error_floor`).
     pub phi: f64,
     /// Strain: the stamp's position error over h0·εc(t) (the strain it shifts).
     pub eps: f64,

@@ -578,6 +578,9 @@ section! {
         PHI_ERROR_FLOOR phi_error_floor "phi_error_floor" @ bounds::PHI_ERROR_FLOOR: f64 =
             "adaptive steps: the smallest scale of a node's φ error, as a fraction of the solid film's φ at zero strain: φ's error is taken relative to max(φ, melt threshold, this·φ_s). 0 keeps it relative down to the melt threshold; 0.1 stops steps from resolving a molten or regrowing node's φ to relative accuracy where its stress is below a hundredth of a solid node's, and halves the steps of a thin film's slip of many meltings (reports/performance.md)"
             { default: Value(&0.0), rule: "only with time.stepping = \"adaptive\"" }
+        EVENT_PHI_ERROR_FLOOR event_phi_error_floor "event_phi_error_floor" @ bounds::EVENT_PHI_ERROR_FLOOR: f64 =
+            "adaptive steps: numerics.phi_error_floor for a step that starts while a melting event is open (a cascade of meltings), where the larger of the two applies; the steps from an event's end to the next onset, where the onset's error is made, keep numerics.phi_error_floor. 0 adds nothing; 0.1 halves the step evaluations of a thin film's slip of many meltings with its onsets unchanged (docs/model.md)"
+            { default: Value(&0.0), rule: "only with time.stepping = \"adaptive\"" }
         EVENT_TOLERANCE_FACTOR event_tolerance_factor "event_tolerance_factor" @ bounds::EVENT_TOLERANCE_FACTOR: f64 =
             "adaptive steps: the factor time.tolerance is multiplied by for a step that starts while a melting event is open (a cascade of meltings), from 1 up; the steps from an event's end to the next onset, where the onset's error is made, keep time.tolerance. 1 keeps one tolerance throughout"
             { default: Value(&1.0), rule: "only with time.stepping = \"adaptive\"" }

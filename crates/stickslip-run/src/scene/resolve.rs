@@ -486,31 +486,21 @@ fn resolve_numerics(
 ) -> Result<(NumericsConfig, NumericsSection), SceneError> {
     let operator = numerics::OPERATOR.value(nm.operator, &nothing())?;
     let film_step = numerics::FILM_STEP.value(nm.film_step, &nothing())?;
-    // The φ error's floor scales the adaptive step's error norm: nothing to scale with fixed
-    // steps, where it is refused and left out of the resolved scene.
-    let phi_error_floor = if keys::adaptive(so_far) == Some(true) {
-        Some(numerics::PHI_ERROR_FLOOR.value(nm.phi_error_floor, &nothing())?)
-    } else {
-        contradiction(
-            numerics::PHI_ERROR_FLOOR.path,
-            nm.phi_error_floor,
-            "time.stepping = \"fixed\"",
-            "only with time.stepping = \"adaptive\"",
-        )?;
-        None
-    };
-    // The cascade's tolerance factor, likewise an adaptive step's.
-    let event_tolerance_factor = if keys::adaptive(so_far) == Some(true) {
-        Some(numerics::EVENT_TOLERANCE_FACTOR.value(nm.event_tolerance_factor, &nothing())?)
-    } else {
-        contradiction(
-            numerics::EVENT_TOLERANCE_FACTOR.path,
-            nm.event_tolerance_factor,
-            "time.stepping = \"fixed\"",
-            "only with time.stepping = \"adaptive\"",
-        )?;
-        None
-    };
+    // The φ error's floors scale the adaptive step's error norm and the cascade's factor its
+    // tolerance: nothing to scale with fixed steps, where they are refused and left out of the
+    // resolved scene.
+    let adaptive = keys::adaptive(so_far) == Some(true);
+    let phi_error_floor = adaptive_only(adaptive, &numerics::PHI_ERROR_FLOOR, nm.phi_error_floor)?;
+    let event_phi_error_floor = adaptive_only(
+        adaptive,
+        &numerics::EVENT_PHI_ERROR_FLOOR,
+        nm.event_phi_error_floor,
+    )?;
+    let event_tolerance_factor = adaptive_only(
+        adaptive,
+        &numerics::EVENT_TOLERANCE_FACTOR,
+        nm.event_tolerance_factor,
+    )?;
     let numerics = NumericsConfig {
         coupling_tol: numerics::COUPLING_TOL.value(nm.coupling_tol, so_far)?,
         runaway_stress_factor: numerics::RUNAWAY_STRESS_FACTOR
@@ -522,6 +512,7 @@ fn resolve_numerics(
         },
         film_step,
         phi_error_floor: phi_error_floor.unwrap_or(0.0),
+        event_phi_error_floor: event_phi_error_floor.unwrap_or(0.0),
         event_tolerance_factor: event_tolerance_factor.unwrap_or(1.0),
     };
     let section = NumericsSection {
@@ -530,9 +521,29 @@ fn resolve_numerics(
         operator: Some(operator),
         film_step: Some(film_step),
         phi_error_floor,
+        event_phi_error_floor,
         event_tolerance_factor,
     };
     Ok((numerics, section))
+}
+
+/// A key of the adaptive step only: its value (given or default) with adaptive steps; with
+/// fixed steps nothing, and an error naming the key when it was given.
+fn adaptive_only(
+    adaptive: bool,
+    key: &crate::keys::Key<f64>,
+    given: Option<f64>,
+) -> Result<Option<f64>, SceneError> {
+    if adaptive {
+        return Ok(Some(key.value(given, &nothing())?));
+    }
+    contradiction(
+        key.path,
+        given,
+        "time.stepping = \"fixed\"",
+        "only with time.stepping = \"adaptive\"",
+    )?;
+    Ok(None)
 }
 
 /// Output settings, event rules and the filled-in `[output]` section. `so_far`: the scene as

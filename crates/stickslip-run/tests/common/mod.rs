@@ -51,6 +51,26 @@ pub fn sfa_first_slip(extra: &[&str]) -> stickslip_run::RunOutcome {
     .unwrap()
 }
 
+/// Asserts that two runs of the same scene melt the same nodes in every event (as many events,
+/// each with the same largest melted fraction, a sum of the melted nodes' areas that is equal
+/// to the bit when the same nodes melt) and returns the largest |onset shift| between them, s.
+pub fn same_meltings_largest_onset_shift(
+    a: &stickslip_run::RunOutcome,
+    b: &stickslip_run::RunOutcome,
+) -> f64 {
+    assert_eq!(a.events.len(), b.events.len());
+    let mut largest_shift = 0.0_f64;
+    for (x, y) in a.events.iter().zip(&b.events) {
+        assert_eq!(
+            x.max_melted_fraction, y.max_melted_fraction,
+            "event {}",
+            x.k
+        );
+        largest_shift = largest_shift.max((x.t_onset_s - y.t_onset_s).abs());
+    }
+    largest_shift
+}
+
 /// A run's step attempts: accepted, rejected and retaken at an onset.
 pub fn attempts(o: &stickslip_run::RunOutcome) -> u64 {
     o.counts.accepted_steps + o.counts.rejected_steps + o.counts.onset_retakes
