@@ -50,6 +50,9 @@ pub const P8_MELTINGS_GOAL: f64 = 0.02;
 /// P7–P8 (and the SFA contact's film-step runs): the run also taken with this
 /// `numerics.phi_error_floor` (the default is 0), beside the default's verdict.
 pub const PHI_ERROR_FLOOR: f64 = 0.1;
+/// P7–P8: the run also taken with this `numerics.event_phi_error_floor` (the floor for the
+/// steps of a melting event only; the default is 0), beside the default's verdict.
+pub const EVENT_PHI_ERROR_FLOOR: f64 = 0.1;
 
 /// One target on the SFA contact: a run at the default tolerance and its reference.
 #[derive(Debug, Clone, Serialize)]
@@ -79,6 +82,9 @@ pub struct SfaTarget {
     /// The run again with `numerics.phi_error_floor` = [`PHI_ERROR_FLOOR`], once, 2 threads
     /// (not part of the verdict, which is the default settings').
     pub floored: Option<Timed>,
+    /// The run again with `numerics.event_phi_error_floor` = [`EVENT_PHI_ERROR_FLOOR`], once,
+    /// 2 threads (not part of the verdict either).
+    pub event_floored: Option<Timed>,
 }
 
 /// |a − b| per pair of onsets, or nothing when the counts differ.
@@ -118,6 +124,7 @@ impl SfaTarget {
             reference,
             reference_tolerance,
             floored: None,
+            event_floored: None,
         }
     }
 
@@ -125,9 +132,14 @@ impl SfaTarget {
     /// or when the counts differ).
     #[must_use]
     pub fn floored_max_onset_deviation_s(&self) -> Option<f64> {
-        let f = self.floored.as_ref()?;
+        self.max_onset_deviation_of(self.floored.as_ref()?)
+    }
+
+    /// A variant run's largest onset deviation from the reference, s (none when the counts
+    /// differ).
+    fn max_onset_deviation_of(&self, variant: &Timed) -> Option<f64> {
         onset_deviations(
-            &f.event_values.onsets_s,
+            &variant.event_values.onsets_s,
             &self.reference.event_values.onsets_s,
         )
         .into_iter()
@@ -138,26 +150,43 @@ impl SfaTarget {
     /// meltings, largest onset deviation 4.1 µs` (none without the run).
     #[must_use]
     pub fn floored_result(&self) -> Option<String> {
-        let f = self.floored.as_ref()?;
-        let deviation = self.floored_max_onset_deviation_s().map_or_else(
+        Some(self.result_of(self.floored.as_ref()?))
+    }
+
+    /// The event-floored run's result in words, as [`SfaTarget::floored_result`]'s.
+    #[must_use]
+    pub fn event_floored_result(&self) -> Option<String> {
+        Some(self.result_of(self.event_floored.as_ref()?))
+    }
+
+    /// A variant run's result in words (see [`SfaTarget::floored_result`]).
+    fn result_of(&self, variant: &Timed) -> String {
+        let deviation = self.max_onset_deviation_of(variant).map_or_else(
             || "onsets not paired (the counts differ)".into(),
             |d| format!("largest onset deviation {} µs", sig(1e6 * d, 2)),
         );
-        Some(format!(
+        format!(
             "{} evaluations ({} s, {}× fewer), {} meltings, {deviation}",
-            f.evaluations(),
-            sig(f.wall_s, 3),
-            sig(self.evaluations as f64 / f.evaluations().max(1) as f64, 3),
-            f.events,
-        ))
+            variant.evaluations(),
+            sig(variant.wall_s, 3),
+            sig(
+                self.evaluations as f64 / variant.evaluations().max(1) as f64,
+                3
+            ),
+            variant.events,
+        )
     }
 
-    /// `; with numerics.phi_error_floor = 0.1: …` for the targets table (empty without the
-    /// floored run).
+    /// `; with numerics.phi_error_floor = 0.1: …; with numerics.event_phi_error_floor = 0.1:
+    /// …` for the targets table (each empty without its run).
     fn floored_words(&self) -> String {
-        self.floored_result()
-            .map(|w| format!("; with numerics.phi_error_floor = {PHI_ERROR_FLOOR}: {w}"))
-            .unwrap_or_default()
+        let floored = self
+            .floored_result()
+            .map(|w| format!("; with numerics.phi_error_floor = {PHI_ERROR_FLOOR}: {w}"));
+        let event = self.event_floored_result().map(|w| {
+            format!("; with numerics.event_phi_error_floor = {EVENT_PHI_ERROR_FLOOR}: {w}")
+        });
+        floored.into_iter().chain(event).collect()
     }
 
     /// (meltings − the reference's) / the reference's (none when the reference has none).
@@ -238,8 +267,13 @@ fn sfa_target(
     let run = once(tag, None, onsets_s)?;
     let floor = numerics::PHI_ERROR_FLOOR.set(PHI_ERROR_FLOOR).to_string();
     let floored = once(&format!("{tag}_floored"), Some(floor), onsets_s)?;
+    let event_floor = numerics::EVENT_PHI_ERROR_FLOOR
+        .set(EVENT_PHI_ERROR_FLOOR)
+        .to_string();
+    let event_floored = once(&format!("{tag}_event_floored"), Some(event_floor), onsets_s)?;
     Ok(SfaTarget {
         floored: Some(floored),
+        event_floored: Some(event_floored),
         ..SfaTarget::from_runs(sets, run, reference, reference_tolerance)
     })
 }
@@ -446,6 +480,16 @@ pub(super) fn section(m: &mut String, b: &SfaBench) {
              settings'. P7: {}. P8: {}.\n",
             p7.floored_result().unwrap_or_else(|| "not run".into()),
             p8.floored_result().unwrap_or_else(|| "not run".into()),
+        );
+    }
+    if p7.event_floored.is_some() || p8.event_floored.is_some() {
+        let _ = writeln!(
+            m,
+            "Both again with `numerics.event_phi_error_floor` = {EVENT_PHI_ERROR_FLOOR} instead              (the same floor for the steps that start while a melting event is open only; the              stick from an event's end to the next onset, where the onset's error is made,              keeps φ's own scale, so the stick before the first onset is stepped as by              default), against the same references; not part of the verdicts either. P7: {}.              P8: {}.\n",
+            p7.event_floored_result()
+                .unwrap_or_else(|| "not run".into()),
+            p8.event_floored_result()
+                .unwrap_or_else(|| "not run".into()),
         );
     }
     step_trace::section(m, &b.step_trace);
