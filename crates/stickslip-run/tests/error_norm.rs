@@ -64,24 +64,7 @@ fn a_floor_in_cascades_alone_saves_steps_and_leaves_the_sticks_as_they_were() {
 fn the_default_event_floor_is_zero_and_fixed_steps_refuse_one() {
     let scene = Scene::from_path::<&str>(&common::scene("sfa"), &[]).unwrap();
     assert_eq!(scene.config.numerics.event_phi_error_floor, 0.0);
-    let err = Scene::from_path(
-        &common::scene("sfa"),
-        &["time.stepping=fixed", "numerics.event_phi_error_floor=0.1"],
-    )
-    .unwrap_err()
-    .to_string();
-    assert!(err.contains("numerics.event_phi_error_floor"), "{err}");
-    assert!(err.contains("adaptive"), "{err}");
-    let err = Scene::from_path(
-        &common::scene("sfa"),
-        &["numerics.event_phi_error_floor=-0.1"],
-    )
-    .unwrap_err()
-    .to_string();
-    assert!(
-        err.contains("numerics.event_phi_error_floor = -0.1"),
-        "{err}"
-    );
+    let err = common::refused_adaptive_only_key("numerics.event_phi_error_floor", "0.1", "-0.1");
     assert!(err.contains("[0, 1]"), "{err}");
 }
 
@@ -89,17 +72,6 @@ fn the_default_event_floor_is_zero_and_fixed_steps_refuse_one() {
 fn the_default_floor_is_zero_and_fixed_steps_refuse_one() {
     let scene = Scene::from_path::<&str>(&common::scene("sfa"), &[]).unwrap();
     assert_eq!(scene.config.numerics.phi_error_floor, 0.0);
-    let err = Scene::from_path(
-        &common::scene("sfa"),
-        &["time.stepping=fixed", "numerics.phi_error_floor=0.1"],
-    )
-    .unwrap_err()
-    .to_string();
-    assert!(err.contains("numerics.phi_error_floor"), "{err}");
-    assert!(err.contains("adaptive"), "{err}");
-    let err = Scene::from_path(&common::scene("sfa"), &["numerics.phi_error_floor=1.5"])
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("numerics.phi_error_floor = 1.5"), "{err}");
+    let err = common::refused_adaptive_only_key("numerics.phi_error_floor", "0.1", "1.5");
     assert!(err.contains("[0, 1]"), "{err}");
 }

@@ -29,22 +29,5 @@ fn a_looser_tolerance_in_cascades_saves_attempts_and_melts_the_same_nodes() {
 fn the_default_factor_is_one_and_fixed_steps_refuse_another() {
     let scene = Scene::from_path::<&str>(&common::scene("sfa"), &[]).unwrap();
     assert_eq!(scene.config.numerics.event_tolerance_factor, 1.0);
-    let err = Scene::from_path(
-        &common::scene("sfa"),
-        &["time.stepping=fixed", "numerics.event_tolerance_factor=10"],
-    )
-    .unwrap_err()
-    .to_string();
-    assert!(err.contains("numerics.event_tolerance_factor"), "{err}");
-    assert!(err.contains("adaptive"), "{err}");
-    let err = Scene::from_path(
-        &common::scene("sfa"),
-        &["numerics.event_tolerance_factor=0.5"],
-    )
-    .unwrap_err()
-    .to_string();
-    assert!(
-        err.contains("numerics.event_tolerance_factor = 0.5"),
-        "{err}"
-    );
+    common::refused_adaptive_only_key("numerics.event_tolerance_factor", "10", "0.5");
 }

@@ -71,6 +71,24 @@ pub fn same_meltings_largest_onset_shift(
     largest_shift
 }
 
+/// Checks a key of the adaptive step only on sfa.toml: `key=value` with fixed steps is refused
+/// naming the key and adaptive steps, and `key=bad` is refused naming the key as given;
+/// returns the second error, for the caller's checks of the range it states.
+pub fn refused_adaptive_only_key(key: &str, value: &str, bad: &str) -> String {
+    let fixed = format!("{key}={value}");
+    let err = stickslip_run::Scene::from_path(&scene("sfa"), &["time.stepping=fixed", &fixed])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(key), "{err}");
+    assert!(err.contains("adaptive"), "{err}");
+    let out_of_range = format!("{key}={bad}");
+    let err = stickslip_run::Scene::from_path(&scene("sfa"), &[out_of_range.as_str()])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(&format!("{key} = {bad}")), "{err}");
+    err
+}
+
 /// A run's step attempts: accepted, rejected and retaken at an onset.
 pub fn attempts(o: &stickslip_run::RunOutcome) -> u64 {
     o.counts.accepted_steps + o.counts.rejected_steps + o.counts.onset_retakes
