@@ -485,7 +485,12 @@ pub(super) fn section(m: &mut String, b: &SfaBench) {
     if p7.event_floored.is_some() || p8.event_floored.is_some() {
         let _ = writeln!(
             m,
-            "Both again with `numerics.event_phi_error_floor` = {EVENT_PHI_ERROR_FLOOR} instead              (the same floor for the steps that start while a melting event is open only; the              stick from an event's end to the next onset, where the onset's error is made,              keeps φ's own scale, so the stick before the first onset is stepped as by              default), against the same references; not part of the verdicts either. P7: {}.              P8: {}.\n",
+            "Both again with `numerics.event_phi_error_floor` = {EVENT_PHI_ERROR_FLOOR} instead \
+             (the same floor for the steps that start while a melting event is open only; the \
+             stick from an event's end to the next onset, where the onset's error is made, \
+             keeps φ's own scale, so the stick before the first onset is stepped as by \
+             default), against the same references; not part of the verdicts either. P7: {}. \
+             P8: {}.\n",
             p7.event_floored_result()
                 .unwrap_or_else(|| "not run".into()),
             p8.event_floored_result()
