@@ -269,30 +269,35 @@ impl CouplingSolver {
         }
         // The correction's tolerance relative to ‖r‖ that makes the final residual
         // rel_tol·‖u‖ (relative to ‖r‖ = ‖K·u0‖ itself when u = 0, as at the first step), or
-        // [`DEEP_SOLVE`] of it for a guess that missed by less than [`NEAR_MISS`] (see there).
+        // [`DEEP_SOLVE`] of it for a guess that missed by less than [`NEAR_MISS`] (see there),
+        // which minimal-residual steps take first.
+        let mut r_norm = r_norm;
+        let mut steps_taken = 0;
         let target = if u_norm > 0.0 {
             let tol_norm = (rel_tol * u_norm).max(abs_norm);
-            if deepen_near_misses && r_norm <= NEAR_MISS * tol_norm {
-                if let Some(report) =
-                    self.minimal_residual(ops, (phi_sq, kappa), u3d, (r_norm, tol_norm, rho))
-                {
-                    return report;
+            let mr_goal = (deepen_near_misses && r_norm <= NEAR_MISS * tol_norm)
+                .then_some(DEEP_SOLVE * tol_norm);
+            if let Some(goal) = mr_goal {
+                match self.minimal_residual(ops, (phi_sq, kappa), u3d, (goal, rho)) {
+                    Ok(report) => return report,
+                    Err((norm, steps)) => (r_norm, steps_taken) = (norm, steps),
                 }
-                (DEEP_SOLVE * tol_norm / r_norm).min(0.5)
-            } else {
-                (tol_norm / r_norm).min(0.5)
             }
+            (mr_goal.unwrap_or(tol_norm) / r_norm).min(0.5)
         } else {
             rel_tol.max(abs_norm / r_norm).min(0.5)
         };
-        self.correct(ops, (phi_sq, kappa), u3d, (r_norm, target, rho))
+        let mut report = self.correct(ops, (phi_sq, kappa), u3d, (r_norm, target, rho));
+        report.iterations += steps_taken;
+        report
     }
 
     /// After a near miss ([`NEAR_MISS`]): minimal-residual steps u += α·r, α = (r, A·r)/‖A·r‖²
     /// with A = I + K, each one application of K that also gives the new residual
-    /// r − α·A·r exactly, until ‖r‖ ≤ [`DEEP_SOLVE`]·`tol_norm`; then the relaxed correction
-    /// of an accepted guess. `None` (u3d and `rhs` left at the last step's values) when
-    /// [`MR_STEPS`] steps do not get there, for BiCGSTAB to finish.
+    /// r − α·A·r exactly, until ‖r‖ ≤ `goal`; then the relaxed correction of an accepted
+    /// guess. When [`MR_STEPS`] steps do not get there: the residual's norm and the steps
+    /// taken, with u3d and `rhs` (the residual) at the last step's values, for BiCGSTAB to
+    /// finish.
     ///
     /// Why: the residual is in `rhs` already, and a near miss needs a reduction of at most
     /// 10/[`DEEP_SOLVE`]; BiCGSTAB spends one application recomputing that residual and two per
@@ -303,11 +308,10 @@ impl CouplingSolver {
         ops: &MdrOperators,
         (phi_sq, kappa): (&[f64], f64),
         u3d: &mut [f64],
-        (r_norm, tol_norm, rho): (f64, f64, f64),
-    ) -> Option<CouplingReport> {
+        (goal, rho): (f64, f64),
+    ) -> Result<CouplingReport, (f64, usize)> {
         let n = self.n;
-        let goal = DEEP_SOLVE * tol_norm;
-        debug_assert!(r_norm > 0.0);
+        let mut norm = f64::NAN;
         for step in 1..=MR_STEPS {
             let mut guard = self.scratch.lock().expect("coupling scratch poisoned");
             let Scratch { dx, q, x: _, y } = &mut *guard;
@@ -319,7 +323,7 @@ impl CouplingSolver {
                 aa += *yi * *yi;
             }
             if !(aa > 0.0 && ra.is_finite()) {
-                return None;
+                return Err((self.rhs.iter().map(|r| r * r).sum::<f64>().sqrt(), step));
             }
             let alpha = ra / aa;
             let mut rr = 0.0;
@@ -328,14 +332,14 @@ impl CouplingSolver {
                 *r -= alpha * a;
                 rr += *r * *r;
             }
-            let norm = rr.sqrt();
+            norm = rr.sqrt();
             if norm <= goal {
                 let relax = 1.0 / (1.0 + 0.5 * rho.max(0.0));
                 for (u, &r) in u3d.iter_mut().zip(&self.rhs) {
                     *u += relax * r;
                 }
                 let u_final = u3d.iter().map(|u| u * u).sum::<f64>().sqrt();
-                return Some(CouplingReport {
+                return Ok(CouplingReport {
                     iterations: step,
                     rel_residual: norm / u_final.max(f64::MIN_POSITIVE),
                     rms_residual_m: norm / (n as f64).sqrt(),
@@ -343,7 +347,7 @@ impl CouplingSolver {
                 });
             }
         }
-        None
+        Err((norm, MR_STEPS))
     }
 
     /// The guess's residual r = K·(u0 − u) − u into `rhs`: ‖r‖ and ‖u‖.

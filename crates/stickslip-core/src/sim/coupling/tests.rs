@@ -169,6 +169,61 @@ fn a_near_miss_takes_minimal_residual_steps_to_a_tenth_of_the_tolerance() {
 }
 
 #[test]
+fn minimal_residual_steps_that_fall_short_hand_their_residual_to_bicgstab() {
+    // A stiff coupling (κ·C·D's spectrum up to about 1e3): a minimal-residual step gains
+    // little, three fall short of a tenth of the tolerance, and BiCGSTAB finishes from where
+    // they stopped. The final residual is recomputed and must meet the deeper target, and the
+    // report must count the steps and say the residual it reached.
+    let n = 48;
+    let ops = MdrOperators::new(Grid::new(2e-5, n).unwrap(), Quadrature::Product);
+    let phi_sq: Vec<f64> = (0..n).map(|i| 1.5 - 0.5 * (i as f64 / n as f64)).collect();
+    let u0: Vec<f64> = (0..n)
+        .map(|i| 1e-9 * (1.0 + (i as f64 / n as f64).powi(2)))
+        .collect();
+    let (kappa, rel_tol) = (1e7, 1e-10);
+    let tol = |deepen_near_misses, rel_tol| CouplingTolerance {
+        rel_tol,
+        abs_rms_m: 0.0,
+        spectral_bound: 1e3,
+        deepen_near_misses,
+    };
+    let mut solver = CouplingSolver::new(n);
+    let mut exact = vec![0.0; n];
+    let first = solver.solve(&ops, &phi_sq, kappa, &u0, &mut exact, tol(false, 1e-14));
+    assert!(first.converged, "{first:?}");
+    let true_residual = |u: &[f64]| {
+        let (mut dx, mut q, mut y) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let x: Vec<f64> = u0.iter().zip(u).map(|(a, b)| a - b).collect();
+        apply_k(&ops, &phi_sq, kappa, &x, &mut dx, &mut q, &mut y);
+        let r = y.iter().zip(u).map(|(a, b)| (a - b).powi(2)).sum::<f64>();
+        r.sqrt() / u.iter().map(|v| v * v).sum::<f64>().sqrt()
+    };
+    let wiggle = |i: usize| (0.7 * i as f64).sin() + 0.3 * (2.9 * i as f64).cos();
+    let unit: Vec<f64> = (0..n).map(|i| exact[i] + 1e-22 * wiggle(i)).collect();
+    let scale = 5.0 * rel_tol / true_residual(&unit);
+    let mut u: Vec<f64> = (0..n)
+        .map(|i| exact[i] + scale * 1e-22 * wiggle(i))
+        .collect();
+    let missed = true_residual(&u);
+    assert!(
+        missed > rel_tol && missed < NEAR_MISS * rel_tol,
+        "{missed:e}"
+    );
+    let report = solver.solve(&ops, &phi_sq, kappa, &u0, &mut u, tol(true, rel_tol));
+    assert!(report.converged, "{report:?}");
+    assert!(report.iterations > MR_STEPS, "{report:?}");
+    let after = true_residual(&u);
+    assert!(
+        after <= DEEP_SOLVE * rel_tol * 1.01,
+        "{after:e} ({report:?})"
+    );
+    assert!(
+        report.rel_residual <= DEEP_SOLVE * rel_tol * 1.01 && report.rel_residual > 0.0,
+        "{report:?}"
+    );
+}
+
+#[test]
 fn guesses_of_a_smooth_load_pass_once_near_misses_are_solved_deeper() {
     // A stick phase with fixed steps: u0 grows linearly in time under a fixed film, so the
     // quadratic extrapolation of the last three solutions (weights 3, −3, 1, as the
