@@ -1,6 +1,6 @@
 //! What `stickslip check` reports: the resolved scene, the preflight (derived, stability and
 //! quasi-static numbers, the verdict), warnings for unusual values, and a cost estimate from
-//! a short timed probe of the scene itself.
+//! a short probe of the scene itself (a fixed count of steps, timed).
 
 use crate::driver::{Control, Driver, Limit, NullSink, StartError, warnings_of};
 use crate::scene::ResolvedScene;
@@ -8,10 +8,21 @@ use serde::Serialize;
 use std::time::Instant;
 use stickslip_core::preflight::{Finding, Preflight};
 
-/// Wall time the probe aims at, s.
-const PROBE_TARGET_S: f64 = 0.05;
+/// The probe's work in node-steps: it takes this many divided by the nodes, within
+/// [`PROBE_MIN_STEPS`] and [`PROBE_MAX_STEPS`] (about 50–90 ms on 2 cores for fig2 at N = 2000
+/// and the h0 = 1 nm contact at N = 200). A count, not a wall time, so that what the probe
+/// finds (its pace, the output's size, whether it contradicts the step estimate) is the same
+/// on a busy machine as on an idle one; only its seconds per step are a wall time.
+const PROBE_NODE_STEPS: u64 = 800_000;
+/// Fewest loop iterations the probe takes.
+const PROBE_MIN_STEPS: u64 = 16;
 /// Most loop iterations the probe takes.
 const PROBE_MAX_STEPS: u64 = 4096;
+
+/// The probe's loop iterations for a scene of `nodes` nodes (see [`PROBE_NODE_STEPS`]).
+fn probe_step_count(nodes: usize) -> u64 {
+    (PROBE_NODE_STEPS / nodes.max(1) as u64).clamp(PROBE_MIN_STEPS, PROBE_MAX_STEPS)
+}
 /// Adaptive step evaluations per stick–slip cycle at [`ADAPTIVE_REFERENCE_TOLERANCE`], for the
 /// estimate: `stickslip run validation/scenes/fig2.toml --set contact.nodes=200` takes 3010
 /// accepted steps, 43 rejected and 10 onset retakes for its approach and 10 events, 278 per
@@ -316,9 +327,11 @@ fn cost_of(scene: &ResolvedScene, driver: &mut Driver) -> Result<CostEstimate, S
     let mut probe_steps = 0;
     let mut batch = 8;
     let steps_before = driver.simulation().state().counters.step;
-    while probe_steps < PROBE_MAX_STEPS && started.elapsed().as_secs_f64() < PROBE_TARGET_S {
-        match driver.advance(&mut sink, &mut control, Limit::Steps(batch))? {
-            None => probe_steps += batch,
+    let target = probe_step_count(scene.config.contact.nodes);
+    while probe_steps < target {
+        let batch_now = batch.min(target - probe_steps);
+        match driver.advance(&mut sink, &mut control, Limit::Steps(batch_now))? {
+            None => probe_steps += batch_now,
             Some(_) => break,
         }
         batch *= 2;

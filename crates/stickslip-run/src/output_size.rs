@@ -24,16 +24,17 @@ const PROFILE_NUMBERS: f64 = crate::schema::profiles::COLUMNS.len() as f64;
 /// The expected output of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OutputSize {
-    /// Rows of series.csv (and of probes.csv when the scene has probes): the geometric mean
-    /// of [`OutputSize::series_rows_min`] and [`OutputSize::series_rows_max`]. The writer
-    /// writes a row at the first step at or after each mark: a melting's steps cluster in a
-    /// front microseconds long and share marks, the stick's steps each reach one. Within 3×
-    /// of the rows written on fig2 and on the h0 = 1 nm contact at a 1 µs interval (tested),
-    /// where a row per step is 2.6× and 7.6× high.
+    /// Rows of series.csv (and of probes.csv when the scene has probes):
+    /// [`OutputSize::series_rows_min`]. The writer writes a row at the first step at or after
+    /// each mark: a melting's steps cluster in a front microseconds long and share marks, the
+    /// stick's steps each reach one. 1.26× and 1.8× the rows written on fig2 at N = 200 and on
+    /// the h0 = 1 nm contact at a 1 µs interval (tested within 3×), where a row per step is
+    /// 2.6× and 7.6× high.
     pub series_rows: f64,
     /// A row per step at the pace of the run's first steps (the approach to the first
-    /// melting, as far as check's timed probe got), at most one per mark: the stick phases'
-    /// rows. Not a bound: the probe's pace depends on how far it got.
+    /// melting, over check's probe: a count of steps set by the scene, so the same on any
+    /// machine), at most one per mark: the stick phases' rows. Not a bound: a run's later
+    /// sticks may be stepped faster or slower than its first.
     pub series_rows_min: f64,
     /// The most: a row per step, at most one per mark.
     pub series_rows_max: f64,
@@ -64,7 +65,7 @@ pub fn estimate_clustered(scene: &ResolvedScene, steps: f64, approach_steps: f64
     let marks = (end / interval).floor().max(0.0) + 1.0;
     let series_rows_max = marks.min(steps.max(1.0) + 1.0);
     let series_rows_min = marks.min(approach_steps.clamp(1.0, steps.max(1.0)).round() + 1.0);
-    let series_rows = (series_rows_min * series_rows_max).sqrt().round();
+    let series_rows = series_rows_min;
     let probes = o.probe_radii_m.len();
     let row_bytes = BYTES_PER_NUMBER
         * (SERIES_NUMBERS
