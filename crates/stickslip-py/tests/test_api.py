@@ -192,7 +192,9 @@ def test_to_pandas(small_result: stickslip.RunResult, monkeypatch: pytest.Monkey
 
 
 def test_the_gil_is_released_during_a_run(fig2_path: Path) -> None:
-    scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 200})
+    # fig2 at N = 200 to 4 ms: about 0.8 s on a fast host (to its default 1.3 ms it took
+    # 0.03 s there, too short for a ticking thread to show anything).
+    scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 200, "time.end": 4e-3})
     ticks = []
     done = threading.Event()
 
