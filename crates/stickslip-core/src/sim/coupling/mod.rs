@@ -3,11 +3,12 @@
 //! Writing K = κ·C·D with κ = a/(h0·G*), C the MDR compliance (back∘forward) and D = diag(φ²),
 //! the substrate displacement satisfies (I + K)·u3D = K·u0. The paper's lagged sweep
 //! u3D ← K·(u0 − u3D_prev) is a fixed-point iteration of this system: it contracts only when
-//! the spectral radius ρ(K) < 1. The accurate scheme instead solves the system with BiCGSTAB
-//! (faer's matrix-free solver), starting from the quadratic extrapolation of the last three
-//! steps, which often meets the tolerance already and is then only checked: K has a non-negative
-//! spectrum (C is an elastic compliance), so I + K has eigenvalues in [1, 1 + ρ] and the
-//! solve converges whatever ρ is.
+//! the spectral radius ρ(K) < 1. The accurate scheme instead solves the system, starting from
+//! the quadratic extrapolation of the last three steps, which often meets the tolerance
+//! already and is then only checked; a guess that misses is corrected by minimal-residual
+//! steps where a few suffice (a soft coupling, ρ ≤ 2), else by BiCGSTAB (faer's matrix-free
+//! solver). K has a non-negative spectrum (C is an elastic compliance), so I + K has
+//! eigenvalues in [1, 1 + ρ] and the solve converges whatever ρ is.
 
 use crate::mdr::MdrOperators;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -124,8 +125,8 @@ impl LinOp<f64> for CouplingOperator<'_> {
 /// N = 2000 in its stick phase, Δt = 2e-8 s: guesses at 2.6–6.1 times the tolerance, none
 /// passing, 2.4 compliance applies per step); solved to a tenth of it, 80 % pass and a step
 /// takes 1.19 applies (1.38 when BiCGSTAB did the deeper solve, see
-/// [`CouplingSolver::minimal_residual`]). With adaptive steps a guess that misses is mostly far off (the
-/// truncation dominates: fig2 as shipped, median 4.3, 90th percentile 7e5 times the
+/// [`CouplingSolver::minimal_residual`]). With adaptive steps a guess that misses is mostly
+/// far off (the truncation dominates: fig2 as shipped, median 4.3, 90th percentile 7e5 times the
 /// tolerance), and there the deeper solve did not pay: the smaller residual, which enters
 /// the step's error estimate, moved the steps (the SFA contact of `cargo xtask bench`'s P7:
 /// 3 % fewer evaluations but 26 % more coupling iterations, and the first onset 12.8 µs
@@ -185,7 +186,7 @@ pub struct CouplingTolerance {
 /// Outcome of one coupling solve.
 #[derive(Debug, Clone, Copy)]
 pub struct CouplingReport {
-    /// BiCGSTAB iterations.
+    /// Minimal-residual steps and BiCGSTAB iterations.
     pub iterations: usize,
     /// Final relative residual.
     pub rel_residual: f64,
