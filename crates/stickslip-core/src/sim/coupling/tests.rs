@@ -112,46 +112,101 @@ fn a_residual_below_the_absolute_floor_is_accepted_without_iterating() {
     );
 }
 
-#[test]
-fn a_near_miss_takes_minimal_residual_steps_to_a_tenth_of_the_tolerance() {
-    let n = 48;
-    let ops = MdrOperators::new(Grid::new(2e-5, n).unwrap(), Quadrature::Product);
-    let phi_sq: Vec<f64> = (0..n).map(|i| 1.5 - 0.5 * (i as f64 / n as f64)).collect();
-    let u0: Vec<f64> = (0..n)
-        .map(|i| 1e-9 * (1.0 + (i as f64 / n as f64).powi(2)))
-        .collect();
-    let (kappa, rel_tol) = (2e3, 1e-10);
-    let tol = |deepen_near_misses| CouplingTolerance {
-        rel_tol,
-        abs_rms_m: 0.0,
-        spectral_bound: 0.5,
-        deepen_near_misses,
-    };
-    let mut solver = CouplingSolver::new(n);
-    let mut exact = vec![0.0; n];
-    solver.solve(&ops, &phi_sq, kappa, &u0, &mut exact, tol(false));
-    let true_residual = |u: &[f64]| {
+/// The two near-miss tests' coupling: 48 nodes under a fixed film and a smooth u0, at `kappa`.
+struct NearMiss {
+    ops: MdrOperators,
+    phi_sq: Vec<f64>,
+    u0: Vec<f64>,
+    kappa: f64,
+}
+
+impl NearMiss {
+    fn new(kappa: f64) -> Self {
+        let n = 48;
+        Self {
+            ops: MdrOperators::new(Grid::new(2e-5, n).unwrap(), Quadrature::Product),
+            phi_sq: (0..n).map(|i| 1.5 - 0.5 * (i as f64 / n as f64)).collect(),
+            u0: (0..n)
+                .map(|i| 1e-9 * (1.0 + (i as f64 / n as f64).powi(2)))
+                .collect(),
+            kappa,
+        }
+    }
+
+    /// Solves from `u` in place with `solver`.
+    fn solve(
+        &self,
+        solver: &mut CouplingSolver,
+        u: &mut [f64],
+        tol: CouplingTolerance,
+    ) -> CouplingReport {
+        solver.solve(&self.ops, &self.phi_sq, self.kappa, &self.u0, u, tol)
+    }
+
+    /// ‖K·(u0 − u) − u‖/‖u‖, recomputed.
+    fn true_residual(&self, u: &[f64]) -> f64 {
+        let n = u.len();
         let (mut dx, mut q, mut y) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let x: Vec<f64> = u0.iter().zip(u).map(|(a, b)| a - b).collect();
-        apply_k(&ops, &phi_sq, kappa, &x, &mut dx, &mut q, &mut y);
+        let x: Vec<f64> = self.u0.iter().zip(u).map(|(a, b)| a - b).collect();
+        apply_k(
+            &self.ops,
+            &self.phi_sq,
+            self.kappa,
+            &x,
+            &mut dx,
+            &mut q,
+            &mut y,
+        );
         let r = y.iter().zip(u).map(|(a, b)| (a - b).powi(2)).sum::<f64>();
-        let norm = u.iter().map(|v| v * v).sum::<f64>().sqrt();
-        r.sqrt() / norm
-    };
-    // A guess off the solution by a wiggle whose residual is 2–9 times the tolerance.
-    for factor in [2.0, 4.0, 9.0] {
-        let wiggle = |i: usize| (0.7 * i as f64).sin();
-        let unit: Vec<f64> = (0..n).map(|i| exact[i] + 1e-20 * wiggle(i)).collect();
-        let scale = factor * rel_tol / (true_residual(&unit));
-        let mut u: Vec<f64> = (0..n)
-            .map(|i| exact[i] + scale * 1e-20 * wiggle(i))
-            .collect();
-        let missed = true_residual(&u);
+        r.sqrt() / u.iter().map(|v| v * v).sum::<f64>().sqrt()
+    }
+
+    /// `exact` off by a multiple of `wiggle` (tried at `probe` m) whose residual is `factor`
+    /// times `rel_tol`; asserts that it is a near miss.
+    fn guess(
+        &self,
+        exact: &[f64],
+        (wiggle, probe): (&dyn Fn(usize) -> f64, f64),
+        (factor, rel_tol): (f64, f64),
+    ) -> Vec<f64> {
+        let off = |amplitude: f64| -> Vec<f64> {
+            (0..exact.len())
+                .map(|i| exact[i] + amplitude * wiggle(i))
+                .collect()
+        };
+        let scale = factor * rel_tol / self.true_residual(&off(probe));
+        let u = off(scale * probe);
+        let missed = self.true_residual(&u);
         assert!(
             missed > rel_tol && missed < NEAR_MISS * rel_tol,
             "{missed:e}"
         );
-        let report = solver.solve(&ops, &phi_sq, kappa, &u0, &mut u, tol(true));
+        u
+    }
+}
+
+/// A tolerance without an absolute floor.
+fn relative(rel_tol: f64, spectral_bound: f64, deepen_near_misses: bool) -> CouplingTolerance {
+    CouplingTolerance {
+        rel_tol,
+        abs_rms_m: 0.0,
+        spectral_bound,
+        deepen_near_misses,
+    }
+}
+
+#[test]
+fn a_near_miss_takes_minimal_residual_steps_to_a_tenth_of_the_tolerance() {
+    let c = NearMiss::new(2e3);
+    let rel_tol = 1e-10;
+    let mut solver = CouplingSolver::new(c.u0.len());
+    let mut exact = vec![0.0; c.u0.len()];
+    c.solve(&mut solver, &mut exact, relative(rel_tol, 0.5, false));
+    // A guess off the solution by a wiggle whose residual is 2–9 times the tolerance.
+    for factor in [2.0, 4.0, 9.0] {
+        let wiggle = |i: usize| (0.7 * i as f64).sin();
+        let mut u = c.guess(&exact, (&wiggle, 1e-20), (factor, rel_tol));
+        let report = c.solve(&mut solver, &mut u, relative(rel_tol, 0.5, true));
         assert!(report.converged, "{report:?}");
         assert!(
             (1..=MR_STEPS).contains(&report.iterations),
@@ -163,7 +218,7 @@ fn a_near_miss_takes_minimal_residual_steps_to_a_tenth_of_the_tolerance() {
             report.rel_residual <= DEEP_SOLVE * rel_tol * 1.001,
             "{report:?}"
         );
-        let after = true_residual(&u);
+        let after = c.true_residual(&u);
         assert!(after <= DEEP_SOLVE * rel_tol, "factor {factor}: {after:e}");
     }
 }
@@ -175,52 +230,18 @@ fn minimal_residual_steps_that_fall_short_hand_their_residual_to_bicgstab() {
     // short of a tenth of the tolerance, and BiCGSTAB finishes from where they stopped. The
     // final residual is recomputed and must meet the deeper target, and the report must
     // count the steps and say the residual it reached.
-    let n = 48;
-    let ops = MdrOperators::new(Grid::new(2e-5, n).unwrap(), Quadrature::Product);
-    let phi_sq: Vec<f64> = (0..n).map(|i| 1.5 - 0.5 * (i as f64 / n as f64)).collect();
-    let u0: Vec<f64> = (0..n)
-        .map(|i| 1e-9 * (1.0 + (i as f64 / n as f64).powi(2)))
-        .collect();
-    let (kappa, rel_tol) = (1e7, 1e-10);
-    let tol = |deepen_near_misses, rel_tol, spectral_bound| CouplingTolerance {
-        rel_tol,
-        abs_rms_m: 0.0,
-        spectral_bound,
-        deepen_near_misses,
-    };
-    let mut solver = CouplingSolver::new(n);
-    let mut exact = vec![0.0; n];
-    let first = solver.solve(
-        &ops,
-        &phi_sq,
-        kappa,
-        &u0,
-        &mut exact,
-        tol(false, 1e-14, 1e3),
-    );
+    let c = NearMiss::new(1e7);
+    let rel_tol = 1e-10;
+    let mut solver = CouplingSolver::new(c.u0.len());
+    let mut exact = vec![0.0; c.u0.len()];
+    let first = c.solve(&mut solver, &mut exact, relative(1e-14, 1e3, false));
     assert!(first.converged, "{first:?}");
-    let true_residual = |u: &[f64]| {
-        let (mut dx, mut q, mut y) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let x: Vec<f64> = u0.iter().zip(u).map(|(a, b)| a - b).collect();
-        apply_k(&ops, &phi_sq, kappa, &x, &mut dx, &mut q, &mut y);
-        let r = y.iter().zip(u).map(|(a, b)| (a - b).powi(2)).sum::<f64>();
-        r.sqrt() / u.iter().map(|v| v * v).sum::<f64>().sqrt()
-    };
     let wiggle = |i: usize| (0.7 * i as f64).sin() + 0.3 * (2.9 * i as f64).cos();
-    let unit: Vec<f64> = (0..n).map(|i| exact[i] + 1e-22 * wiggle(i)).collect();
-    let scale = 5.0 * rel_tol / true_residual(&unit);
-    let mut u: Vec<f64> = (0..n)
-        .map(|i| exact[i] + scale * 1e-22 * wiggle(i))
-        .collect();
-    let missed = true_residual(&u);
-    assert!(
-        missed > rel_tol && missed < NEAR_MISS * rel_tol,
-        "{missed:e}"
-    );
-    let report = solver.solve(&ops, &phi_sq, kappa, &u0, &mut u, tol(true, rel_tol, 0.5));
+    let mut u = c.guess(&exact, (&wiggle, 1e-22), (5.0, rel_tol));
+    let report = c.solve(&mut solver, &mut u, relative(rel_tol, 0.5, true));
     assert!(report.converged, "{report:?}");
     assert!(report.iterations > MR_STEPS, "{report:?}");
-    let after = true_residual(&u);
+    let after = c.true_residual(&u);
     assert!(
         after <= DEEP_SOLVE * rel_tol * 1.01,
         "{after:e} ({report:?})"
