@@ -13,7 +13,7 @@ use super::problem::{Contact, Problem};
 use super::stepper::{StepError, StepReport, Stepper};
 use super::substrate::{BEND_NOISE_FACTOR, SubstratePredictor, SubstrateSolver};
 use super::viscous::Viscous;
-use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, SimState, V_FLOOR, X_FLOOR};
+use super::{NumericalFailure, PHI_REPRESENTABLE_MIN, SimState, V_FLOOR_MELT_FRACTION, X_FLOOR};
 use crate::config::Substrate;
 use crate::drive::{Drive, DriveState, Integrator};
 use crate::noise::NoiseSource;
@@ -481,9 +481,8 @@ impl<F: Film> Accurate<F> {
     /// The local error of the accurate step just taken (see [`error_estimate`]), in units of
     /// scales that follow the state: φ relative to max(φ, threshold,
     /// `numerics.phi_error_floor`·φ_s) per node, ε relative to the melting strain (εc(t); ε₊(t)
-    /// for the first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0). V's scale is
-    /// its own size, not V0: a spring-driven stamp creeps at V ≪ V0 before the first slip, and
-    /// an error in V is an error in X that grows with time. `coupling_rms_m`: the coupling
+    /// for the first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 0.1·ω·h0·εc) with
+    /// ω = √(K/m) (see [`V_FLOOR_MELT_FRACTION`]). `coupling_rms_m`: the coupling
     /// solve's residual, which shifts the strain as the stamp's position error does.
     fn step_error(
         &mut self,
@@ -521,17 +520,15 @@ impl<F: Film> Accurate<F> {
             config.lubricant.eps_max
         };
         let h0 = config.contact.film_thickness_m;
-        let v0 = config.drive.velocity_m_per_s().abs();
+        let v_floor = match &config.drive {
+            Drive::Spring(sp) => V_FLOOR_MELT_FRACTION * sp.omega_rad_per_s() * h0 * eps_scale,
+            Drive::Rigid(_) => 0.0,
+        };
         StepError {
             phi: phi_err,
             eps: eps_shift_m / (h0 * eps_scale),
             x: drive.x_m / s.drive.x_m.abs().max(X_FLOOR * h0),
-            v: drive.v_m_per_s
-                / s.drive
-                    .v_m_per_s
-                    .abs()
-                    .max(V_FLOOR * v0)
-                    .max(f64::MIN_POSITIVE),
+            v: drive.v_m_per_s / s.drive.v_m_per_s.abs().max(v_floor).max(f64::MIN_POSITIVE),
         }
     }
 

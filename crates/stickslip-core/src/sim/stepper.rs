@@ -72,7 +72,7 @@ pub struct StepError {
     pub eps: f64,
     /// Stamp position: |ΔX| / max(|X|, 1e-3·h0).
     pub x: f64,
-    /// Stamp velocity: |ΔV| / max(|V|, 1e-6·V0).
+    /// Stamp velocity: |ΔV| / max(|V|, 0.1·ω·h0·εc), ω = √(K/m) the drive spring's.
     pub v: f64,
 }
 

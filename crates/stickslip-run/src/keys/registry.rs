@@ -458,7 +458,7 @@ section! {
                 rule: "\"fixed\" with the literal scheme or gaussian noise",
             }
         TOLERANCE tolerance "tolerance" @ bounds::TOLERANCE: f64 =
-            "allowed local error per step, relative to scales that follow the state: φ to max(φ, melt threshold, numerics.phi_error_floor·φ_s), the strain to εc(t) (ε₊(t) for a first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 1e-6·V0)"
+            "allowed local error per step, relative to scales that follow the state: φ to max(φ, melt threshold, numerics.phi_error_floor·φ_s), the strain to εc(t) (ε₊(t) for a first-order film), X to max(|X|, 1e-3·h0), V to max(|V|, 0.1·ω·h0·εc), ω = √(K/m)"
             { default: Value(&5e-5), rule: "only with stepping = \"adaptive\"" }
         DT_MAX dt_max "dt_max" @ bounds::DT_MAX: f64 =
             "longest adaptive step (not needed for accuracy: the error control sets the step)"
