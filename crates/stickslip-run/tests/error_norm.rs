@@ -75,3 +75,66 @@ fn the_default_floor_is_zero_and_fixed_steps_refuse_one() {
     let err = common::refused_adaptive_only_key("numerics.phi_error_floor", "0.1", "1.5");
     assert!(err.contains("[0, 1]"), "{err}");
 }
+
+/// The stamp's velocity error is scaled by max(|V|, 0.1·ω·h0·εc), ω = √(K/m): before its
+/// first slip the stamp rings on the contact's stiffness and its velocity passes through zero
+/// every period, which relative to |V| alone would limit the steps around each zero
+/// (docs/model.md, "The velocity's floor"). On the h0 = 1 nm contact under a soft spring
+/// (K = 500 N/m, N = 200, uniform grid: P7's scene) the stick to the first onset has few
+/// steps limited by V, and its onset stays close to a tight reference.
+#[test]
+fn the_stamps_ringing_does_not_limit_the_sticks_steps() {
+    use stickslip_core::sim::Simulation;
+    use stickslip_run::driver::{Control, Driver, Limit, NullSink};
+    let sets = |tolerance: &str| {
+        Scene::from_path(
+            &common::scene("sfa"),
+            &[
+                "drive.stiffness=500",
+                "contact.grid=uniform",
+                "time.end=1.2",
+                "time.max_events=1",
+                "output.profile_times=[]",
+                "output.series_interval=1e-3",
+                &format!("time.tolerance={tolerance}"),
+            ],
+        )
+        .unwrap()
+    };
+    let first_onset = |scene: &stickslip_run::ResolvedScene, count: bool| {
+        let mut driver = Driver::start(scene, &mut NullSink).unwrap();
+        let (mut steps, mut by_v) = (0_u64, 0_u64);
+        let mut observe = |sim: &Simulation| {
+            if count && sim.events().is_empty() && !sim.state().events.tracker.is_open() {
+                let e = sim.last_step_error();
+                steps += 1;
+                by_v += u64::from(e.v >= e.max());
+            }
+        };
+        let mut control = Control {
+            observer: Some(&mut observe),
+            ..Control::default()
+        };
+        driver
+            .advance(&mut NullSink, &mut control, Limit::None)
+            .unwrap();
+        let onset = driver.simulation().events()[0].t_onset_s;
+        (onset, steps, by_v)
+    };
+    let (onset, steps, by_v) = first_onset(&sets("5e-5"), true);
+    let (reference, ..) = first_onset(&sets("5e-7"), false);
+    println!(
+        "stick: {steps} steps, {by_v} limited by V; first onset {onset} s, {:.2e} s from the \
+         reference",
+        (onset - reference).abs()
+    );
+    assert!(steps > 1000, "{steps} steps");
+    assert!(
+        (by_v as f64) < 0.25 * steps as f64,
+        "{by_v} of {steps} steps limited by V"
+    );
+    assert!(
+        (onset - reference).abs() < 1e-5,
+        "{onset} against {reference} s"
+    );
+}
