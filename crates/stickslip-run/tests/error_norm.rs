@@ -81,7 +81,7 @@ fn the_default_floor_is_zero_and_fixed_steps_refuse_one() {
 /// every period, which relative to |V| alone would limit the steps around each zero
 /// (docs/model.md, "The velocity's floor"). On the h0 = 1 nm contact under a soft spring
 /// (K = 500 N/m, N = 200, uniform grid: P7's scene) the stick to the first onset has few
-/// steps limited by V, and its onset stays close to a tight reference.
+/// steps limited by V, and its onset stays within P7's bound of a tight reference.
 #[test]
 fn the_stamps_ringing_does_not_limit_the_sticks_steps() {
     use stickslip_core::sim::Simulation;
@@ -133,8 +133,14 @@ fn the_stamps_ringing_does_not_limit_the_sticks_steps() {
         (by_v as f64) < 0.25 * steps as f64,
         "{by_v} of {steps} steps limited by V"
     );
+    // Measured: 6 561 accepted steps, 1 060 limited by V, onset 1.53 µs from the reference;
+    // with the earlier floor 1e-6·V0 (`p7_phases`): 9 433 steps limited by V of 17 914
+    // evaluations, onset 4.1 µs from P7's reference. The bound is P7's, not the measured
+    // distance: this onset comes while the stamp's ringing modulates its creep, and its
+    // error at the default tolerance spreads from 0.9 to 143 µs over N = 50–300 with either
+    // floor (docs/model.md, "The velocity's floor").
     assert!(
-        (onset - reference).abs() < 1e-5,
+        (onset - reference).abs() < 1e-4,
         "{onset} against {reference} s"
     );
 }
