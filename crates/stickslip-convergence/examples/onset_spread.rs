@@ -54,7 +54,7 @@ fn first_onset(scene: &Path, (k, n): (f64, usize), extra: &[String]) -> Result<R
     .map_err(|e| e.to_string())?;
     if outcome.events.is_empty() {
         return Err(format!(
-            "K = {k} N/m, N = {n}: no melting by time.end = 3 s"
+            "K = {k} N/m, N = {n}: no melting by time.end = {END_S} s"
         ));
     }
     Ok(outcome)
