@@ -143,6 +143,17 @@ impl NearMiss {
         solver.solve(&self.ops, &self.phi_sq, self.kappa, &self.u0, u, tol)
     }
 
+    /// The solution from zero with `solver` to `tol`, and the solve's report.
+    fn solved(
+        &self,
+        solver: &mut CouplingSolver,
+        tol: CouplingTolerance,
+    ) -> (Vec<f64>, CouplingReport) {
+        let mut u = vec![0.0; self.u0.len()];
+        let report = self.solve(solver, &mut u, tol);
+        (u, report)
+    }
+
     /// ‖K·(u0 − u) − u‖/‖u‖, recomputed.
     fn true_residual(&self, u: &[f64]) -> f64 {
         let n = u.len();
@@ -200,8 +211,7 @@ fn a_near_miss_takes_minimal_residual_steps_to_a_tenth_of_the_tolerance() {
     let c = NearMiss::new(2e3);
     let rel_tol = 1e-10;
     let mut solver = CouplingSolver::new(c.u0.len());
-    let mut exact = vec![0.0; c.u0.len()];
-    c.solve(&mut solver, &mut exact, relative(rel_tol, 0.5, false));
+    let (exact, _) = c.solved(&mut solver, relative(rel_tol, 0.5, false));
     // A guess off the solution by a wiggle whose residual is 2–9 times the tolerance.
     for factor in [2.0, 4.0, 9.0] {
         let wiggle = |i: usize| (0.7 * i as f64).sin();
@@ -233,8 +243,7 @@ fn minimal_residual_steps_that_fall_short_hand_their_residual_to_bicgstab() {
     let c = NearMiss::new(1e7);
     let rel_tol = 1e-10;
     let mut solver = CouplingSolver::new(c.u0.len());
-    let mut exact = vec![0.0; c.u0.len()];
-    let first = c.solve(&mut solver, &mut exact, relative(1e-14, 1e3, false));
+    let (exact, first) = c.solved(&mut solver, relative(1e-14, 1e3, false));
     assert!(first.converged, "{first:?}");
     let wiggle = |i: usize| (0.7 * i as f64).sin() + 0.3 * (2.9 * i as f64).cos();
     let mut u = c.guess(&exact, (&wiggle, 1e-22), (5.0, rel_tol));
