@@ -249,8 +249,8 @@ impl HodlrOperator {
 }
 
 /// Runs [`HodlrOperator::apply_hierarchical`] under the best instruction set the CPU
-/// has (pulp's runtime dispatch: AVX2 where available, else the x86-64 baseline). The
-/// kernels are plain Rust with one accumulator per output row and no fused
+/// has (pulp's runtime dispatch: AVX-512 or AVX2 where available, else the x86-64
+/// baseline). The kernels are plain Rust with one accumulator per output row and no fused
 /// multiply-add, so wider vectors change the speed, never the bits.
 struct ApplyKernel<'a> {
     op: &'a HodlrOperator,

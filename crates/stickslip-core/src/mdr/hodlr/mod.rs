@@ -92,8 +92,8 @@
 //! in row panels of 8/4/2/1 rows, column after column, all in one Vec in the order the
 //! apply reads them, so one apply streams through memory once; each output row has its
 //! own accumulator (even and odd columns, then added), so the sums have a fixed order.
-//! The kernel is dispatched at run time to AVX2 where the CPU has it (pulp, re-exported
-//! by faer); it uses no fused multiply-add, so the result is bit-identical on every
+//! The kernel is dispatched at run time to AVX-512 or AVX2 where the CPU has them (pulp,
+//! re-exported by faer); it uses no fused multiply-add, so the result is bit-identical on every
 //! instruction set and every call ([`HodlrOperator::apply_portable`] checks this).
 //! Single-threaded and allocation-free: intermediate coefficients live in a
 //! caller-owned [`HodlrScratch`], so the operator stays immutable and shareable.
