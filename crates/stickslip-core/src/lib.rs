@@ -8,7 +8,8 @@
 //! - [`noise`]: reproducible thermal noise ξ(t) from seeded ChaCha streams;
 //! - [`drive`]: the spring-driven stamp (Eq. 10) and the rigid coupler;
 //! - [`sim`]: one step of either scheme, melting events, adaptive steps;
-//! - [`preflight`]: derived and stability numbers, estimates and the run-or-refuse verdict.
+//! - [`preflight`]: derived and stability numbers, estimates and the run-or-refuse verdict;
+//! - [`sums`]: sums over the nodes in interleaved partial sums, in a fixed order.
 //!
 //! Invariant: this crate does no file I/O and knows nothing of TOML, CSV or SVG.
 
@@ -21,4 +22,5 @@ pub mod mdr;
 pub mod noise;
 pub mod preflight;
 pub mod sim;
+pub mod sums;
 pub mod vexp;

@@ -316,9 +316,8 @@ impl NoiseSource {
 /// φ ← max(φ, floor), leaving NaN untouched.
 #[inline]
 fn apply_floor(phi: &mut f64, floor: f64) {
-    if *phi < floor {
-        *phi = floor;
-    }
+    // A select, not a branch: the loop over the nodes vectorises (a NaN stays NaN).
+    *phi = if *phi < floor { floor } else { *phi };
 }
 
 /// φ ← |φ + scale·Z|, Z ~ N(0, 1) drawn from `rng`.

@@ -336,7 +336,7 @@ pub fn force_3d_n(grid: &Grid, quadrature: Quadrature, tau_pa: &[f64]) -> f64 {
 
 fn dot(w: &[f64], v: &[f64]) -> f64 {
     assert_eq!(w.len(), v.len(), "vector length must equal the node count");
-    w.iter().zip(v).map(|(a, b)| a * b).sum()
+    crate::sums::dot(w, v)
 }
 
 impl Clone for FastForms {

@@ -8,7 +8,9 @@ use super::drive_step;
 use super::energy::StepSinks;
 use super::error_estimate;
 use super::film::Film;
-use super::node_pass::{self, NodeScratch};
+use super::node_pass::{
+    self, NodeScratch, THETA_STIFF_Z, all_below, linear_forcing_weight, linear_forcing_weight_from,
+};
 use super::problem::{Contact, Problem};
 use super::stepper::{StepError, StepReport, Stepper};
 use super::substrate::{BEND_NOISE_FACTOR, SubstratePredictor, SubstrateSolver};
@@ -104,9 +106,9 @@ impl<F: Film + Send + Sync> Stepper for Accurate<F> {
         let a_mid = problem.config.temperature.a_coeff_pa(t0 + 0.5 * dt_s);
         let thr = problem.config.melt_threshold;
         let a = problem.config.lubricant.a_pa;
-        for (i, tau0) in self.scratch.book_tau0.iter_mut().enumerate() {
-            let p = &state.physical;
-            *tau0 = a * p.phi[i] * p.phi[i] * p.eps[i];
+        let p = &state.physical;
+        for ((tau0, &phi), &eps) in self.scratch.book_tau0.iter_mut().zip(&p.phi).zip(&p.eps) {
+            *tau0 = a * phi * phi * eps;
         }
         if let Some(v) = self.viscous.as_mut() {
             v.step_start(problem, state, dt_s);
@@ -144,10 +146,9 @@ impl<F: Film + Send + Sync> Stepper for Accurate<F> {
             sinks.noise_work_j =
                 books::noise_work_j(problem, a_mid, (&sc.book_phi, after), &sc.book_eps_path);
         }
+        // A select, not a branch: the loop vectorises.
         for (u0, &phi) in state.physical.u0_m.iter_mut().zip(&state.physical.phi) {
-            if phi < thr {
-                *u0 = 0.0;
-            }
+            *u0 = if phi < thr { 0.0 } else { *u0 };
         }
         let coupling_rms_m =
             self.substrate
@@ -216,12 +217,14 @@ impl<F: Film> Accurate<F> {
         let h0 = problem.config.contact.film_thickness_m;
         let (film, sc, p) = (&self.film, &mut self.scratch, &state.physical);
         let n = p.phi.len();
-        // (a) The weight θ's argument −λΔt, and the substrate's predicted change.
+        // (a) The weight θ's argument −λΔt, and the substrate's predicted change. (Every
+        // slice cut to n first: loops free of bounds checks, which vectorise.)
         let (phi, eps) = (&p.phi[..n], &p.eps[..n]);
+        let arg = &mut sc.arg[..n];
         for i in 0..n {
             let (phi0, eps0) = (phi[i], eps[i]);
             let lambda = film.rate(params.bernoulli_c_pa(eps0, a_mid), phi0, phi0 * phi0);
-            sc.arg[i] = -(lambda * dt_s);
+            arg[i] = -(lambda * dt_s);
         }
         let memory = &state.stepper;
         predictor.du3d_all(
@@ -237,20 +240,21 @@ impl<F: Film> Accurate<F> {
             crate::vexp::exp_expm1_all(&sc.arg, &mut sc.exp, &mut sc.expm1);
         }
         // (b) The effective strain, then the film's step at every node.
+        let (arg, exp, du3d) = (&sc.arg[..n], &sc.exp[..n], &sc.du3d[..n]);
+        let (theta_w, eps_eff) = (&mut sc.theta[..n], &mut sc.est_eps_eff[..n]);
         for i in 0..n {
-            let phi0 = p.phi[i];
+            let phi0 = phi[i];
             let solid0 = phi0 >= thr;
-            let du3d = sc.du3d[i];
             let du0 = if solid0 { dx } else { 0.0 };
-            let eps0 = p.eps[i];
-            let eps1 = eps0 + (du0 - du3d) / h0;
+            let eps0 = eps[i];
+            let eps1 = eps0 + (du0 - du3d[i]) / h0;
             // Frozen strain for the exact step: the weight θ(z) makes the step exact for a
             // linearised φ² relaxing at rate λ towards a target that moves linearly over the
             // step — ½ (midpoint, second order) for slow relaxation, → 1 (the end-of-step
             // strain, no lag) for the stiff stick phase where φ is slaved to ε.
-            let theta = linear_forcing_weight_from(-sc.arg[i], sc.exp[i]);
-            sc.theta[i] = theta;
-            sc.est_eps_eff[i] = eps0 + theta * (eps1 - eps0);
+            let theta = linear_forcing_weight_from(-arg[i], exp[i]);
+            theta_w[i] = theta;
+            eps_eff[i] = eps0 + theta * (eps1 - eps0);
         }
         film.step_all(
             &p.phi,
@@ -282,12 +286,12 @@ impl<F: Film> Accurate<F> {
         }
         // (c) The error estimate's propagator exponent z (see `error_estimate`), clamped as
         // `defect_weights` clamps it, and e^(−z).
+        let (phi1s, eps_eff, arg) = (&sc.phi1[..n], &sc.est_eps_eff[..n], &mut sc.arg[..n]);
         for i in 0..n {
-            let phi0 = p.phi[i];
-            let phi1 = sc.phi1[i];
-            let c_eff = params.bernoulli_c_pa(sc.est_eps_eff[i], a_mid);
+            let (phi0, phi1) = (phi[i], phi1s[i]);
+            let c_eff = params.bernoulli_c_pa(eps_eff[i], a_mid);
             let z = film.exponent(phi0 * phi0, phi1 * phi1, phi0, phi1, c_eff, dt_s);
-            sc.arg[i] = -z.max(-40.0);
+            arg[i] = -z.max(-40.0);
         }
         // Where every node's z is above STIFF_Z the weights take their stiff forms, which use
         // no exponential (`defect_weights_select` discards the others): none is taken.
@@ -316,18 +320,8 @@ impl<F: Film> Accurate<F> {
         let a_end = problem.config.temperature.a_coeff_pa(t0 + dt_s);
         let solid_phi_end = params.solid_phi(0.0, a_end);
         let recovery_phi = problem.config.events.recovery_phi(thr, solid_phi_end);
-        // The error norm's φ scale: φ itself, but not below the melt threshold nor below
-        // `numerics.phi_error_floor`·φ_s (squared: the norm divides y = φ²'s error); in a
-        // step that starts while a melting event is open, not below
-        // `numerics.event_phi_error_floor`·φ_s either (the tracker holds the step's start).
-        let numerics = &problem.config.numerics;
-        let floor = if state.events.tracker.is_open() {
-            numerics.phi_error_floor.max(numerics.event_phi_error_floor)
-        } else {
-            numerics.phi_error_floor
-        };
-        let phi_scale = thr.max(floor * solid_phi_end);
-        let y_scale_min = phi_scale * phi_scale;
+        let y_scale_min =
+            node_pass::y_scale_min(problem, state.events.tracker.is_open(), solid_phi_end);
         let mut first_melt = 1.0_f64;
         let mut recovered_s = f64::NEG_INFINITY;
         // Every node's estimate and dissipation as if it did not melt, vectorised; the loop
@@ -345,7 +339,20 @@ impl<F: Film> Accurate<F> {
                 ramp: F::RAMP,
             },
         );
-        for i in 0..state.physical.phi.len() {
+        // The nodes that stay on their side of the threshold, vectorised, with their Landau
+        // sink; the loop below takes the others one by one.
+        let p = &mut state.physical;
+        let (special, landau_j) = self.scratch.stay_ends(
+            (&mut p.phi, &mut p.u0_m),
+            (thr, recovery_phi, dx),
+            (&problem.energy_weights_m2, h0_m),
+        );
+        sinks.landau_j = landau_j;
+        state.events.melted_in_step.fill(false);
+        for i in 0..state.physical.phi.len() * usize::from(special > 0) {
+            if self.scratch.special[i] == 0.0 {
+                continue;
+            }
             let phi0 = state.physical.phi[i];
             let solid0 = phi0 >= thr;
             let sc = &self.scratch;
@@ -401,8 +408,8 @@ impl<F: Film> Accurate<F> {
             } else {
                 phi_end
             };
-            state.events.melted_in_step[i] = melted_at.is_some();
             if let Some(theta) = melted_at {
+                state.events.melted_in_step[i] = true;
                 state.events.last_melt_s[i] = t0 + theta * dt_s;
             }
             state.physical.u0_m[i] = u0_end;
@@ -494,12 +501,16 @@ impl<F: Film> Accurate<F> {
     ) -> StepError {
         let sc = &self.scratch;
         let s = &state.physical;
-        let mut phi_err = 0.0_f64;
-        for i in 0..s.phi.len() {
-            let (eps_eff, eps_end) = (sc.est_eps_eff[i], s.eps[i]);
-            let e_y = sc.est_base[i] + sc.est_gain[i] * (eps_eff * eps_eff - eps_end * eps_end);
-            phi_err = phi_err.max(e_y.abs() * sc.est_norm[i]);
-        }
+        let cols: [&[f64]; 5] = [
+            &sc.est_eps_eff,
+            &s.eps,
+            &sc.est_base,
+            &sc.est_gain,
+            &sc.est_norm,
+        ];
+        let phi_err = crate::sums::max_cols(cols, 0.0, |[eps_eff, eps_end, base, gain, norm]| {
+            (base + gain * (eps_eff * eps_eff - eps_end * eps_end)).abs() * norm
+        });
         let drive = self.drive_error(problem, state, dt_s, before);
         // The viscous coupling's backward-Euler error in u3D shifts the strain as the stamp's
         // position error does (0 without viscosity, and then not taken).
@@ -626,30 +637,4 @@ impl<F: Film> faer::traits::pulp::WithSimd for FilmPasses<'_, F> {
         self.stepper
             .film_passes_body(self.problem, self.state, self.predictor, self.args);
     }
-}
-
-/// Above this λΔt, e^(−λΔt) < 3.2e-17, below 2^(−54) (half an ulp of 1) by a margin larger
-/// than the exponential's rounding: 1 − e rounds to 1 exactly.
-const THETA_STIFF_Z: f64 = 38.0;
-
-/// Whether every element is below `bound` (false for a NaN), as one vectorisable fold.
-#[inline(always)]
-fn all_below(values: &[f64], bound: f64) -> bool {
-    values.iter().fold(true, |all, &v| all & (v < bound))
-}
-
-/// Weight θ(z) = 1/(1 − e^(−z)) − 1/z with z = λ·Δt: y' = −λ(y − g(t)) with g linear over
-/// the step is solved exactly by freezing g at g(t0) + θ·(g(t1) − g(t0)).
-/// θ → ½ + z/12 for z → 0, → 1 for z → +∞, → 0 for z → −∞.
-fn linear_forcing_weight(z: f64) -> f64 {
-    linear_forcing_weight_from(z, crate::vexp::exp(-z))
-}
-
-/// [`linear_forcing_weight`] given e^(−z).
-#[inline(always)]
-fn linear_forcing_weight_from(z: f64, e: f64) -> f64 {
-    // Both forms, then a select: no branch, so loops over nodes vectorise.
-    let series = 0.5 + z / 12.0;
-    let closed = 1.0 / (1.0 - e) - 1.0 / z;
-    if z.abs() < 1e-4 { series } else { closed }
 }

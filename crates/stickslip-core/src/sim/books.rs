@@ -6,6 +6,7 @@ use super::energy::{EnergyFlows, StepSinks, StoredEnergy};
 use super::problem::Problem;
 use super::state::PhysicalState;
 use crate::drive::Drive;
+use crate::sums;
 
 /// What the books keep of a step's start for its flows.
 #[derive(Debug, Clone, Copy)]
@@ -49,12 +50,9 @@ fn film_phi_sq_m3(problem: &Problem, p: &PhysicalState) -> f64 {
         return 0.0;
     }
     let h0 = problem.config.contact.film_thickness_m;
-    h0 * problem
-        .energy_weights_m2
-        .iter()
-        .zip(&p.phi)
-        .map(|(w, phi)| w * phi * phi)
-        .sum::<f64>()
+    let w = &problem.energy_weights_m2[..];
+    let phi = &p.phi[..w.len()];
+    h0 * sums::sum_cols([w, phi], |[w, phi]| w * phi * phi)
 }
 
 impl StepStart {
@@ -86,12 +84,12 @@ pub(super) fn stored(problem: &Problem, p: &PhysicalState) -> StoredEnergy {
     let params = problem.config.lubricant;
     let a_coeff = problem.config.temperature.a_coeff_pa(d.t_s);
     let h0 = problem.config.contact.film_thickness_m;
-    let mut film = 0.0;
-    let mut substrate = 0.0;
-    for (i, &w) in problem.energy_weights_m2.iter().enumerate() {
-        film += w * params.free_energy_pa(p.phi[i], p.eps[i], a_coeff);
-        substrate += w * p.tau_pa[i] * p.u3d_m[i];
-    }
+    let w = &problem.energy_weights_m2[..];
+    let n = w.len();
+    let (phi, eps, tau, u3d) = (&p.phi[..n], &p.eps[..n], &p.tau_pa[..n], &p.u3d_m[..n]);
+    let (film, substrate) = sums::sum2_cols([w, phi, eps, tau, u3d], |[w, phi, eps, tau, u]| {
+        (w * params.free_energy_pa(phi, eps, a_coeff), w * tau * u)
+    });
     StoredEnergy {
         spring_j,
         kinetic_j,
@@ -148,14 +146,19 @@ pub(super) fn noise_work_j(
     eps_path: &[f64],
 ) -> f64 {
     let params = problem.config.lubricant;
-    let mut sum = 0.0;
-    for (i, (&b, &a)) in before.iter().zip(after).enumerate() {
-        if a != b {
-            let eps = eps_path[i];
-            sum += problem.energy_weights_m2[i]
-                * (params.free_energy_pa(a, eps, a_coeff) - params.free_energy_pa(b, eps, a_coeff));
-        }
+    let w = &problem.energy_weights_m2[..];
+    let n = w.len();
+    let (before, after, eps_path) = (&before[..n], &after[..n], &eps_path[..n]);
+    // The noise changes few nodes per step (the floor only those below it): nothing to sum
+    // where none changed.
+    if before == after {
+        return 0.0;
     }
+    let sum = sums::sum_cols([w, before, after, eps_path], |[w, b, a, eps]| {
+        let change =
+            params.free_energy_pa(a, eps, a_coeff) - params.free_energy_pa(b, eps, a_coeff);
+        if a != b { w * change } else { 0.0 }
+    });
     problem.config.contact.film_thickness_m * sum
 }
 
@@ -164,12 +167,13 @@ pub(super) fn noise_work_j(
 /// advance the node did not follow (`held`, m).
 pub(super) fn sliding_j(problem: &Problem, p: &PhysicalState, tau0: &[f64], held: &[f64]) -> f64 {
     let a = problem.config.lubricant.a_pa;
-    let mut sum = 0.0;
-    for (i, &h) in held.iter().enumerate() {
-        if h != 0.0 {
-            let tau1 = a * p.phi[i] * p.phi[i] * p.eps[i];
-            sum += problem.energy_weights_m2[i] * 0.5 * (tau0[i] + tau1) * h;
-        }
-    }
-    sum
+    let w = &problem.energy_weights_m2[..];
+    let n = w.len();
+    let (held, tau0, phi, eps) = (&held[..n], &tau0[..n], &p.phi[..n], &p.eps[..n]);
+    sums::sum_cols([w, held, tau0, phi, eps], |[w, held, tau0, phi, eps]| {
+        let tau1 = a * phi * phi * eps;
+        let term = w * 0.5 * (tau0 + tau1) * held;
+        // A held node's term only: a node that never held adds an exact 0, whatever its τ.
+        if held != 0.0 { term } else { 0.0 }
+    })
 }

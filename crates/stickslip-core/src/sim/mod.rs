@@ -335,21 +335,13 @@ impl Simulation {
             }
             Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.physical.tau_pa[0],
         };
-        let mut phi_mean = 0.0;
-        let mut eps_mean = 0.0;
-        let mut melted = 0.0;
-        let mut melted_count = 0;
-        for i in 0..self.state.physical.phi.len() {
-            let w = self.engine.problem.area_weights[i];
-            phi_mean += w * self.state.physical.phi[i];
-            eps_mean += w * self.state.physical.eps[i];
-            if self.state.physical.phi[i] < self.engine.problem.config.melt_threshold {
-                melted += w;
-                melted_count += 1;
-            }
-        }
-        let melted =
-            watch::whole_area(melted, melted_count, self.engine.problem.area_weights.len());
+        let w = &self.engine.problem.area_weights[..];
+        let n = w.len();
+        let thr = self.engine.problem.config.melt_threshold;
+        let (phi_mean, (melted, melted_count)) =
+            watch::film_means(w, &self.state.physical.phi, thr);
+        let eps_mean = crate::sums::dot(w, &self.state.physical.eps);
+        let melted = watch::whole_area(melted, melted_count, n);
         Observables {
             t_s: self.state.physical.drive.t_s,
             x_m: self.state.physical.drive.x_m,

@@ -206,11 +206,17 @@ fn extrapolate_u3d(state: &mut SimState, dt_s: f64) {
     } else {
         (1.0, 0.0, 0.0)
     };
+    // The slices cut to n: no bounds checks, so the loop vectorises.
+    let (u3d, prev_m, prev2_m) = (
+        &mut p.u3d_m[..n],
+        &mut s.u3d_prev_m[..n],
+        &mut s.u3d_prev2_m[..n],
+    );
     for i in 0..n {
-        let (u, prev, prev2) = (p.u3d_m[i], s.u3d_prev_m[i], s.u3d_prev2_m[i]);
-        p.u3d_m[i] = w0 * u + w1 * prev + w2 * prev2;
-        s.u3d_prev2_m[i] = prev;
-        s.u3d_prev_m[i] = u;
+        let (u, prev, prev2) = (u3d[i], prev_m[i], prev2_m[i]);
+        u3d[i] = w0 * u + w1 * prev + w2 * prev2;
+        prev2_m[i] = prev;
+        prev_m[i] = u;
     }
 }
 

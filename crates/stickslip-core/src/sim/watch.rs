@@ -8,11 +8,24 @@ use super::problem::Problem;
 use super::stepper::StepReport;
 use super::{NumericalFailure, SimState};
 use crate::config::{Scheme, SimConfig};
+use crate::sums;
 
 /// Node `i` is below the threshold now or melted during the last step.
 fn is_melted(problem: &Problem, state: &SimState, i: usize) -> bool {
     state.physical.phi[i] < problem.config.melt_threshold
         || state.events.melted_in_step.get(i).copied().unwrap_or(false)
+}
+
+/// The film's area-weighted mean φ and the melted area (φ < `thr`) with its node count, by
+/// the area weights `w`: one computation for the events and the series alike, so that they
+/// agree to the bit (the sums in lanes, [`crate::sums`]).
+pub(super) fn film_means(w: &[f64], phi: &[f64], thr: f64) -> (f64, (f64, usize)) {
+    let n = w.len();
+    let phi = &phi[..n];
+    let (mean, melted) = sums::sum2_cols([w, phi], |[w, phi]| {
+        (w * phi, if phi < thr { w } else { 0.0 })
+    });
+    (mean, (melted, phi.iter().filter(|&&p| p < thr).count()))
 }
 
 /// Hands the event tracker what the step just taken ended with (`report`: what the stepper
@@ -31,50 +44,51 @@ pub(super) fn observe_events(
         .a_coeff_pa(state.physical.drive.t_s);
     let phi_eq = problem.config.lubricant.solid_phi(0.0, a_coeff);
     let recovery_phi = problem.config.events.recovery_phi(thr, phi_eq);
-    let mut melted_nodes = 0;
-    let mut unrecovered_nodes = 0;
-    let mut solid_nodes = 0;
-    let mut outer = 0.0_f64;
-    let mut inner = f64::INFINITY;
-    let mut fraction = 0.0;
-    let mut fraction_count = 0;
-    let mut swept = 0.0;
-    let mut swept_count = 0;
-    let mut phi_mean = 0.0;
     let open = state.events.tracker.is_open();
-    for i in 0..state.physical.phi.len() {
-        let phi = state.physical.phi[i];
-        phi_mean += problem.area_weights[i] * phi;
-        if phi < thr {
-            fraction += problem.area_weights[i];
-            fraction_count += 1;
-        }
-        if !open {
-            state.events.swept[i] = false;
-        }
-        if is_melted(problem, state, i) {
-            melted_nodes += 1;
-            // A node that melted inside the step and regrew past φ_rec before its end has
-            // recovered by the rule (its crossing is located in `recovered_at_s`); counting
-            // it unrecovered would hold the event open to the next step's end.
-            if phi < recovery_phi {
-                unrecovered_nodes += 1;
+    let w = &problem.area_weights[..];
+    let n = w.len();
+    let phi = &state.physical.phi[..n];
+    let (phi_mean, (fraction, fraction_count)) = film_means(w, phi, thr);
+    // A node counts unrecovered below φ_rec whether melted or solid. A node that melted inside
+    // the step and regrew past φ_rec before its end has recovered by the rule (its crossing
+    // is located in `recovered_at_s`); counting it unrecovered would hold the event open to
+    // the next step's end.
+    let unrecovered_nodes = phi.iter().filter(|&&p| p < recovery_phi).count();
+    let melted_in_step = &state.events.melted_in_step;
+    // Folds without an early exit, which vectorise (`any` goes byte by byte).
+    let any_melted = fraction_count > 0 || melted_in_step.iter().fold(false, |a, &m| a | m);
+    let swept_flags = &mut state.events.swept;
+    // The melted nodes' extent and the swept area: only where a node is melted, an event is
+    // open or the last one's swept nodes are still to be cleared.
+    let (melted_nodes, outer, inner, swept, swept_count) =
+        if any_melted || open || swept_flags.iter().fold(false, |a, &s| a | s) {
+            let mut melted_nodes = 0;
+            let mut outer = 0.0_f64;
+            let mut inner = f64::INFINITY;
+            for i in 0..n {
+                if !open {
+                    swept_flags[i] = false;
+                }
+                if phi[i] < thr || melted_in_step.get(i).copied().unwrap_or(false) {
+                    melted_nodes += 1;
+                    outer = outer.max(problem.radii_m[i]);
+                    inner = inner.min(problem.radii_m[i]);
+                    swept_flags[i] = true;
+                }
             }
-            outer = outer.max(problem.radii_m[i]);
-            inner = inner.min(problem.radii_m[i]);
-            state.events.swept[i] = true;
+            // Sequential: only while an event is open or a node melted.
+            let swept: f64 = w
+                .iter()
+                .zip(swept_flags.iter())
+                .filter(|(_, s)| **s)
+                .map(|(w, _)| w)
+                .sum();
+            let swept_count = swept_flags.iter().filter(|&&s| s).count();
+            (melted_nodes, outer, inner, swept, swept_count)
         } else {
-            solid_nodes += 1;
-            if phi < recovery_phi {
-                unrecovered_nodes += 1;
-            }
-        }
-        if state.events.swept[i] {
-            swept += problem.area_weights[i];
-            swept_count += 1;
-        }
-    }
-    let n = problem.area_weights.len();
+            (0, 0.0, f64::INFINITY, 0.0, 0)
+        };
+    let solid_nodes = n - melted_nodes;
     let fraction = whole_area(fraction, fraction_count, n);
     let swept = whole_area(swept, swept_count, n);
     let t_s = state.physical.drive.t_s;
@@ -182,9 +196,13 @@ pub(super) fn check_state(problem: &Problem, state: &SimState) -> Result<(), Num
         };
         tau_film.abs() / order_factor(phi)
     };
+    // The scan compares without dividing (|τ| against limit·max((φ/φ0)², 1)); the excesses
+    // are computed only for a state that fails it.
     let scan = faer::traits::pulp::Arch::new().dispatch(NodeScan {
         n: s.phi.len(),
-        excess: &excess,
+        limit,
+        inv_phi0_sq: if phi0 > 0.0 { 1.0 / (phi0 * phi0) } else { 0.0 },
+        film_stress: viscous.then_some((l.a_pa, s.eps.as_slice())),
         values: (&s.tau_pa, &s.phi, &s.u3d_m),
     });
     if !scan.all_finite {
@@ -196,14 +214,19 @@ pub(super) fn check_state(problem: &Problem, state: &SimState) -> Result<(), Num
             }
         }
     }
-    // The first node with the largest excess (NaN never counts).
-    let worst = if scan.max_excess > limit {
-        let i = (0..s.phi.len())
-            .find(|&i| excess(i) == scan.max_excess)
-            .unwrap_or(0);
-        (i, scan.max_excess)
+    let max_excess = if scan.beyond {
+        (0..s.phi.len()).map(excess).fold(0.0_f64, f64::max)
     } else {
-        (0, scan.max_excess)
+        0.0
+    };
+    // The first node with the largest excess (NaN never counts).
+    let worst = if max_excess > limit {
+        let i = (0..s.phi.len())
+            .find(|&i| excess(i) == max_excess)
+            .unwrap_or(0);
+        (i, max_excess)
+    } else {
+        (0, max_excess)
     };
     if worst.1 > limit {
         return fail(
@@ -274,21 +297,26 @@ pub(super) fn whole_area(sum: f64, count: usize, n: usize) -> f64 {
 }
 
 /// [`check_state`]'s pass over the nodes under the CPU's best instruction set (pulp's
-/// run-time dispatch), written so that it vectorises: whether every φ, τ and u3D is finite
-/// and the largest excess over the runaway limit (a maximum, whatever the order).
-struct NodeScan<'a, E> {
+/// run-time dispatch), written so that it vectorises: whether every φ, τ and u3D is finite,
+/// and whether any node's stress may exceed its runaway limit (|τ| against
+/// limit·max((φ/φ0)², 1), multiplied out; a NaN never counts).
+struct NodeScan<'a> {
     n: usize,
-    excess: &'a E,
+    limit: f64,
+    /// 1/φ0² (0 without a solid φ0: every node's limit is then `limit`).
+    inv_phi0_sq: f64,
+    /// With viscosity: a and ε, for the film's elastic stress a·φ²·ε in place of τ.
+    film_stress: Option<(f64, &'a [f64])>,
     values: (&'a [f64], &'a [f64], &'a [f64]),
 }
 
 /// What [`NodeScan`] found.
 struct Scanned {
     all_finite: bool,
-    max_excess: f64,
+    beyond: bool,
 }
 
-impl<E: Fn(usize) -> f64> faer::traits::pulp::WithSimd for NodeScan<'_, E> {
+impl faer::traits::pulp::WithSimd for NodeScan<'_> {
     type Output = Scanned;
 
     #[inline(always)]
@@ -296,15 +324,27 @@ impl<E: Fn(usize) -> f64> faer::traits::pulp::WithSimd for NodeScan<'_, E> {
         let (tau, phi, u3d) = self.values;
         let (tau, phi, u3d) = (&tau[..self.n], &phi[..self.n], &u3d[..self.n]);
         let mut finite = true;
-        let mut max_excess = 0.0_f64;
-        for i in 0..self.n {
-            // `&`, not `&&`: no early exit, so the loop vectorises.
-            finite &= tau[i].is_finite() & phi[i].is_finite() & u3d[i].is_finite();
-            max_excess = max_excess.max((self.excess)(i));
+        let mut beyond = false;
+        let bound = |p: f64| self.limit * (p * p * self.inv_phi0_sq).max(1.0);
+        match self.film_stress {
+            None => {
+                for i in 0..self.n {
+                    // `&`, not `&&`: no early exit, so the loop vectorises.
+                    finite &= tau[i].is_finite() & phi[i].is_finite() & u3d[i].is_finite();
+                    beyond |= tau[i].abs() > bound(phi[i]);
+                }
+            }
+            Some((a, eps)) => {
+                let eps = &eps[..self.n];
+                for i in 0..self.n {
+                    finite &= tau[i].is_finite() & phi[i].is_finite() & u3d[i].is_finite();
+                    beyond |= (a * phi[i] * phi[i] * eps[i]).abs() > bound(phi[i]);
+                }
+            }
         }
         Scanned {
             all_finite: finite,
-            max_excess,
+            beyond,
         }
     }
 }

@@ -11,6 +11,7 @@
 //! eigenvalues in [1, 1 + ρ] and the solve converges whatever ρ is.
 
 use crate::mdr::MdrOperators;
+use crate::sums;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::matrix_free::bicgstab::{BicgParams, bicgstab, bicgstab_scratch};
 use faer::matrix_free::{IdentityPrecond, InitialGuessStatus, LinOp};
@@ -265,8 +266,8 @@ impl CouplingSolver {
         let (r_norm, u_norm) = self.guess_residual(ops, (phi_sq, kappa), u0, u3d);
         if r_norm <= (rel_tol * u_norm).max(abs_norm) || r_norm == 0.0 {
             let relax = 1.0 / (1.0 + 0.5 * rho.max(0.0));
-            for (i, u) in u3d.iter_mut().enumerate() {
-                *u += relax * self.rhs[i];
+            for (u, &r) in u3d.iter_mut().zip(&self.rhs) {
+                *u += relax * r;
             }
             return CouplingReport {
                 iterations: 0,
@@ -334,29 +335,26 @@ impl CouplingSolver {
             let mut guard = self.scratch.lock().expect("coupling scratch poisoned");
             let Scratch { dx, q, x: _, y } = &mut *guard;
             apply_k(ops, phi_sq, kappa, &self.rhs, dx, q, y);
-            let (mut ra, mut aa) = (0.0, 0.0);
-            for (yi, &r) in y.iter_mut().zip(&self.rhs) {
+            let (y, rhs) = (&mut y[..n], &mut self.rhs[..n]);
+            for (yi, &r) in y.iter_mut().zip(rhs.iter()) {
                 *yi += r;
-                ra += r * *yi;
-                aa += *yi * *yi;
             }
+            let (ra, aa) = sums::sum2_cols([rhs, y], |[r, y]| (r * y, y * y));
             if !(aa > 0.0 && ra.is_finite()) {
-                return Err((self.rhs.iter().map(|r| r * r).sum::<f64>().sqrt(), step));
+                return Err((sums::dot(rhs, rhs).sqrt(), step));
             }
             let alpha = ra / aa;
-            let mut rr = 0.0;
-            for ((u, r), &a) in u3d.iter_mut().zip(self.rhs.iter_mut()).zip(y.iter()) {
+            for ((u, r), &a) in u3d.iter_mut().zip(rhs.iter_mut()).zip(y.iter()) {
                 *u += alpha * *r;
                 *r -= alpha * a;
-                rr += *r * *r;
             }
-            norm = rr.sqrt();
+            norm = sums::dot(rhs, rhs).sqrt();
             if norm <= goal {
                 let relax = 1.0 / (1.0 + 0.5 * rho.max(0.0));
-                for (u, &r) in u3d.iter_mut().zip(&self.rhs) {
+                for (u, &r) in u3d.iter_mut().zip(rhs.iter()) {
                     *u += relax * r;
                 }
-                let u_final = u3d.iter().map(|u| u * u).sum::<f64>().sqrt();
+                let u_final = sums::dot(u3d, u3d).sqrt();
                 return Ok(CouplingReport {
                     iterations: step,
                     rel_residual: norm / u_final.max(f64::MIN_POSITIVE),
@@ -378,17 +376,17 @@ impl CouplingSolver {
     ) -> (f64, f64) {
         let mut guard = self.scratch.lock().expect("coupling scratch poisoned");
         let Scratch { dx, q, x, y } = &mut *guard;
-        for i in 0..self.n {
-            x[i] = u0[i] - u3d[i];
+        let n = self.n;
+        let (x, u0, u3d_in) = (&mut x[..n], &u0[..n], &u3d[..n]);
+        for i in 0..n {
+            x[i] = u0[i] - u3d_in[i];
         }
         apply_k(ops, phi_sq, kappa, x, dx, q, y);
-        let (mut rr, mut uu) = (0.0, 0.0);
-        for i in 0..self.n {
-            let r = y[i] - u3d[i];
-            self.rhs[i] = r;
-            rr += r * r;
-            uu += u3d[i] * u3d[i];
+        let (y, u3d, rhs) = (&y[..n], &u3d[..n], &mut self.rhs[..n]);
+        for i in 0..n {
+            rhs[i] = y[i] - u3d[i];
         }
+        let (rr, uu) = sums::sum2_cols([rhs, u3d], |[r, u]| (r * r, u * u));
         (rr.sqrt(), uu.sqrt())
     }
 
@@ -445,12 +443,12 @@ impl CouplingSolver {
             Par::Seq,
             stack,
         );
-        for (i, u) in u3d.iter_mut().enumerate() {
-            *u += self.sol[i] * from_unit;
+        for (u, &s) in u3d.iter_mut().zip(&self.sol) {
+            *u += s * from_unit;
         }
         // faer's residual is relative to ‖r‖; the criterion is relative to the solution's
         // norm (not the guess's, which is 0 at the first step).
-        let u_final = u3d.iter().map(|u| u * u).sum::<f64>().sqrt();
+        let u_final = sums::dot(u3d, u3d).sqrt();
         let scale = |r: f64| r * r_norm / u_final.max(f64::MIN_POSITIVE);
         let rms = |r: f64| r * r_norm / (n as f64).sqrt();
         match result {
