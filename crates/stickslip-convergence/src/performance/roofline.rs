@@ -5,7 +5,9 @@
 //! The evaluation is one fixed step of fig2 (Δt = 2e-8 s, nothing recorded) warmed into its
 //! first stick phase (t = 0.3 ms), the same as the criterion bench `step_per_n/accurate/2000`:
 //! in the stick phase one step is one evaluation (no rejections, no retakes). Each figure is
-//! the median over [`REPEATS`] timings of [`BATCH`] calls, with its min–max.
+//! the median over [`REPEATS`] timings of [`BATCH`] calls, with its min–max. The same step on
+//! a rigid substrate, which solves no coupling, splits the evaluation into its node side and
+//! its coupling, each against its part of the floor.
 
 use super::spread::min_max;
 use super::targets::verdict;
@@ -14,6 +16,7 @@ use std::fmt::Write as _;
 use std::hint::black_box;
 use std::time::Instant;
 use stickslip_benches::evaluation_floor::Floor;
+use stickslip_core::config::Substrate;
 use stickslip_report::fmt::{sig, tick};
 use stickslip_report::stats::median;
 use stickslip_run::keys::contact;
@@ -66,6 +69,10 @@ pub struct RooflineBench {
     pub floor: PerCall,
     /// The stepper's evaluation (one fixed step in the stick phase).
     pub evaluation: PerCall,
+    /// The same step on a rigid substrate, which solves no coupling: the evaluation's node
+    /// side; the rest is the coupling's (empty in a report written before it was measured).
+    #[serde(default)]
+    pub rigid_evaluation: PerCall,
 }
 
 impl RooflineBench {
@@ -109,22 +116,43 @@ pub fn measure(progress: &dyn Fn(&str)) -> RooflineBench {
     });
     let mut driver = stickslip_benches::warmed(&[contact::NODES.set(NODES as i64)]);
     let evaluation = time_calls(|| stickslip_benches::step(&mut driver));
+    let mut rigid = stickslip_benches::warmed(&[
+        contact::NODES.set(NODES as i64),
+        contact::SUBSTRATE.set(Substrate::Rigid),
+    ]);
+    let rigid_evaluation = time_calls(|| stickslip_benches::step(&mut rigid));
     RooflineBench {
         node_pass,
         two_applies,
         floor: both,
         evaluation,
+        rigid_evaluation,
     }
 }
 
 /// The targets table's row.
 pub(super) fn targets_row(m: &mut String, r: &RooflineBench) {
+    // The evaluation's two sides, each against its part of the floor: the same step on a
+    // rigid substrate (no coupling) against the node pass, the rest against the two applies.
+    let sides = if r.rigid_evaluation.median_us > 0.0 {
+        let coupling_us = r.evaluation.median_us - r.rigid_evaluation.median_us;
+        format!(
+            "; of the evaluation, the node side (the same step on a rigid substrate) {}, {}× \
+             the node pass, and the coupling the rest, {} µs, {}× the two applies",
+            r.rigid_evaluation.text(),
+            sig(r.rigid_evaluation.median_us / r.node_pass.median_us, 3),
+            sig(coupling_us, 3),
+            sig(coupling_us / r.two_applies.median_us, 3)
+        )
+    } else {
+        String::new()
+    };
     let _ = writeln!(
         m,
         "| Roofline: the accurate stepper's evaluation at N = {NODES} (one fixed step of fig2 in \
          its stick phase, in-process) against the floor of one evaluation (a fused node pass \
          with one vectorised exponential per node, and the two MDR applies) | ≤ {}× | {}× ({} \
-         against {}; node pass {}, two applies {}) | {} |",
+         against {}; node pass {}, two applies {}{sides}) | {} |",
         tick(GOAL),
         sig(r.ratio(), 3),
         r.evaluation.text(),
