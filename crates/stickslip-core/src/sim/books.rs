@@ -50,9 +50,9 @@ fn film_phi_sq_m3(problem: &Problem, p: &PhysicalState) -> f64 {
         return 0.0;
     }
     let h0 = problem.config.contact.film_thickness_m;
-    let w = &problem.energy_weights_m2[..];
-    let phi = &p.phi[..w.len()];
-    h0 * sums::sum_cols([w, phi], |[w, phi]| w * phi * phi)
+    h0 * sums::sum_cols([&problem.energy_weights_m2, &p.phi], |[w, phi]| {
+        w * phi * phi
+    })
 }
 
 impl StepStart {
@@ -84,10 +84,14 @@ pub(super) fn stored(problem: &Problem, p: &PhysicalState) -> StoredEnergy {
     let params = problem.config.lubricant;
     let a_coeff = problem.config.temperature.a_coeff_pa(d.t_s);
     let h0 = problem.config.contact.film_thickness_m;
-    let w = &problem.energy_weights_m2[..];
-    let n = w.len();
-    let (phi, eps, tau, u3d) = (&p.phi[..n], &p.eps[..n], &p.tau_pa[..n], &p.u3d_m[..n]);
-    let (film, substrate) = sums::sum2_cols([w, phi, eps, tau, u3d], |[w, phi, eps, tau, u]| {
+    let cols: [&[f64]; 5] = [
+        &problem.energy_weights_m2,
+        &p.phi,
+        &p.eps,
+        &p.tau_pa,
+        &p.u3d_m,
+    ];
+    let (film, substrate) = sums::sum2_cols(cols, |[w, phi, eps, tau, u]| {
         (w * params.free_energy_pa(phi, eps, a_coeff), w * tau * u)
     });
     StoredEnergy {
@@ -147,8 +151,6 @@ pub(super) fn noise_work_j(
 ) -> f64 {
     let params = problem.config.lubricant;
     let w = &problem.energy_weights_m2[..];
-    let n = w.len();
-    let (before, after, eps_path) = (&before[..n], &after[..n], &eps_path[..n]);
     // The noise changes few nodes per step (the floor only those below it): nothing to sum
     // where none changed.
     if before == after {
@@ -167,10 +169,8 @@ pub(super) fn noise_work_j(
 /// advance the node did not follow (`held`, m).
 pub(super) fn sliding_j(problem: &Problem, p: &PhysicalState, tau0: &[f64], held: &[f64]) -> f64 {
     let a = problem.config.lubricant.a_pa;
-    let w = &problem.energy_weights_m2[..];
-    let n = w.len();
-    let (held, tau0, phi, eps) = (&held[..n], &tau0[..n], &p.phi[..n], &p.eps[..n]);
-    sums::sum_cols([w, held, tau0, phi, eps], |[w, held, tau0, phi, eps]| {
+    let cols = [&problem.energy_weights_m2[..], held, tau0, &p.phi, &p.eps];
+    sums::sum_cols(cols, |[w, held, tau0, phi, eps]| {
         let tau1 = a * phi * phi * eps;
         let term = w * 0.5 * (tau0 + tau1) * held;
         // A held node's term only: a node that never held adds an exact 0, whatever its τ.
