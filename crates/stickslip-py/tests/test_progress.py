@@ -14,8 +14,11 @@ import pytest
 import stickslip
 from conftest import SCENES, same_bits
 
-# fig2 at N = 1000: about 0.5 s.
+# fig2 at N = 1000: about 0.1 s.
 SCENE = {"contact.nodes": 1000}
+# The same carried on to 2.5 ms, about 0.5 s: long enough for reports before the end (to its
+# own 1.3 ms the first report may come only at the end).
+LONG_SCENE = {"contact.nodes": 1000, "time.end": 2.5e-3}
 RUN_KEYS = {"fraction", "t_s", "end_s", "steps", "events", "elapsed_s", "eta_s", "stop"}
 SWEEP_KEYS = {"done", "total", "skipped", "failed", "fraction", "elapsed_s", "eta_s", "stop"}
 
@@ -23,6 +26,11 @@ SWEEP_KEYS = {"done", "total", "skipped", "failed", "fraction", "elapsed_s", "et
 @pytest.fixture(scope="module")
 def scene() -> stickslip.Scene:
     return stickslip.Scene.load(SCENES / "fig2.toml", SCENE)
+
+
+@pytest.fixture(scope="module")
+def long_scene() -> stickslip.Scene:
+    return stickslip.Scene.load(SCENES / "fig2.toml", LONG_SCENE)
 
 
 @pytest.fixture(scope="module")
@@ -133,8 +141,9 @@ def test_sweep_progress(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureF
 
 
 def test_an_exception_from_the_callback_stops_the_run_and_is_raised(
-    scene: stickslip.Scene, tmp_path: Path
+    long_scene: stickslip.Scene, tmp_path: Path
 ) -> None:
+    scene = long_scene
     calls: list = []
 
     def broken(info: dict) -> None:
