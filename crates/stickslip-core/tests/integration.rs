@@ -7,6 +7,7 @@ mod drive;
 mod energy_books;
 mod hodlr;
 mod hodlr_build;
+mod hodlr_split;
 mod landau;
 mod landau_first_order;
 mod mdr_entries;

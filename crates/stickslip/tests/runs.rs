@@ -5,7 +5,7 @@
 use crate::common;
 
 use common::{Csv, bin, run, scene, texts};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use stickslip_run::schema::run_info::{RunInfo, RunStatus};
 
 /// fig2 shortened: N = 50, 1 ms, Δt = 2e-8 s (four events).
@@ -215,36 +215,59 @@ fn runs_are_bit_reproducible() {
     assert_identical(&a, &b);
 }
 
-#[test]
-fn runs_do_not_depend_on_the_thread_count() {
-    // N = 600 takes the engine's row-parallel operator path (N >= 512); rigid_fast melts
-    // three times in 1 µs.
-    let tmp = tempfile::tempdir().unwrap();
-    let scene = scene("rigid_fast").display().to_string();
+/// `scene` run with `sets` on 1 and on 2 threads (`RAYON_NUM_THREADS`): the two output
+/// directories, inside `tmp`.
+fn on_one_and_two_threads(tmp: &Path, scene_name: &str, sets: &[&str]) -> Vec<PathBuf> {
+    let scene = scene(scene_name).display().to_string();
     let mut dirs = Vec::new();
     for threads in ["1", "2"] {
-        let dir = tmp.path().join(format!("threads{threads}"));
+        let dir = tmp.join(format!("threads{threads}"));
+        let mut args = vec!["run", &scene, "--out"];
+        let dir_text = dir.display().to_string();
+        args.push(&dir_text);
+        for set in sets {
+            args.extend(["--set", set]);
+        }
+        args.push("--quiet");
         let out = bin()
             .env("RAYON_NUM_THREADS", threads)
-            .args([
-                "run",
-                &scene,
-                "--out",
-                &dir.display().to_string(),
-                "--set",
-                "contact.nodes=600",
-                "--set",
-                "time.end=1e-6",
-                "--set",
-                "output.profile_times=[5e-7, 1e-6]",
-                "--quiet",
-            ])
+            .args(&args)
             .output()
             .unwrap();
         assert_ok(&out);
         dirs.push(dir);
     }
+    dirs
+}
+
+#[test]
+fn runs_do_not_depend_on_the_thread_count() {
+    // N = 600 takes the engine's row-parallel operator path (N >= 512); rigid_fast melts
+    // three times in 1 µs.
+    let tmp = tempfile::tempdir().unwrap();
+    let sets = [
+        "contact.nodes=600",
+        "time.end=1e-6",
+        "output.profile_times=[5e-7, 1e-6]",
+    ];
+    let dirs = on_one_and_two_threads(tmp.path(), "rigid_fast", &sets);
     assert!(Csv::read(&dirs[0].join("events.csv")).rows.len() >= 2);
+    assert_identical(&dirs[0], &dirs[1]);
+}
+
+#[test]
+fn the_compliance_on_two_threads_gives_the_one_thread_bits() {
+    // fig2 at N = 1200: the fast operators, whose compliance takes a helper thread from
+    // 1000 nodes when the run has two threads; adaptive, through the first melting (181
+    // steps, 135 coupling iterations).
+    let tmp = tempfile::tempdir().unwrap();
+    let sets = [
+        "contact.nodes=1200",
+        "time.end=6.5e-4",
+        "output.profile_times=[6.5e-4]",
+    ];
+    let dirs = on_one_and_two_threads(tmp.path(), "fig2", &sets);
+    assert_eq!(Csv::read(&dirs[0].join("events.csv")).rows.len(), 1);
     assert_identical(&dirs[0], &dirs[1]);
 }
 

@@ -18,10 +18,16 @@
 //! ([`OperatorEntries`]) into the hierarchical form of [`hodlr`] ([`OperatorForm::Fast`],
 //! O(N log N) memory: the packed matrices then exist only if asked for);
 //! [`MdrOperators::compliance_dense`] gives the composite as a faer matrix.
+//!
+//! In the fast form from [`PAIR_MIN_NODES`] nodes, [`MdrOperators::compliance`] runs on two
+//! threads where the run has a core to spare (`paired`): each applies both transforms to
+//! half the rows, with the one-thread apply's bits.
 
 mod entries;
 pub mod hodlr;
 pub mod literal;
+mod paired;
+pub use paired::PAIR_MIN_NODES;
 pub mod pairs;
 pub mod product;
 mod triangular;
@@ -31,7 +37,7 @@ pub use triangular::{Triangle, TriangularOperator};
 
 use crate::grid::Grid;
 use faer::Mat;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 /// Which discretisation of the MDR integrals to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -62,10 +68,14 @@ pub const FAST_REL_TOL: f64 = 1e-10;
 /// The compressed operators and their work space.
 #[derive(Debug)]
 struct FastForms {
-    forward: hodlr::HodlrOperator,
-    back: hodlr::HodlrOperator,
+    forward: Arc<hodlr::HodlrOperator>,
+    back: Arc<hodlr::HodlrOperator>,
     forward_scratch: std::sync::Mutex<hodlr::HodlrScratch>,
     back_scratch: std::sync::Mutex<hodlr::HodlrScratch>,
+    /// The compliance on two threads ([`paired`]), decided at the first compliance: `None`
+    /// where it does not pay (or from a rayon worker); a call that finds it busy (another
+    /// thread's apply) takes the one-thread path, with the same bits.
+    paired: OnceLock<Option<std::sync::Mutex<paired::PairedCompliance>>>,
 }
 
 /// The MDR operators for one grid and one quadrature, built once and applied per step.
@@ -141,8 +151,9 @@ impl MdrOperators {
         ops.fast = Some(Box::new(FastForms {
             forward_scratch: std::sync::Mutex::new(forward.scratch()),
             back_scratch: std::sync::Mutex::new(back.scratch()),
-            forward,
-            back,
+            forward: Arc::new(forward),
+            back: Arc::new(back),
+            paired: OnceLock::new(),
         }));
         ops
     }
@@ -173,7 +184,17 @@ impl MdrOperators {
 
     /// The fast operators (forward, back), if this is the fast form.
     pub fn fast_operators(&self) -> Option<(&hodlr::HodlrOperator, &hodlr::HodlrOperator)> {
-        self.fast.as_ref().map(|f| (&f.forward, &f.back))
+        self.fast.as_ref().map(|f| (&*f.forward, &*f.back))
+    }
+
+    /// Threads the compliance runs on: 2 once a first [`Self::compliance`] found the fast
+    /// form large enough and a core free for its helper (see [`PAIR_MIN_NODES`]), else 1.
+    /// Either way the bits are the same.
+    pub fn compliance_threads(&self) -> usize {
+        match self.fast.as_ref().and_then(|f| f.paired.get()) {
+            Some(Some(_)) => 2,
+            _ => 1,
+        }
     }
 
     /// The form the transforms are applied in.
@@ -235,6 +256,22 @@ impl MdrOperators {
     /// If any slice length differs from N.
     #[track_caller]
     pub fn compliance(&self, tau_pa: &[f64], scratch_q: &mut [f64], out_pa_m: &mut [f64]) {
+        if let Some(f) = &self.fast {
+            let pair = f.paired.get_or_init(|| {
+                paired::PairedCompliance::new_if_useful(&f.forward, &f.back)
+                    .map(std::sync::Mutex::new)
+            });
+            if let Some(Ok(mut pair)) = pair.as_ref().map(std::sync::Mutex::try_lock) {
+                let n = self.grid.nodes();
+                assert!(
+                    tau_pa.len() == n && scratch_q.len() == n && out_pa_m.len() == n,
+                    "vector lengths must equal the node count"
+                );
+                let (mut fs, mut bs) = (lock(&f.forward_scratch), lock(&f.back_scratch));
+                pair.compliance((tau_pa, scratch_q, out_pa_m), (&mut fs, &mut bs));
+                return;
+            }
+        }
         self.apply_forward(tau_pa, scratch_q);
         self.apply_back(scratch_q, out_pa_m);
     }
@@ -344,8 +381,9 @@ impl Clone for FastForms {
         Self {
             forward_scratch: std::sync::Mutex::new(self.forward.scratch()),
             back_scratch: std::sync::Mutex::new(self.back.scratch()),
-            forward: self.forward.clone(),
-            back: self.back.clone(),
+            forward: Arc::clone(&self.forward),
+            back: Arc::clone(&self.back),
+            paired: OnceLock::new(),
         }
     }
 }

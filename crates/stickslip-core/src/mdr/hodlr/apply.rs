@@ -2,6 +2,7 @@
 //! "Apply" section of the module docs).
 
 use super::recompress::Bases;
+use super::split::{Part, Split};
 use super::{HodlrOperator, HodlrScratch, LEAF_MAX_ROWS, RankLevel, TreeNode};
 use crate::mdr::Triangle;
 use crate::mdr::triangular::dot_fixed_order;
@@ -145,6 +146,8 @@ impl HodlrOperator {
                 y_off: y_off[id],
             });
         }
+        let (offsets, ranks) = ((&x_off[..], &y_off[..]), (&rows.rank[..], &cols.rank[..]));
+        self.split = Split::of(tree, self.triangle, offsets, ranks);
         self.set_profile(tree, rows, cols);
     }
 
@@ -204,25 +207,50 @@ impl HodlrOperator {
     fn apply_hierarchical(&self, x: &[f64], y: &mut [f64], scratch: &mut HodlrScratch) {
         let xc = &mut scratch.x_coeff[..];
         let yc = &mut scratch.y_coeff[..];
-        let data = &self.data[..];
+        self.leaves_in(&self.leaf_in, x, xc);
+        self.up_pass(&self.up, xc);
+        self.down_pass(&self.down, xc, yc);
+        self.leaves_out(&self.leaf_out, x, yc, y);
+    }
 
-        // 1. Leaves: x̂ = Vᵀ x[I].
-        for g in &self.leaf_in {
-            gemv(data, g, &x[g.input..], &mut xc[g.output..], false);
+    /// 1. Leaves: x̂ = Vᵀ x[I].
+    #[inline(always)]
+    pub(super) fn leaves_in(&self, leaves: &[Gemv], x: &[f64], xc: &mut [f64]) {
+        for g in leaves {
+            gemv(&self.data, g, &x[g.input..], &mut xc[g.output..], false);
         }
-        // 2. Up, children first; a parent's slot lies before its children's.
-        for g in &self.up {
+    }
+
+    /// 2. Up, children first; a parent's slot lies before its children's.
+    #[inline(always)]
+    pub(super) fn up_pass(&self, up: &[Gemv], xc: &mut [f64]) {
+        for g in up {
             let (head, tail) = xc.split_at_mut(g.input);
-            gemv(data, g, tail, &mut head[g.output..], false);
+            gemv(&self.data, g, tail, &mut head[g.output..], false);
         }
-        // 3. Down, parents first: children's ŷ set from the parent's, then the coupling.
-        for (e, b) in &self.down {
+    }
+
+    /// 3. Down, parents first: children's ŷ set from the parent's, then the coupling.
+    #[inline(always)]
+    pub(super) fn down_pass(&self, down: &[(Gemv, Gemv)], xc: &[f64], yc: &mut [f64]) {
+        for (e, b) in down {
             let (head, tail) = yc.split_at_mut(e.output);
-            gemv(data, e, &head[e.input..], tail, false);
-            gemv(data, b, &xc[b.input..], &mut yc[b.output..], true);
+            gemv(&self.data, e, &head[e.input..], tail, false);
+            self.couple(b, xc, yc);
         }
-        // 4. Leaves: y[I] = D x[I] + U ŷ.
-        for leaf in &self.leaf_out {
+    }
+
+    /// A sibling block: ŷ_target += B·x̂_source.
+    #[inline(always)]
+    pub(super) fn couple(&self, b: &Gemv, xc: &[f64], yc: &mut [f64]) {
+        gemv(&self.data, b, &xc[b.input..], &mut yc[b.output..], true);
+    }
+
+    /// 4. Leaves: y[I] = D x[I] + U ŷ.
+    #[inline(always)]
+    pub(super) fn leaves_out(&self, leaves: &[LeafOut], x: &[f64], yc: &[f64], y: &mut [f64]) {
+        let data = &self.data[..];
+        for leaf in leaves {
             let size = leaf.hi - leaf.lo;
             let k = leaf.row_rank;
             let xs = &x[leaf.lo..leaf.hi];
@@ -265,6 +293,25 @@ impl WithSimd for ApplyKernel<'_> {
     #[inline(always)]
     fn with_simd<S: Simd>(self, _simd: S) {
         self.op.apply_hierarchical(self.x, self.y, self.scratch);
+    }
+}
+
+/// [`HodlrOperator::apply_split_part`] under the same dispatch as [`ApplyKernel`].
+pub(super) struct ApplyKernelPart<'a> {
+    pub op: &'a HodlrOperator,
+    pub part: Part,
+    pub x: &'a [f64],
+    pub y: &'a mut [f64],
+    pub scratch: &'a mut HodlrScratch,
+}
+
+impl WithSimd for ApplyKernelPart<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        self.op
+            .apply_split_part(self.part, self.x, self.y, self.scratch);
     }
 }
 

@@ -102,6 +102,9 @@ mod apply;
 mod dense;
 mod recompress;
 mod skeleton;
+mod split;
+
+pub use split::Half;
 
 use super::{OperatorEntries, Triangle, TriangularOperator};
 use apply::{Gemv, LeafOut};
@@ -148,6 +151,13 @@ pub struct HodlrScratch {
     y_coeff: Vec<f64>,
 }
 
+impl HodlrScratch {
+    /// Length of its x̂ coefficients (every node's column-basis coefficients).
+    pub fn coefficient_len(&self) -> usize {
+        self.x_coeff.len()
+    }
+}
+
 /// A packed triangular MDR operator in hierarchical low-rank (nested-basis) form.
 ///
 /// Same units as the [`TriangularOperator`] it was compressed from.
@@ -177,6 +187,8 @@ pub struct HodlrOperator {
     x_coeff_len: usize,
     y_coeff_len: usize,
     profile: Vec<RankLevel>,
+    /// Where the apply divides between two threads ([`split`]).
+    split: Option<split::Split>,
 }
 
 /// Which off-diagonal range a basis spans: columns left of the node or right of it.
@@ -362,6 +374,7 @@ impl HodlrOperator {
             x_coeff_len: 0,
             y_coeff_len: 0,
             profile: Vec::new(),
+            split: None,
         }
     }
 
