@@ -2,7 +2,7 @@
 //! "Apply" section of the module docs).
 
 use super::recompress::Bases;
-use super::split::{Part, Split};
+use super::split::Split;
 use super::{HodlrOperator, HodlrScratch, LEAF_MAX_ROWS, RankLevel, TreeNode};
 use crate::mdr::Triangle;
 use crate::mdr::triangular::dot_fixed_order;
@@ -293,25 +293,6 @@ impl WithSimd for ApplyKernel<'_> {
     #[inline(always)]
     fn with_simd<S: Simd>(self, _simd: S) {
         self.op.apply_hierarchical(self.x, self.y, self.scratch);
-    }
-}
-
-/// [`HodlrOperator::apply_split_part`] under the same dispatch as [`ApplyKernel`].
-pub(super) struct ApplyKernelPart<'a> {
-    pub op: &'a HodlrOperator,
-    pub part: Part,
-    pub x: &'a [f64],
-    pub y: &'a mut [f64],
-    pub scratch: &'a mut HodlrScratch,
-}
-
-impl WithSimd for ApplyKernelPart<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: Simd>(self, _simd: S) {
-        self.op
-            .apply_split_part(self.part, self.x, self.y, self.scratch);
     }
 }
 

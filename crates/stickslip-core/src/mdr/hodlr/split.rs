@@ -7,9 +7,8 @@
 //! their core's L2. Every output element is summed by the same panels in the same order as
 //! the whole apply, so the bits are the same (checked by the tests).
 
-use super::apply::ApplyKernelPart;
 use super::{HodlrOperator, HodlrScratch, TreeNode, Triangle};
-use faer::traits::pulp::Arch;
+use faer::traits::pulp::{Arch, Simd, WithSimd};
 
 /// Which half of the root's index range, [0, mid) or [mid, N).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -213,5 +212,24 @@ impl HodlrOperator {
                 self.leaves_out(&self.leaf_out[leaves], x, yc, y);
             }
         }
+    }
+}
+
+/// [`HodlrOperator::apply_split_part`] under the same dispatch as the whole apply's kernel.
+struct ApplyKernelPart<'a> {
+    op: &'a HodlrOperator,
+    part: Part,
+    x: &'a [f64],
+    y: &'a mut [f64],
+    scratch: &'a mut HodlrScratch,
+}
+
+impl WithSimd for ApplyKernelPart<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        self.op
+            .apply_split_part(self.part, self.x, self.y, self.scratch);
     }
 }
