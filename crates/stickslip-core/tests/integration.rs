@@ -19,3 +19,4 @@ mod preflight;
 mod scenes;
 mod sim_first_order;
 mod sim_state;
+mod transpose;

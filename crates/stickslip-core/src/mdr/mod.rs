@@ -89,6 +89,8 @@ pub struct MdrOperators {
     fast: Option<Box<FastForms>>,
     force_3d_m2: Vec<f64>,
     force_1d_m: Vec<f64>,
+    /// Fᵀ·c, the 1D force's weights on τ ([`Self::force_1d_from_tau_n`]), m²: on first use.
+    force_1d_tau_m2: OnceLock<Vec<f64>>,
 }
 
 impl MdrOperators {
@@ -125,6 +127,7 @@ impl MdrOperators {
             fast: None,
             force_3d_m2,
             force_1d_m,
+            force_1d_tau_m2: OnceLock::new(),
         }
     }
 
@@ -292,6 +295,36 @@ impl MdrOperators {
     #[track_caller]
     pub fn force_1d_n(&self, q_n_per_m: &[f64]) -> f64 {
         dot(&self.force_1d_m, q_n_per_m)
+    }
+
+    /// F = 2∫q dx with q = forward(τ) (Eq. 13 and 16, 1D form), in N, as Σ v_i τ_i with
+    /// v = Fᵀ·c ([`Self::force_1d_tau_weights_m2`]): the same discrete quantity as
+    /// `force_1d_n(forward(τ))`, equal to rounding and the fast form's compression
+    /// (‖Ã − A‖ ≈ 1e-10·‖A‖), without a transform per call.
+    ///
+    /// Why: the series writes F_1d beside F at every row, and a forward transform per row
+    /// was 8 % of fig2's run at N = 2000.
+    ///
+    /// # Panics
+    /// If `tau_pa.len()` differs from N.
+    #[track_caller]
+    pub fn force_1d_from_tau_n(&self, tau_pa: &[f64]) -> f64 {
+        dot(self.force_1d_tau_weights_m2(), tau_pa)
+    }
+
+    /// v = Fᵀ·c, the weights of [`Self::force_1d_from_tau_n`], m² (computed on first call:
+    /// one transposed forward transform).
+    pub fn force_1d_tau_weights_m2(&self) -> &[f64] {
+        self.force_1d_tau_m2.get_or_init(|| {
+            let mut v = vec![0.0; self.force_1d_m.len()];
+            match &self.fast {
+                Some(f) => f.forward.apply_transpose(&self.force_1d_m, &mut v),
+                None => self
+                    .forward_operator()
+                    .apply_transpose(&self.force_1d_m, &mut v),
+            }
+            v
+        })
     }
 
     /// Weights w_i of the 3D force, F = Σ w_i τ_i, in m².

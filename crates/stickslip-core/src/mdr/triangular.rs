@@ -128,6 +128,25 @@ impl TriangularOperator {
         dot_fixed_order(row, &x[first..first + row.len()])
     }
 
+    /// y = Aᵀ·x, row by row of A (each y[k] accumulates in row order). For one-off uses
+    /// (weights derived from the operator), not the step loop.
+    ///
+    /// # Panics
+    /// If `x.len()` or `y.len()` differs from N.
+    #[track_caller]
+    pub fn apply_transpose(&self, x: &[f64], y: &mut [f64]) {
+        assert_eq!(x.len(), self.n, "input length must equal the node count");
+        assert_eq!(y.len(), self.n, "output length must equal the node count");
+        y.fill(0.0);
+        for (i, &xi) in x.iter().enumerate() {
+            let row = &self.data[self.row_offset[i]..self.row_offset[i + 1]];
+            let first = self.first_col(i);
+            for (yk, &a) in y[first..first + row.len()].iter_mut().zip(row) {
+                *yk += a * xi;
+            }
+        }
+    }
+
     /// The matrix as a dense faer matrix.
     pub fn to_dense(&self) -> Mat<f64> {
         Mat::from_fn(self.n, self.n, |i, k| self.get(i, k))

@@ -137,8 +137,6 @@ pub struct Simulation {
     report: StepReport,
     /// Adaptive stepping: the state before the attempted step (allocated once).
     saved: Option<Box<SimState>>,
-    /// The force's transform for [`Simulation::observables`].
-    observe_q: Vec<f64>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -200,7 +198,6 @@ impl Simulation {
             state,
             report: StepReport::default(),
             saved: None,
-            observe_q: vec![0.0; n],
         };
         let stored = books::stored(&sim.engine.problem, &sim.state.physical);
         watch::observe_events(
@@ -326,13 +323,11 @@ impl Simulation {
         )
     }
 
-    /// Scalar observables now (computes F from 2∫q dx with one forward transform).
+    /// Scalar observables now (F from 2∫q dx through the forward transform's weights,
+    /// [`crate::mdr::MdrOperators::force_1d_from_tau_n`]).
     pub fn observables(&mut self) -> Observables {
         let f_1d_n = match &self.engine.problem.contact {
-            Contact::Radial(ops) => {
-                ops.forward(&self.state.physical.tau_pa, &mut self.observe_q);
-                ops.force_1d_n(&self.observe_q)
-            }
+            Contact::Radial(ops) => ops.force_1d_from_tau_n(&self.state.physical.tau_pa),
             Contact::Homogeneous { area_m2, .. } => area_m2 * self.state.physical.tau_pa[0],
         };
         let w = &self.engine.problem.area_weights[..];

@@ -12,20 +12,20 @@ use faer::traits::pulp::{Arch, Simd, WithSimd};
 /// out[output..output + rows] (=|+=) M·v[input..input + cols], M at `data` in panel layout.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Gemv {
-    data: usize,
-    rows: usize,
-    cols: usize,
-    input: usize,
-    output: usize,
+    pub data: usize,
+    pub rows: usize,
+    pub cols: usize,
+    pub input: usize,
+    pub output: usize,
 }
 
 #[derive(Debug, Clone, Copy)]
 pub(super) struct LeafOut {
-    lo: usize,
-    hi: usize,
-    data: usize,
-    row_rank: usize,
-    y_off: usize,
+    pub lo: usize,
+    pub hi: usize,
+    pub data: usize,
+    pub row_rank: usize,
+    pub y_off: usize,
 }
 
 impl HodlrOperator {
@@ -298,7 +298,7 @@ impl WithSimd for ApplyKernel<'_> {
 
 /// Row panels (first row, height) covering `rows` rows exactly: panels of 8, then at
 /// most one each of 4, 2, 1. Exact heights mean no padding and fixed-size stores.
-fn panel_schedule(rows: usize) -> impl Iterator<Item = (usize, usize)> {
+pub(super) fn panel_schedule(rows: usize) -> impl Iterator<Item = (usize, usize)> {
     let mut r0 = 0;
     std::iter::from_fn(move || {
         let left = rows - r0;
@@ -316,7 +316,12 @@ fn panel_schedule(rows: usize) -> impl Iterator<Item = (usize, usize)> {
 }
 
 /// Local columns of a leaf's triangle that a row panel [r0, r0 + height) touches.
-fn leaf_panel_cols(triangle: Triangle, size: usize, r0: usize, height: usize) -> (usize, usize) {
+pub(super) fn leaf_panel_cols(
+    triangle: Triangle,
+    size: usize,
+    r0: usize,
+    height: usize,
+) -> (usize, usize) {
     match triangle {
         Triangle::Lower => (0, r0 + height),
         Triangle::Upper => (r0, size),

@@ -103,6 +103,7 @@ mod dense;
 mod recompress;
 mod skeleton;
 mod split;
+mod transpose;
 
 pub use split::Half;
 
