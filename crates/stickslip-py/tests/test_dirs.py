@@ -24,18 +24,21 @@ from conftest import HARD, SCENES, read_csv, same_bits
 OUTPUTS = ("series.csv", "events.csv", "slips.csv", "profiles.csv", "probes.csv")
 TABLES = ("series", "events", "slips", "profiles", "probes")
 
-# fig2 at N = 1000 at a tight tolerance: ten events, profiles and probes, and a run that
-# outlasts several of the progress bridge's 100 ms intervals on any host (at the default
-# tolerance it now ends in about 0.2 s, near the second report the interrupt tests wait for).
+# fig2 at N = 1000 at a tight tolerance, carried on to 2.5 ms: profiles and probes, and a run
+# that outlasts several of the progress bridge's 100 ms intervals on any host. To its own
+# 1.3 ms it now ends in about 0.2 s, near the second report the interrupt tests wait for; to
+# 2.5 ms, with its events coming ever faster, it takes about 1.3 s (0.65 s to 2 ms).
 LONG = {
     "contact.nodes": 1000,
     "time.tolerance": 1e-6,
+    "time.end": 2.5e-3,
     "output.profile_times": [4e-4, 1.3e-3],
     "output.probe_radii": [2e-6, 1e-5],
 }
 LONG_ARGS = [
     "--set", "contact.nodes=1000",
     "--set", "time.tolerance=1e-6",
+    "--set", "time.end=2.5e-3",
     "--set", "output.profile_times=[4e-4, 1.3e-3]",
     "--set", "output.probe_radii=[2e-6, 1e-5]",
 ]
@@ -197,10 +200,8 @@ def test_another_builds_checkpoint_is_refused_unless_allowed(
 
 
 KILLED_CHILD = r"""
-import sys, stickslip
-scene = stickslip.Scene.load(sys.argv[1], {
-    "contact.nodes": 1000, "time.tolerance": 1e-6, "output.profile_times": [4e-4, 1.3e-3],
-    "output.probe_radii": [2e-6, 1e-5]})
+import json, sys, stickslip
+scene = stickslip.Scene.load(sys.argv[1], json.loads(sys.argv[3]))
 print("ready", flush=True)
 stickslip.run(scene, out=sys.argv[2], checkpoint_every=0.05)
 print("finished", flush=True)
@@ -212,7 +213,7 @@ def test_a_killed_run_loads_as_of_its_checkpoint_and_resumes(
 ) -> None:
     out = tmp_path / "killed"
     child = subprocess.Popen(
-        [sys.executable, "-c", KILLED_CHILD, str(SCENES / "fig2.toml"), str(out)],
+        [sys.executable, "-c", KILLED_CHILD, str(SCENES / "fig2.toml"), str(out), json.dumps(LONG)],
         stdout=subprocess.PIPE,
         text=True,
     )

@@ -95,9 +95,12 @@ def test_a_keyboard_interrupt_from_a_progress_callback_is_interrupted_with_the_r
 ) -> None:
     import stickslip
 
-    # A run that outlasts several of the bridge's 100 ms callback intervals on any host: at
-    # the default tolerance fig2 at N = 1000 now ends in about 0.2 s, near the second call.
-    scene = stickslip.Scene.load(fig2_path, {"contact.nodes": 1000, "time.tolerance": 1e-6})
+    # A run that outlasts several of the bridge's 100 ms callback intervals on any host: fig2
+    # at N = 1000 to its own 1.3 ms now ends in about 0.2 s, near the second call; carried on
+    # to 2.5 ms, with its events coming ever faster, it takes about 1.3 s.
+    scene = stickslip.Scene.load(
+        fig2_path, {"contact.nodes": 1000, "time.tolerance": 1e-6, "time.end": 2.5e-3}
+    )
     calls = []
 
     def stop_at_second(info: dict) -> None:

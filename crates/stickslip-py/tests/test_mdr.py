@@ -5,6 +5,8 @@ metres) and argument checks."""
 from __future__ import annotations
 
 import math
+import os
+import signal
 
 import numpy as np
 import pytest
@@ -158,3 +160,27 @@ def test_force_of_a_huge_grid_needs_no_operator() -> None:
     radius = 2e-5
     f = mdr.force(np.full(200_000, 1e6), radius)
     assert f == pytest.approx(1e6 * math.pi * radius**2, rel=1e-12)
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_fast_compliance_in_a_child_forked_after_its_helper_started() -> None:
+    # From 1000 nodes the fast compliance applies on two threads, the second a helper the
+    # cached operators keep. A child forked afterwards (multiprocessing's default on Linux)
+    # inherits the operators but not the thread: it must compute alone, with the same bits,
+    # and not wait for a helper that is not there.
+    n = 1200
+    tau = 1e6 * np.cos(np.linspace(0.0, 3.0, n))
+    parent = mdr.compliance(tau, 2e-5, 1e9, form="fast")
+    pid = os.fork()
+    if pid == 0:
+        signal.alarm(60)  # a child waiting for the helper dies by SIGALRM
+        try:
+            child = mdr.compliance(tau, 2e-5, 1e9, form="fast")
+            os._exit(0 if np.array_equal(child, parent) else 1)
+        except BaseException:
+            os._exit(2)
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFEXITED(status), f"the child was killed (status {status}): it hung"
+    assert os.WEXITSTATUS(status) == 0, "the child's compliance differs from the parent's"
+    again = mdr.compliance(tau, 2e-5, 1e9, form="fast")
+    assert np.array_equal(again, parent)

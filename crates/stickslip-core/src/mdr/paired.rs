@@ -63,6 +63,9 @@ pub(super) struct PairedCompliance {
     helper: Option<JoinHandle<()>>,
     mid: usize,
     jobs: u64,
+    /// The process that started the helper: a child forked after it (Python's
+    /// multiprocessing) inherits the pair but not the thread, and must not post to it.
+    pid: u32,
 }
 
 impl std::fmt::Debug for PairedCompliance {
@@ -147,7 +150,13 @@ impl PairedCompliance {
             helper: Some(helper),
             mid,
             jobs: 0,
+            pid: std::process::id(),
         })
+    }
+
+    /// Whether this process has the helper (not a child forked after it started).
+    pub fn usable(&self) -> bool {
+        self.pid == std::process::id()
     }
 
     /// out = back(forward(τ)), q = forward(τ), with the caller's scratch for its half.
@@ -248,6 +257,10 @@ fn helper_loop(s: &Shared) {
 
 impl Drop for PairedCompliance {
     fn drop(&mut self) {
+        if !self.usable() {
+            // A forked child: no helper to stop or join.
+            return;
+        }
         self.shared.exit.store(true, Ordering::Release);
         if let Some(h) = self.helper.take() {
             h.thread().unpark();
