@@ -73,6 +73,10 @@ pub struct RooflineBench {
     /// side; the rest is the coupling's (empty in a report written before it was measured).
     #[serde(default)]
     pub rigid_evaluation: PerCall,
+    /// Threads the evaluation's compliance ran on (0 in a report written before it was
+    /// recorded); the floor's two applies run on one.
+    #[serde(default)]
+    pub evaluation_compliance_threads: usize,
 }
 
 impl RooflineBench {
@@ -116,6 +120,7 @@ pub fn measure(progress: &dyn Fn(&str)) -> RooflineBench {
     });
     let mut driver = stickslip_benches::warmed(&[contact::NODES.set(NODES as i64)]);
     let evaluation = time_calls(|| stickslip_benches::step(&mut driver));
+    let evaluation_compliance_threads = driver.simulation().compliance_threads();
     let mut rigid = stickslip_benches::warmed(&[
         contact::NODES.set(NODES as i64),
         contact::SUBSTRATE.set(Substrate::Rigid),
@@ -127,6 +132,7 @@ pub fn measure(progress: &dyn Fn(&str)) -> RooflineBench {
         floor: both,
         evaluation,
         rigid_evaluation,
+        evaluation_compliance_threads,
     }
 }
 
@@ -147,10 +153,15 @@ pub(super) fn targets_row(m: &mut String, r: &RooflineBench) {
     } else {
         String::new()
     };
+    let threads = match r.evaluation_compliance_threads {
+        0 => String::new(),
+        1 => ", its compliance on one thread".to_string(),
+        t => format!(", its compliance on {t} threads as a run's, the floor's applies on one"),
+    };
     let _ = writeln!(
         m,
         "| Roofline: the accurate stepper's evaluation at N = {NODES} (one fixed step of fig2 in \
-         its stick phase, in-process) against the floor of one evaluation (a fused node pass \
+         its stick phase, in-process{threads}) against the floor of one evaluation (a fused node pass \
          with one vectorised exponential per node, and the two MDR applies) | ≤ {}× | {}× ({} \
          against {}; node pass {}, two applies {}{sides}) | {} |",
         tick(GOAL),

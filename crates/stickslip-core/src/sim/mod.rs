@@ -323,6 +323,15 @@ impl Simulation {
         )
     }
 
+    /// Threads the elastic coupling's compliance runs on: 2 once it has taken the helper of
+    /// [`crate::mdr::MdrOperators::compliance_threads`], else 1 (the same bits either way).
+    pub fn compliance_threads(&self) -> usize {
+        match &self.engine.problem.contact {
+            Contact::Radial(ops) => ops.compliance_threads(),
+            Contact::Homogeneous { .. } => 1,
+        }
+    }
+
     /// Scalar observables now (F from 2∫q dx through the forward transform's weights,
     /// [`crate::mdr::MdrOperators::force_1d_from_tau_n`]).
     pub fn observables(&mut self) -> Observables {
