@@ -111,7 +111,8 @@ pub(super) fn section(m: &mut String, p: &Performance) {
          ratio near 2 uses both cores, near 1 one. A ratio target whose threshold lies inside \
          the span of its ratio over the repeats, [min a / max b, max a / min b], reads \
          \"within noise\" in the table above (P1, P3, P6; the others are single runs or \
-         counts).\n\n\
+         counts; for P1, a is each repeat of the literal window extrapolated and capped as its \
+         median is).\n\n\
          | run | wall (s): median (min–max) | CPU (s) | CPU / wall |\n|---|---|---|---|"
     );
     for (name, t) in runs(p) {
