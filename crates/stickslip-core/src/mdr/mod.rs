@@ -264,8 +264,9 @@ impl MdrOperators {
                 paired::PairedCompliance::new_if_useful(&f.forward, &f.back)
                     .map(std::sync::Mutex::new)
             });
-            let pair = pair.as_ref().map(std::sync::Mutex::try_lock);
-            if let Some(Ok(mut pair)) = pair.filter(|p| p.as_ref().is_ok_and(|p| p.usable())) {
+            if let Some(Ok(mut pair)) = pair.as_ref().map(std::sync::Mutex::try_lock)
+                && pair.usable()
+            {
                 let n = self.grid.nodes();
                 assert!(
                     tau_pa.len() == n && scratch_q.len() == n && out_pa_m.len() == n,

@@ -2,7 +2,7 @@
 //! "Apply" section of the module docs).
 
 use super::recompress::Bases;
-use super::split::Split;
+use super::split::{Part, Split};
 use super::{HodlrOperator, HodlrScratch, LEAF_MAX_ROWS, RankLevel, TreeNode};
 use crate::mdr::Triangle;
 use crate::mdr::triangular::dot_fixed_order;
@@ -193,8 +193,22 @@ impl HodlrOperator {
             }
             return;
         }
+        self.dispatch(arch, None, x, y, scratch);
+    }
+
+    /// Runs the whole apply (`part` `None`) or a part of the split one under `arch`'s
+    /// instruction set ([`ApplyKernel`]); the callers check the lengths.
+    pub(super) fn dispatch(
+        &self,
+        arch: Arch,
+        part: Option<Part>,
+        x: &[f64],
+        y: &mut [f64],
+        scratch: &mut HodlrScratch,
+    ) {
         arch.dispatch(ApplyKernel {
             op: self,
+            part,
             x,
             y,
             scratch,
@@ -276,12 +290,14 @@ impl HodlrOperator {
     }
 }
 
-/// Runs [`HodlrOperator::apply_hierarchical`] under the best instruction set the CPU
-/// has (pulp's runtime dispatch: AVX-512 or AVX2 where available, else the x86-64
-/// baseline). The kernels are plain Rust with one accumulator per output row and no fused
+/// Runs [`HodlrOperator::apply_hierarchical`], or one part of the split apply
+/// ([`HodlrOperator::apply_split_part`]), under the best instruction set the CPU has
+/// (pulp's runtime dispatch: AVX-512 or AVX2 where available, else the x86-64 baseline).
+/// The kernels are plain Rust with one accumulator per output row and no fused
 /// multiply-add, so wider vectors change the speed, never the bits.
 struct ApplyKernel<'a> {
     op: &'a HodlrOperator,
+    part: Option<Part>,
     x: &'a [f64],
     y: &'a mut [f64],
     scratch: &'a mut HodlrScratch,
@@ -292,7 +308,10 @@ impl WithSimd for ApplyKernel<'_> {
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, _simd: S) {
-        self.op.apply_hierarchical(self.x, self.y, self.scratch);
+        match self.part {
+            None => self.op.apply_hierarchical(self.x, self.y, self.scratch),
+            Some(part) => self.op.apply_split_part(part, self.x, self.y, self.scratch),
+        }
     }
 }
 

@@ -8,7 +8,7 @@
 //! the whole apply, so the bits are the same (checked by the tests).
 
 use super::{HodlrOperator, HodlrScratch, TreeNode, Triangle};
-use faer::traits::pulp::{Arch, Simd, WithSimd};
+use faer::traits::pulp::Arch;
 
 /// Which half of the root's index range, [0, mid) or [mid, N).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -164,13 +164,7 @@ impl HodlrOperator {
             scratch.x_coeff.len() >= self.x_coeff_len && scratch.y_coeff.len() >= self.y_coeff_len,
             "scratch was made for another operator"
         );
-        Arch::new().dispatch(ApplyKernelPart {
-            op: self,
-            part,
-            x,
-            y,
-            scratch,
-        });
+        self.dispatch(Arch::new(), Some(part), x, y, scratch);
     }
 
     /// The part's passes (see [`Part`]); inlined into the dispatched kernel.
@@ -212,24 +206,5 @@ impl HodlrOperator {
                 self.leaves_out(&self.leaf_out[leaves], x, yc, y);
             }
         }
-    }
-}
-
-/// [`HodlrOperator::apply_split_part`] under the same dispatch as the whole apply's kernel.
-struct ApplyKernelPart<'a> {
-    op: &'a HodlrOperator,
-    part: Part,
-    x: &'a [f64],
-    y: &'a mut [f64],
-    scratch: &'a mut HodlrScratch,
-}
-
-impl WithSimd for ApplyKernelPart<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: Simd>(self, _simd: S) {
-        self.op
-            .apply_split_part(self.part, self.x, self.y, self.scratch);
     }
 }
