@@ -34,7 +34,7 @@ use std::time::Instant;
 use stickslip_core::config::ConfigError;
 use stickslip_core::drive::Drive;
 use stickslip_core::preflight::{Finding, Preflight, Severity};
-use stickslip_core::sim::{NumericalFailure, Observables, SimState, Simulation};
+use stickslip_core::sim::{NumericalFailure, Observables, PlannedStep, SimState, Simulation};
 
 /// Where rows go. Every method but [`Sink::end`] may be called many times.
 pub trait Sink {
@@ -245,6 +245,28 @@ pub struct Control<'a> {
     pub on_start: Option<&'a mut OnStart>,
     /// Regime thresholds of the summary.
     pub thresholds: RegimeThresholds,
+    /// Adaptive steps: record the accepted steps, or take a recorded run's steps again
+    /// ([`StepPlan`]); none steps as the scene says.
+    pub plan: Option<StepPlan<'a>>,
+}
+
+/// An adaptive run's steps, recorded or taken again ([`Simulation::step_planned`]): a run of a
+/// scene with one parameter moved by a small step that replays the plan of the scene's own
+/// run follows the same discrete map, so their difference is the derivative of the discrete
+/// solution, without the step-size controller's jitter. Fixed steps ignore it. A plan is not
+/// part of a checkpoint.
+#[derive(Debug)]
+pub enum StepPlan<'a> {
+    /// Appends every accepted step.
+    Record(&'a mut Vec<PlannedStep>),
+    /// Takes these steps from `next` on, one per iteration; past their end the run goes on
+    /// with error-controlled steps.
+    Replay {
+        /// The recorded steps.
+        steps: &'a [PlannedStep],
+        /// The next one to take.
+        next: usize,
+    },
 }
 
 impl std::fmt::Debug for Control<'_> {
@@ -255,6 +277,7 @@ impl std::fmt::Debug for Control<'_> {
             .field("observer", &self.observer.is_some())
             .field("on_start", &self.on_start.is_some())
             .field("thresholds", &self.thresholds)
+            .field("plan", &self.plan)
             .finish()
     }
 }
@@ -585,6 +608,31 @@ impl Driver {
         Ok(())
     }
 
+    /// One adaptive step to at most `stop_s`: the plan's next when replaying one, else
+    /// error-controlled (and recorded when recording).
+    fn adaptive_step(
+        &mut self,
+        plan: Option<&mut StepPlan<'_>>,
+        stop_s: f64,
+    ) -> Result<(), NumericalFailure> {
+        match plan {
+            Some(StepPlan::Replay { steps, next }) if *next < steps.len() => {
+                let planned = steps[*next];
+                *next += 1;
+                self.sim.step_planned(planned, stop_s).map(|_| ())
+            }
+            plan => {
+                self.sim.step_adaptive(stop_s)?;
+                if let (Some(StepPlan::Record(out)), Some(planned)) =
+                    (plan, self.sim.last_planned_step())
+                {
+                    out.push(planned);
+                }
+                Ok(())
+            }
+        }
+    }
+
     /// The first requested profile time still to record that lies after `t_s`.
     fn next_profile_time_after(&self, t_s: f64) -> Option<f64> {
         let from = self
@@ -643,7 +691,7 @@ impl Driver {
                 // Land exactly on profile times and on the end; series rows come at the
                 // first step at or after each mark.
                 let stop = self.next_profile_time_after(t).unwrap_or(end).min(end);
-                self.sim.step_adaptive(stop).map(|_| ())
+                self.adaptive_step(control.plan.as_mut(), stop)
             } else {
                 let h = self.step_length(i, t);
                 if h <= 0.0 {

@@ -44,7 +44,7 @@ pub mod stats;
 pub mod steady;
 pub mod summary;
 
-pub use driver::{Control, Driver, Limit, NullSink, Sink, run};
+pub use driver::{Control, Driver, Limit, NullSink, Sink, StepPlan, run};
 pub use outcome::{RunOutcome, RunStatus, StopReason};
 pub use scene::{ResolvedScene, Scene, SceneError};
 pub use schema::RunOutput;

@@ -15,6 +15,7 @@ mod grid;
 mod keys;
 mod onset_estimate;
 mod output_rows;
+mod replay;
 mod scene_fuzz;
 mod scene_resolution;
 mod schema;

@@ -4,6 +4,7 @@
 //! melting time.
 
 use super::advance::Engine;
+use super::plan::{PlannedStep, cuts_to_onset, onset_retake_s};
 use super::step_control::StepController;
 use super::stepper::StepReport;
 use super::{NumericalFailure, SimState};
@@ -11,10 +12,6 @@ use crate::config::AdaptiveConfig;
 
 /// Order of the accurate step's local error (second-order scheme: h³).
 pub const LOCAL_ERROR_ORDER: f64 = 3.0;
-
-/// An onset located closer than this fraction of the step to its start is taken as is
-/// (cutting the step there would leave a sliver).
-const MIN_CUT_FRACTION: f64 = 1e-3;
 
 /// One error-controlled step (scene `time.stepping = "adaptive"`), ending at most at
 /// `t_stop_s`; returns the length of the accepted step, s.
@@ -31,7 +28,8 @@ const MIN_CUT_FRACTION: f64 = 1e-3;
 ///
 /// `dt_s` is the first step's length (`time.dt`), and `saved_slot` the loop's memory of the
 /// state before an attempt (kept between calls so that it is allocated once). Returns the
-/// accepted step's length and its report.
+/// accepted step's length, its report and the step as a plan a replay takes again
+/// ([`super::replay`]).
 ///
 /// # Errors
 /// [`NumericalFailure`] from a step at `dt_min`.
@@ -41,7 +39,7 @@ pub(super) fn step(
     saved_slot: &mut Option<Box<SimState>>,
     (ctl, dt_s): (AdaptiveConfig, f64),
     t_stop_s: f64,
-) -> Result<(f64, StepReport), NumericalFailure> {
+) -> Result<(f64, StepReport, PlannedStep), NumericalFailure> {
     let controller = StepController::of_order(LOCAL_ERROR_ORDER);
     let mut saved = saved_slot.take().unwrap_or_else(|| Box::new(state.clone()));
     let mut h_try = if state.controller.next_dt_s > 0.0 {
@@ -50,6 +48,8 @@ pub(super) fn step(
         dt_s
     };
     let mut cut_to_onset = false;
+    // The attempt whose located onset the retake ends at, and the retake's length, s.
+    let (mut cut_from_s, mut retake_s) = (0.0, 0.0);
     let result = loop {
         let remaining = t_stop_s - state.physical.drive.t_s;
         let mut h = h_try.min(ctl.dt_max_s);
@@ -76,18 +76,14 @@ pub(super) fn step(
         };
         if err <= 1.0 || at_floor {
             let theta = report.first_melt_fraction;
-            if !was_open
-                && !cut_to_onset
-                && theta < 1.0
-                && theta > MIN_CUT_FRACTION
-                && theta * h > ctl.dt_min_s
-            {
-                // Retake the step to end just after the located onset (the margin keeps
-                // the crossing inside it despite rounding).
+            if !cut_to_onset && cuts_to_onset(was_open, theta, h, ctl.dt_min_s) {
+                // Retake the step to end just after the located onset.
                 state.clone_from(&saved);
                 state.counters.onset_retakes += 1;
                 cut_to_onset = true;
-                h_try = theta * h * (1.0 + 1e-9);
+                cut_from_s = h;
+                retake_s = onset_retake_s(theta, h);
+                h_try = retake_s;
                 continue;
             }
             if err > 1.0 {
@@ -111,7 +107,15 @@ pub(super) fn step(
                 state.stepper.last_dt_s = 0.0;
                 state.stepper.prev_dt_s = 0.0;
             }
-            break Ok((h, report));
+            let planned = if !cut_to_onset {
+                PlannedStep::free(h, landing)
+            } else if h == retake_s && !landing {
+                PlannedStep::onset(cut_from_s)
+            } else {
+                // Shortened after the retake's own rejection, or stretched to land.
+                PlannedStep::held(h, landing)
+            };
+            break Ok((h, report, planned));
         }
         state.clone_from(&saved);
         state.counters.rejected_steps += 1;

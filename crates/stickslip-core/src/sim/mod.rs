@@ -42,8 +42,10 @@ pub mod events;
 mod film;
 mod literal;
 mod node_pass;
+mod plan;
 mod problem;
 mod ramp;
+mod replay;
 pub mod state;
 pub mod step_control;
 mod stepper;
@@ -53,6 +55,7 @@ mod watch;
 
 pub use crate::failure::NumericalFailure;
 pub use adaptive::LOCAL_ERROR_ORDER;
+pub use plan::{PlannedStep, StepKind};
 pub use problem::COUPLING_STRAIN_SHARE;
 pub use state::{
     ControllerMemory, EventBook, PhysicalState, SimState, StateMismatch, StepCounters,
@@ -137,6 +140,8 @@ pub struct Simulation {
     report: StepReport,
     /// Adaptive stepping: the state before the attempted step (allocated once).
     saved: Option<Box<SimState>>,
+    /// Adaptive stepping: the last accepted step as a replay takes it again.
+    planned: Option<PlannedStep>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -198,6 +203,7 @@ impl Simulation {
             state,
             report: StepReport::default(),
             saved: None,
+            planned: None,
         };
         let stored = books::stored(&sim.engine.problem, &sim.state.physical);
         watch::observe_events(
@@ -251,6 +257,7 @@ impl Simulation {
     /// [`NumericalFailure`] when a value turns non-finite or runs away (|τ| beyond
     /// `numerics.runaway_stress_factor`·τmax, or the coupling solve fails).
     pub fn step(&mut self, dt_s: f64) -> Result<(), NumericalFailure> {
+        self.planned = None;
         self.report = self.engine.step(&mut self.state, dt_s)?;
         Ok(())
     }
@@ -268,7 +275,7 @@ impl Simulation {
     pub fn step_adaptive(&mut self, t_stop_s: f64) -> Result<f64, NumericalFailure> {
         let time = self.engine.problem.config.time;
         let ctl = time.adaptive.expect("step_adaptive needs time.adaptive");
-        let (h, report) = adaptive::step(
+        let (h, report, planned) = adaptive::step(
             &mut self.engine,
             &mut self.state,
             &mut self.saved,
@@ -276,6 +283,49 @@ impl Simulation {
             t_stop_s,
         )?;
         self.report = report;
+        self.planned = Some(planned);
+        Ok(h)
+    }
+
+    /// The last step [`Simulation::step_adaptive`] accepted, as [`Simulation::step_planned`]
+    /// takes it again (none before the first, and after any other kind of step).
+    pub fn last_planned_step(&self) -> Option<PlannedStep> {
+        self.planned
+    }
+
+    /// Takes a step recorded from an adaptive run ([`Simulation::last_planned_step`]) again,
+    /// without error control, ending at most at `t_stop_s`; returns its length, s. A step
+    /// that brings a first melting ends at it, as the adaptive step's does (see
+    /// the `replay` module): a run of a slightly different scene that replays another's steps follows
+    /// the same discrete map, and differences between the two are smooth in the difference
+    /// of the scenes.
+    ///
+    /// # Errors
+    /// [`NumericalFailure`] from the step.
+    ///
+    /// # Panics
+    /// If the configuration is not adaptive.
+    pub fn step_planned(
+        &mut self,
+        planned: PlannedStep,
+        t_stop_s: f64,
+    ) -> Result<f64, NumericalFailure> {
+        let ctl = self
+            .engine
+            .problem
+            .config
+            .time
+            .adaptive
+            .expect("step_planned needs time.adaptive");
+        let (h, report) = replay::step(
+            &mut self.engine,
+            &mut self.state,
+            &mut self.saved,
+            (planned, ctl.dt_min_s),
+            t_stop_s,
+        )?;
+        self.report = report;
+        self.planned = None;
         Ok(h)
     }
 
