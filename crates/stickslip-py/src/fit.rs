@@ -10,7 +10,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
-use stickslip_studies::fit::{Columns, FitError, FitOptions, MisfitKind, Progress, Trace};
+use stickslip_studies::fit::{
+    Columns, FitError, FitOptions, JacobianKind, MisfitKind, Progress, Trace,
+};
 use stickslip_studies::options;
 
 /// Fits ``params`` (``KEY[=LO:HI]``) of ``scene`` to a trace: the CSV at ``path`` (its
@@ -20,7 +22,7 @@ use stickslip_studies::options;
 /// status ``"interrupted"``). With ``out``, also writes fit.json, fit.svg and fitted.toml
 /// there as ``stickslip fit --out`` does. Internal: use ``stickslip.fit``.
 #[pyfunction]
-#[pyo3(signature = (scene, params, misfit = options::FIT_MISFIT, path = None, columns = None, t = None, f = None, x = None, noise = None, jobs = options::JOBS, profile = None, progress = None, out = None))]
+#[pyo3(signature = (scene, params, misfit = options::FIT_MISFIT, path = None, columns = None, t = None, f = None, x = None, noise = None, jobs = options::JOBS, profile = None, progress = None, out = None, jacobian = "differences"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -37,8 +39,10 @@ pub fn fit<'py>(
     profile: Option<String>,
     progress: Option<Py<PyAny>>,
     out: Option<PathBuf>,
+    jacobian: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let kind = MisfitKind::from_name(misfit).map_err(|e| error(&e))?;
+    let jacobian = JacobianKind::from_name(jacobian).map_err(|e| error(&e))?;
     let trace = match (path, t, f) {
         (Some(p), None, None) => {
             let columns = match &columns {
@@ -83,6 +87,7 @@ pub fn fit<'py>(
                 interrupt: Some(&stop),
                 progress: Some(&mut on_progress),
                 start: None,
+                jacobian,
                 ..FitOptions::default()
             },
         )

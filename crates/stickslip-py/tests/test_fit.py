@@ -100,6 +100,32 @@ def test_bad_input_raises_value_error_naming_the_field(trace) -> None:
         stickslip.fit(scene(), trace, PARAMS)
     with pytest.raises(ValueError, match="misfit"):
         stickslip.fit(scene(), trace, PARAMS, misfit="nope", columns=cols)
+    with pytest.raises(ValueError, match="jacobian = 'adjoint' is invalid"):
+        stickslip.fit(scene(), trace, PARAMS, columns=cols, jacobian="adjoint")
+
+
+def test_a_fit_with_replayed_jacobians_matches_the_command_lines(trace, tmp_path) -> None:
+    # jacobian="replay" as `stickslip fit --jacobian replay`: the same fit.json, which says
+    # how its Jacobians were made.
+    cols = {"t": "time", "F": "force"}
+    r = stickslip.fit(scene(), trace, PARAMS, columns=cols, jobs=2, jacobian="replay")
+    lo, hi = r.intervals["lubricant.tau_max"]
+    assert lo <= TAU_MAX <= hi
+    report = r.to_dict()
+    assert report["jacobian"] == "replay"
+    path = tmp_path / "trace.csv"
+    path.write_text("time,force\n" + "".join(f"{float(t)!r},{float(f)!r}\n" for t, f in zip(trace["time"], trace["force"])))
+    out = tmp_path / "fit"
+    subprocess.run(
+        [os.environ["STICKSLIP_BIN"], "fit", str(FIG2), "--set", "contact.nodes=30", "--data", str(path),
+         "--columns", "t=time,F=force", "--param", PARAMS[0], "--out", str(out), "--quiet",
+         "--jacobian", "replay"],
+        check=True, capture_output=True,
+    )
+    cli = json.loads((out / "fit.json").read_text())
+    for d in (cli, report):
+        d.pop("wall_s")
+    assert cli == report
 
 
 def test_an_interrupt_keeps_the_best_fit_so_far(trace) -> None:

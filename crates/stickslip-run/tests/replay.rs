@@ -258,21 +258,32 @@ fn replayed_derivatives_agree_with_tight_central_differences_where_those_are_acc
             central(key, value, 5e-12, 1e-4),
         ];
         let scale = norm(&references[0]);
-        let replay = forward(key, value, 5e-8, 1e-6, true);
-        let mut accurate = 0;
-        let mut worst = 0.0_f64;
-        for (k, j) in replay.iter().enumerate() {
-            let (lo, hi) = references
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
-                    (l.min(r[k]), h.max(r[k]))
-                });
-            if hi - lo <= 1e-6 * scale {
-                accurate += 1;
-                worst = worst.max((j - 0.5 * (lo + hi)).abs() / scale);
+        // The largest distance of a replayed derivative from the references' middle over the
+        // samples where they agree, relative to the column's norm, and their count.
+        let compare = |replay: &[f64]| {
+            let mut accurate = 0;
+            let mut worst = 0.0_f64;
+            for (k, j) in replay.iter().enumerate() {
+                let (lo, hi) = references
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+                        (l.min(r[k]), h.max(r[k]))
+                    });
+                if hi - lo <= 1e-6 * scale {
+                    accurate += 1;
+                    worst = worst.max((j - 0.5 * (lo + hi)).abs() / scale);
+                }
             }
-        }
-        eprintln!("{key}: {accurate} of 650 samples accurate, replayed within {worst:.2e}");
+            (accurate, worst)
+        };
+        let (accurate, worst) = compare(&forward(key, value, 5e-8, 1e-6, true));
+        // At the fit's own tolerance the discrete derivative carries the discretisation
+        // error (printed, not asserted: 4.5e-6 and 2.9e-4 when measured).
+        let (_, coarse) = compare(&forward(key, value, 5e-7, 1e-6, true));
+        eprintln!(
+            "{key}: {accurate} of 650 samples accurate; replayed within {worst:.2e} at \
+             tolerance 5e-8, {coarse:.2e} at 5e-7"
+        );
         assert!(accurate >= 100, "{key}: only {accurate} samples accurate");
         assert!(
             worst <= 1e-4,

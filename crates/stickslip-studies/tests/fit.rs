@@ -9,7 +9,7 @@ use stickslip_run::scene::ResolvedScene;
 use stickslip_studies::fit::forward::{Forward, Run};
 use stickslip_studies::fit::misfit::Target;
 use stickslip_studies::fit::problem::Problem;
-use stickslip_studies::fit::{FitOptions, MisfitKind, Trace, optimise, parameters};
+use stickslip_studies::fit::{FitOptions, JacobianKind, MisfitKind, Trace, optimise, parameters};
 
 const TAU_MAX: f64 = 1.15e6;
 const GAMMA: f64 = 8.0;
@@ -416,4 +416,86 @@ fn the_profile_strategy_is_refused_where_it_does_not_apply() {
         );
     }
     assert!(stickslip_studies::fit::Strategy::from_name("scan").is_err());
+}
+
+#[test]
+fn replayed_jacobians_recover_the_parameters_as_differences_do() {
+    // Both misfits, each fitted with both kinds of Jacobian: every interval holds the truth,
+    // the two fits' values agree to a tenth of their intervals, fit.json says which Jacobian
+    // was made, and the replayed fit takes fewer runs (measured: 114 against 159 for the
+    // events misfit, 144 against 221 for the trace's).
+    let scene = scene();
+    let trace = synthetic(&scene);
+    for misfit in [MisfitKind::Events, MisfitKind::Trace] {
+        let reports: Vec<_> = [JacobianKind::Differences, JacobianKind::Replay]
+            .into_iter()
+            .map(|jacobian| {
+                let out = stickslip_studies::fit::fit(
+                    &scene,
+                    trace.clone(),
+                    &params(),
+                    FitOptions {
+                        jobs: 2,
+                        misfit,
+                        jacobian,
+                        ..FitOptions::default()
+                    },
+                )
+                .unwrap();
+                let r = out.report;
+                assert_eq!(r.status, "ok");
+                assert_eq!(r.jacobian, jacobian.name());
+                r
+            })
+            .collect();
+        for (key, truth) in [("lubricant.tau_max", TAU_MAX), ("lubricant.gamma", GAMMA)] {
+            let [d, r] = [&reports[0], &reports[1]].map(|x| x.parameter(key).unwrap());
+            for p in [d, r] {
+                let (lo, hi) = (p.lo95.unwrap(), p.hi95.unwrap());
+                assert!(
+                    lo <= truth && truth <= hi,
+                    "{misfit:?}: {key}: {truth} not in [{lo}, {hi}]"
+                );
+            }
+            let half = 0.5 * (d.hi95.unwrap() - d.lo95.unwrap());
+            assert!(
+                (r.value - d.value).abs() < 0.1 * half,
+                "{misfit:?}: {key}: {} against {} (±{half})",
+                r.value,
+                d.value
+            );
+        }
+        let runs = [reports[0].evaluations, reports[1].evaluations];
+        assert!(runs[1] < runs[0], "{misfit:?}: runs {runs:?}");
+    }
+}
+
+#[test]
+fn a_fit_says_why_replayed_jacobians_do_not_apply() {
+    // Fixed steps: nothing to replay; the fit makes differences and says why.
+    let scene = scene()
+        .with_overrides(&["time.stepping=fixed", "time.dt=2e-7"])
+        .unwrap();
+    let trace = synthetic(&scene);
+    let out = stickslip_studies::fit::fit(
+        &scene,
+        trace,
+        &params(),
+        FitOptions {
+            jobs: 2,
+            jacobian: JacobianKind::Replay,
+            ..FitOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        out.report.jacobian,
+        "differences (replay asked for; it does not apply: fixed steps)"
+    );
+    assert!(
+        JacobianKind::from_name("adjoint")
+            .unwrap_err()
+            .to_string()
+            .contains("--jacobian")
+    );
 }

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use stickslip_run::exit::Exit;
 use stickslip_run::scene::Scene;
 use stickslip_studies::fit::report::FitReport;
-use stickslip_studies::fit::{Columns, FitOptions, MisfitKind, Progress, Trace};
+use stickslip_studies::fit::{Columns, FitOptions, JacobianKind, MisfitKind, Progress, Trace};
 
 /// Seconds between progress lines within a stage.
 const PROGRESS_EVERY: Duration = Duration::from_secs(5);
@@ -38,6 +38,8 @@ pub struct Args<'a> {
     pub jobs: usize,
     /// The parameter to profile.
     pub profile: Option<&'a str>,
+    /// `differences` or `replay`.
+    pub jacobian: &'a str,
     /// Output directory (default: a fresh `fit-NAME[-k]`).
     pub out: Option<&'a Path>,
     /// Write over an earlier result in `out`.
@@ -146,12 +148,13 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         );
     }
     let prepared = MisfitKind::from_name(a.misfit).and_then(|kind| {
+        let jacobian = JacobianKind::from_name(a.jacobian)?;
         let columns = a
             .columns
             .map_or_else(|| Ok(Columns::default()), Columns::parse)?;
-        Ok((kind, Trace::read(a.data, &columns)?))
+        Ok(((kind, jacobian), Trace::read(a.data, &columns)?))
     });
-    let (kind, trace) = match prepared {
+    let ((kind, jacobian), trace) = match prepared {
         Ok(x) => x,
         Err(e) => return crate::fail(&e, e.exit()),
     };
@@ -238,6 +241,7 @@ pub fn main(a: &Args<'_>) -> ExitCode {
         interrupt: Some(&flag),
         progress: Some(&mut progress),
         start: resume.map(|r| r.parameters.iter().map(|p| p.value).collect()),
+        jacobian,
         ..FitOptions::default()
     };
     let outcome = match stickslip_studies::fit::fit(&scene, trace, a.params, options) {

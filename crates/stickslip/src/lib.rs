@@ -225,6 +225,12 @@ enum Command {
         /// Also compute the profile likelihood of this parameter (one of --param's keys).
         #[arg(long, value_name = "KEY")]
         profile: Option<String>,
+        /// How the Jacobians are made: `differences` (central, grown out of the solver's
+        /// noise) or `replay` (forward differences of runs that take the point's own run's
+        /// steps again: the derivative of the discrete solution, one run per parameter;
+        /// adaptive steps, the direct search).
+        #[arg(long, value_name = "HOW", default_value = "differences", value_parser = ["differences", "replay"])]
+        jacobian: String,
         /// Output directory [default: a fresh fit-NAME]; checked before any run, refused when
         /// it holds files unless --force.
         #[arg(long)]
@@ -593,6 +599,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             noise,
             jobs,
             profile,
+            jacobian,
             out,
             force,
             set,
@@ -609,6 +616,7 @@ fn dispatch(cli: Cli) -> ExitCode {
             noise,
             jobs,
             profile: profile.as_deref(),
+            jacobian: &jacobian,
             out: out.as_deref(),
             force,
             quiet,

@@ -436,6 +436,7 @@ def fit(
     profile: Optional[str] = None,
     progress: Optional[Any] = None,
     out: Optional[PathLike] = None,
+    jacobian: str = "differences",
 ) -> FitResult:
     """Fits scene parameters to a measured friction trace, as ``stickslip fit`` does
     (docs/fit.md): a space-filling sample of the bounds, then bounded Levenberg–Marquardt
@@ -454,7 +455,10 @@ def fit(
     ``time.tolerance``, which the fit tightens near its optimum, ``elapsed_s``) a few times a
     second. ``out``: a directory to write ``fit.json``, ``fit.svg`` and ``fitted.toml`` into,
     the files ``stickslip fit --out DIR`` writes (created if missing; an interrupted fit's best
-    model so far is written too).
+    model so far is written too). ``jacobian``: ``"differences"`` (central differences grown out
+    of the solver's noise) or ``"replay"`` (forward differences of runs that take the point's
+    own run's steps again: the derivative of the discrete solution, one run per parameter;
+    adaptive steps, the direct search; fit.json's ``jacobian`` says which was used).
 
     Returns a ``FitResult`` (``.values``, ``.stderr``, ``.intervals``, ``.correlation``,
     ``.unidentified``, ``.scene``, ``.to_dict()``: fit.json's content).
@@ -475,6 +479,8 @@ def fit(
         raise ValueError(f"misfit = {misfit!r} is invalid; allowed: \"events\" or \"trace\"")
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise ValueError(f"jobs = {jobs!r} is invalid; allowed: an int >= 1")
+    if jacobian not in ("differences", "replay"):
+        raise ValueError(f"jacobian = {jacobian!r} is invalid; allowed: \"differences\" or \"replay\"")
     if progress is not None and not callable(progress):
         raise TypeError("progress: expected None or a callable taking a dict")
     cols = dict(columns or {})
@@ -485,6 +491,7 @@ def fit(
         "profile": profile,
         "progress": progress,
         "out": None if out is None else os.fspath(out),
+        "jacobian": jacobian,
     }
     if isinstance(data, (str, os.PathLike)):
         spec = ",".join(f"{k}={v}" for k, v in cols.items()) or None

@@ -13,10 +13,12 @@
 //! at the tolerance / 100 are tens of their own σ off), the optimiser tightens it tenfold at a
 //! time: the run's `level` ([`MAX_LEVEL`] at most), the tolerance / (100·10^level).
 
+use super::error::FitError;
 use super::misfit::ModelCurve;
 use super::params::Param;
 use std::sync::atomic::AtomicBool;
-use stickslip_run::driver::{Control, NullSink};
+use stickslip_core::sim::PlannedStep;
+use stickslip_run::driver::{Control, NullSink, StepPlan};
 use stickslip_run::keys::{output, time};
 use stickslip_run::outcome::StopReason;
 use stickslip_run::scene::{ResolvedScene, SceneError};
@@ -53,6 +55,52 @@ pub enum RunFailure {
     /// It stopped as failed or refused without a recorded failure.
     #[error("the run failed")]
     Unrecorded,
+}
+
+/// How a fit makes its Jacobians (`--jacobian`; [`super::replayed`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum JacobianKind {
+    /// Central differences grown out of the solver's noise (and, for the intervals, into the
+    /// misfit's linear range).
+    #[default]
+    Differences,
+    /// Forward differences of replayed runs, where they apply; differences elsewhere.
+    Replay,
+}
+
+impl JacobianKind {
+    /// The name (`--jacobian`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Differences => "differences",
+            Self::Replay => "replay",
+        }
+    }
+
+    /// The kind named `name`.
+    ///
+    /// # Errors
+    /// [`FitError::Input`] for another name.
+    pub fn from_name(name: &str) -> Result<Self, FitError> {
+        match name {
+            "differences" => Ok(Self::Differences),
+            "replay" => Ok(Self::Replay),
+            _ => Err(FitError::input("--jacobian", name, "differences or replay")),
+        }
+    }
+}
+
+/// How a forward run steps: as its scene says, recording its accepted steps, or taking a
+/// recorded run's steps again (the replayed Jacobian, docs/fit.md#replayed-jacobians).
+#[derive(Debug)]
+pub enum Stepping<'a> {
+    /// Error-controlled (or fixed) steps, as the scene says.
+    Own,
+    /// Its own steps, appended to the vector.
+    Record(&'a mut Vec<PlannedStep>),
+    /// The recorded steps (error-controlled past their end).
+    Replay(&'a [PlannedStep]),
 }
 
 /// The scene and settings every forward run of a fit starts from.
@@ -165,10 +213,29 @@ impl Forward {
         self.run_overrides(&self.overrides_at(params, z, level), interrupt)
     }
 
+    /// Runs the model at `z` with the tolerance at `level`, stepping as `stepping` says.
+    #[must_use]
+    pub fn run_stepping(
+        &self,
+        params: &[Param],
+        z: &[f64],
+        level: u32,
+        stepping: Stepping<'_>,
+        interrupt: Option<&AtomicBool>,
+    ) -> Run {
+        match self
+            .base
+            .with_overrides(&self.overrides_at(params, z, level))
+        {
+            Ok(scene) => run_scene(&scene, stepping, interrupt),
+            Err(e) => Run::Failed(e.into()),
+        }
+    }
+
     /// Runs the base scene with `overrides`.
     fn run_overrides(&self, overrides: &[String], interrupt: Option<&AtomicBool>) -> Run {
         match self.base.with_overrides(overrides) {
-            Ok(scene) => run_scene(&scene, interrupt),
+            Ok(scene) => run_scene(&scene, Stepping::Own, interrupt),
             Err(e) => Run::Failed(e.into()),
         }
     }
@@ -213,11 +280,11 @@ impl Forward {
 /// Runs a resolved scene as a forward run does (the discretisation check's refined model).
 #[must_use]
 pub fn run_resolved(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
-    run_scene(scene, interrupt)
+    run_scene(scene, Stepping::Own, interrupt)
 }
 
-/// Runs `scene` with a null sink, recording F at every step.
-fn run_scene(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
+/// Runs `scene` with a null sink, stepping as `stepping` says, recording F at every step.
+fn run_scene(scene: &ResolvedScene, stepping: Stepping<'_>, interrupt: Option<&AtomicBool>) -> Run {
     let mut curve = ModelCurve::default();
     let mut observe = |sim: &stickslip_core::sim::Simulation| {
         let p = &sim.state().physical;
@@ -225,9 +292,15 @@ fn run_scene(scene: &ResolvedScene, interrupt: Option<&AtomicBool>) -> Run {
         curve.f_n.push(p.force_n);
         curve.x_m.push(p.drive.x_m);
     };
+    let plan = match stepping {
+        Stepping::Own => None,
+        Stepping::Record(steps) => Some(StepPlan::Record(steps)),
+        Stepping::Replay(steps) => Some(StepPlan::Replay { steps, next: 0 }),
+    };
     let mut control = Control {
         interrupt,
         observer: Some(&mut observe),
+        plan,
         ..Control::default()
     };
     let outcome = match stickslip_run::driver::run(scene, &mut NullSink, &mut control) {

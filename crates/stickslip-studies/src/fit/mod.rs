@@ -29,6 +29,7 @@ pub mod params;
 pub mod pin;
 pub mod problem;
 pub mod profile;
+pub mod replayed;
 pub mod report;
 pub mod scan;
 pub mod uncertainty;
@@ -38,6 +39,7 @@ pub use data::{Columns, Trace};
 pub use error::FitError;
 use events::Event;
 use forward::Forward;
+pub use forward::JacobianKind;
 pub use misfit::MisfitKind;
 use misfit::Target;
 use params::Param;
@@ -104,6 +106,8 @@ pub struct FitOptions<'p> {
     /// Resume: the values (in the parameters' units, in their order) an interrupted fit of the
     /// same inputs had reached; the local stage starts there and the global sample is skipped.
     pub start: Option<Vec<f64>>,
+    /// How the Jacobians are made (`--jacobian`; differences by default).
+    pub jacobian: JacobianKind,
 }
 
 /// The fingerprint of a fit's inputs (fit.json's `inputs`): the resolved scene, the parameter
@@ -327,6 +331,7 @@ pub fn fit(
         .map(|(p, v)| v.map(|v| p.z(v)).filter(|z| (0.0..=1.0).contains(z)))
         .collect();
     let mut problem = Problem::new(&forward, &params, &target, options.jobs);
+    problem.jacobian = options.jacobian;
     problem.interrupt = options.interrupt;
     problem.progress = options.progress;
 
@@ -553,6 +558,7 @@ pub fn fit(
         failed_runs: problem.failed_runs,
         first_failure: problem.first_failure.clone(),
         profile: profile_out,
+        jacobian: replayed::words(&problem),
         strategy: if scan_out.is_some() {
             "profile"
         } else {

@@ -305,7 +305,8 @@ pub fn noise(problem: &mut Problem<'_, '_>, at: &Eval) -> Option<f64> {
     })
 }
 
-/// The Jacobian at `at` in the columns `free` (box units), by central differences (one-sided
+/// The Jacobian at `at` in the columns `free` (box units): replayed where the fit asks for it
+/// and it applies ([`super::replayed`]), else by central differences (one-sided
 /// at a bound) with per-parameter `steps` grown until each column's difference exceeds
 /// [`NOISE_RATIO`]·`noise`; with `linear` (the uncertainty's Jacobian) steered into
 /// [`difference_band`] instead, shrinking a step whose difference leaves the linear range,
@@ -320,6 +321,16 @@ pub fn jacobian(
     noise: f64,
     linear: bool,
 ) -> Option<Vec<Vec<f64>>> {
+    if let Some(columns) = super::replayed::columns(problem, at, free)? {
+        problem.jacobians_made.0 += 1;
+        problem.last_jacobian = Some(super::problem::LastJacobian {
+            z: at.z.clone(),
+            free: free.to_vec(),
+            columns: columns.clone(),
+        });
+        return Some(columns);
+    }
+    problem.jacobians_made.1 += 1;
     let m = at.residuals.len();
     let (lower, upper) = if linear {
         difference_band(noise, at.chi2, m)

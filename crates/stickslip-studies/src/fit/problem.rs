@@ -5,11 +5,29 @@
 //! batch returns nothing and every later one is skipped, so the optimiser stops with the best
 //! model it has.
 
-use super::forward::{Forward, Run, RunFailure};
+use super::forward::{Forward, JacobianKind, Run, RunFailure, Stepping};
 use super::misfit::{Compared, Target};
 use super::params::{Param, TIME_SHIFT};
 use super::pin::{self, Pin};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use stickslip_core::sim::PlannedStep;
+
+/// The recorded step plans a fit keeps (its most recent runs'): the local stage's next
+/// Jacobian is taken at a point it has just run.
+const PLANS_KEPT: usize = 16;
+
+/// A recorded run's steps, shared by the replays of a Jacobian.
+pub type Plan = Arc<Vec<PlannedStep>>;
+
+/// How a batch's runs step.
+#[derive(Debug, Clone, Copy)]
+enum Mode<'a> {
+    /// As the scene says (`finer`: at a tenth of the tolerance).
+    Own { finer: bool },
+    /// Replaying a recorded run's steps.
+    Replay(&'a [PlannedStep]),
+}
 
 /// One evaluated model.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +115,12 @@ pub struct Problem<'a, 'p> {
     /// batch's remaining time (a finer run costs more than a run at the fit's tolerance).
     run_times: std::collections::HashMap<(u32, bool), (f64, usize)>,
     stopped: bool,
+    /// How the Jacobians are made (`--jacobian`).
+    pub jacobian: JacobianKind,
+    /// Jacobians made so far: replayed, and by differences.
+    pub jacobians_made: (usize, usize),
+    /// With replayed Jacobians, the step plans of the most recent runs: (z, level, plan).
+    plans: Vec<(Vec<f64>, u32, Plan)>,
 }
 
 /// A Jacobian of the residuals in box coordinates, and where it was made.
@@ -132,7 +156,32 @@ impl<'a, 'p> Problem<'a, 'p> {
             onset_runs: 0,
             run_times: std::collections::HashMap::new(),
             stopped: false,
+            jacobian: JacobianKind::default(),
+            jacobians_made: (0, 0),
+            plans: Vec::new(),
         }
+    }
+
+    /// The recorded steps of the run at `z` at the present level, if it is one of the most
+    /// recent runs of a fit with replayed Jacobians.
+    #[must_use]
+    pub fn plan_at(&self, z: &[f64]) -> Option<Plan> {
+        self.plans
+            .iter()
+            .rev()
+            .find(|(at, level, _)| *level == self.level && at.as_slice() == z)
+            .map(|(_, _, p)| Arc::clone(p))
+    }
+
+    /// Evaluates every `zs` replaying `plan` (not counted as the best: a replay is the model
+    /// at z stepped as another point's run, for a difference with that run); `None` when
+    /// interrupted.
+    pub fn evaluate_replayed(
+        &mut self,
+        zs: &[Vec<f64>],
+        plan: &[PlannedStep],
+    ) -> Option<Vec<Eval>> {
+        self.evaluate_with(zs, Mode::Replay(plan))
     }
 
     /// Whether the fit was interrupted (Ctrl-C, or the progress callback asked to stop).
@@ -177,6 +226,20 @@ impl<'a, 'p> Problem<'a, 'p> {
     /// Evaluates every `zs` (`finer`: at a tenth of the tolerance, not counted as the best);
     /// `None` when interrupted.
     pub fn evaluate_all(&mut self, zs: &[Vec<f64>], finer: bool) -> Option<Vec<Eval>> {
+        self.evaluate_with(zs, Mode::Own { finer })
+    }
+
+    /// [`Problem::evaluate_all`] and [`Problem::evaluate_replayed`].
+    fn evaluate_with(&mut self, zs: &[Vec<f64>], mode: Mode<'_>) -> Option<Vec<Eval>> {
+        // A finer run measures the solver's noise; a replay is a Jacobian's: neither is the
+        // best model.
+        let finer = matches!(mode, Mode::Own { finer: true });
+        let counts_as_best = matches!(mode, Mode::Own { finer: false });
+        // Runs of the fit's own stepping keep their steps for a replayed Jacobian.
+        let record = counts_as_best
+            && self.jacobian == JacobianKind::Replay
+            && self.pin.is_none()
+            && self.forward.tolerance.is_some();
         if self.interrupted() {
             self.stopped = true;
             return None;
@@ -192,7 +255,7 @@ impl<'a, 'p> Problem<'a, 'p> {
         let work = |i: usize| {
             let t0 = std::time::Instant::now();
             // A finer run measures the solver's noise at the point itself: the pin held.
-            let r = match pinned.as_ref().filter(|_| !finer) {
+            let r = match pinned.as_ref().filter(|_| counts_as_best) {
                 Some(p) => {
                     let solved =
                         pin::solve(model, how, &zs[i], p, |z| run_one(model, how, z, false));
@@ -200,9 +263,18 @@ impl<'a, 'p> Problem<'a, 'p> {
                     if let Some(s) = solved.slope {
                         slopes.lock().map(|mut v| v.push(s)).ok();
                     }
-                    solved.compared.map(|c| (solved.z, c))
+                    solved.compared.map(|c| (solved.z, c, None))
                 }
-                None => run_one(model, how, &zs[i], finer).map(|c| (zs[i].clone(), c)),
+                None => {
+                    let mut plan = Vec::new();
+                    let stepping = match mode {
+                        Mode::Replay(steps) => Stepping::Replay(steps),
+                        Mode::Own { .. } if record => Stepping::Record(&mut plan),
+                        Mode::Own { .. } => Stepping::Own,
+                    };
+                    run_stepping(model, how, &zs[i], (finer, stepping))
+                        .map(|c| (zs[i].clone(), c, record.then(|| Arc::new(plan))))
+                }
             };
             let us = u64::try_from(t0.elapsed().as_micros()).unwrap_or(u64::MAX);
             spent_us.fetch_add(us, Ordering::Relaxed);
@@ -261,10 +333,16 @@ impl<'a, 'p> Problem<'a, 'p> {
         }
         let mut out = Vec::with_capacity(zs.len());
         for r in results {
-            let Some((z, r)) = r else {
+            let Some((z, r, plan)) = r else {
                 self.stopped = true;
                 continue;
             };
+            if let Some(plan) = plan.filter(|_| r.is_ok()) {
+                if self.plans.len() >= PLANS_KEPT {
+                    self.plans.remove(0);
+                }
+                self.plans.push((z.clone(), self.level, plan));
+            }
             let (residuals, failed) = match r {
                 Ok(c) => (c.residuals, None),
                 Err(failure) => {
@@ -294,7 +372,7 @@ impl<'a, 'p> Problem<'a, 'p> {
             p.anchor.clone_from(&e.z);
             p.anchor_residual = e.residuals[0];
         }
-        if !finer {
+        if counts_as_best {
             for e in &out {
                 if e.failed.is_none() && self.best.as_ref().is_none_or(|b| e.chi2 < b.chi2) {
                     self.best = Some(e.clone());
@@ -323,15 +401,25 @@ fn shift_s(params: &[Param], z: &[f64]) -> f64 {
 /// One run of the model at `z` at tolerance `level` compared with the data (`finer`: at a
 /// tenth of that tolerance); `None` when interrupted.
 fn run_one(
+    model: (&Forward, &[Param], &Target),
+    how: (Option<&AtomicBool>, u32),
+    z: &[f64],
+    finer: bool,
+) -> Option<Result<Compared, RunFailure>> {
+    run_stepping(model, how, z, (finer, Stepping::Own))
+}
+
+/// [`run_one`], stepping as `stepping` says (a finer run steps on its own).
+fn run_stepping(
     (forward, params, target): (&Forward, &[Param], &Target),
     (interrupt, level): (Option<&AtomicBool>, u32),
     z: &[f64],
-    finer: bool,
+    (finer, stepping): (bool, Stepping<'_>),
 ) -> Option<Result<Compared, RunFailure>> {
     let run = if finer {
         forward.noise_run(params, z, level, interrupt)
     } else {
-        forward.run_at(params, z, level, interrupt)
+        forward.run_stepping(params, z, level, stepping, interrupt)
     };
     match run {
         Run::Done(curve) => Some(Ok(target.compare(&curve, shift_s(params, z)))),

@@ -157,6 +157,11 @@ pub struct FitReport {
     /// (a parameter pinned by the first onset, another scanned; see `scan`).
     #[serde(default)]
     pub strategy: String,
+    /// How its Jacobians were made: `differences`, `replay` (forward differences of runs
+    /// that replay the point's own steps), or both with the count of each and why replay
+    /// did not apply (docs/fit.md#replayed-jacobians); empty in a fit.json written before.
+    #[serde(default)]
+    pub jacobian: String,
     /// The profile strategy's scan.
     #[serde(default)]
     pub scan: Option<FitScan>,

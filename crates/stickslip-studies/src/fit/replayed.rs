@@ -1,0 +1,115 @@
+//! Replayed Jacobians (docs/fit.md#replayed-jacobians): the derivative of the discrete
+//! solution, by forward differences whose moved runs take the steps the run at the point
+//! itself took (the run library's step plans), so that a difference measures the model's
+//! change and not the step-size controller's jitter. One run per free parameter (at about
+//! 0.8 of a run's cost: no rejected attempts), against 2–8 for central differences grown out
+//! of the solver's noise; and no noise band, so the step is small and the derivative local.
+//!
+//! It applies where the fit's runs are adaptive and every point is run as it is: with the
+//! profile strategy's pin (a parameter solved at every point) or fixed steps the fit keeps
+//! its differences, and fit.json's `jacobian` says which was used.
+
+use super::forward::JacobianKind;
+use super::problem::{Eval, Problem};
+
+/// The difference's step in box coordinates: a relative change of 1.4e-6–2.3e-6 in a
+/// parameter searched over a factor 4–10 (log space). The replayed difference of the fit
+/// study's set A is its derivative to 5e-5 over steps of 1e-7–1e-5 of the value; wider ones
+/// span melting times that cross step boundaries, narrower ones see the rounding
+/// (crates/stickslip-run/tests/replay.rs).
+pub const STEP_Z: f64 = 1e-6;
+
+/// Why a replayed Jacobian does not apply to `problem` (none when it does).
+#[must_use]
+pub fn not_applicable(problem: &Problem<'_, '_>) -> Option<&'static str> {
+    if problem.jacobian != JacobianKind::Replay {
+        Some("not asked for")
+    } else if problem.pin.is_some() {
+        Some("a pinned parameter is solved at every point")
+    } else if problem.forward.tolerance.is_none() {
+        Some("fixed steps")
+    } else {
+        None
+    }
+}
+
+/// The replayed Jacobian at `at` in the columns `free`: `Some(None)` where it does not apply
+/// (or `at`'s steps are not kept, or a replayed run failed: the caller takes differences),
+/// `None` when interrupted.
+pub fn columns(
+    problem: &mut Problem<'_, '_>,
+    at: &Eval,
+    free: &[usize],
+) -> Option<Option<Vec<Vec<f64>>>> {
+    if not_applicable(problem).is_some() || at.failed.is_some() {
+        return Some(None);
+    }
+    // The run at `at` and its steps: kept from the batch that ran it, or run again at the
+    // present level (the run is deterministic: the same residuals at the same level).
+    let kept = problem
+        .plan_at(&at.z)
+        .filter(|_| at.level == problem.level)
+        .map(|plan| (plan, at.residuals.clone()));
+    let (plan, base) = match kept {
+        Some(kept) => kept,
+        None => {
+            let again = problem.evaluate_all(std::slice::from_ref(&at.z), false)?;
+            match (problem.plan_at(&at.z), again.first()) {
+                (Some(plan), Some(e)) if e.failed.is_none() => (plan, e.residuals.clone()),
+                _ => return Some(None),
+            }
+        }
+    };
+    // Towards the inside of the box.
+    let steps: Vec<f64> = free
+        .iter()
+        .map(|&j| {
+            if at.z[j] + STEP_Z <= 1.0 {
+                STEP_Z
+            } else {
+                -STEP_Z
+            }
+        })
+        .collect();
+    let zs: Vec<Vec<f64>> = free
+        .iter()
+        .zip(&steps)
+        .map(|(&j, &h)| {
+            let mut z = at.z.clone();
+            z[j] += h;
+            z
+        })
+        .collect();
+    let moved = problem.evaluate_replayed(&zs, &plan)?;
+    if moved.iter().any(|e| e.failed.is_some()) {
+        return Some(None);
+    }
+    Some(Some(
+        moved
+            .iter()
+            .zip(&steps)
+            .map(|(e, &h)| {
+                e.residuals
+                    .iter()
+                    .zip(&base)
+                    .map(|(a, b)| (a - b) / h)
+                    .collect()
+            })
+            .collect(),
+    ))
+}
+
+/// fit.json's `jacobian`: `differences`, `replay`, or both with their counts and why replay
+/// did not apply.
+#[must_use]
+pub fn words(problem: &Problem<'_, '_>) -> String {
+    match (problem.jacobians_made, not_applicable(problem)) {
+        ((0, _), Some("not asked for")) => JacobianKind::Differences.name().into(),
+        ((_, 0), _) => JacobianKind::Replay.name().into(),
+        ((0, _), why) => format!(
+            "differences (replay asked for; it does not apply: {})",
+            why.unwrap_or("the points' runs failed")
+        ),
+        ((r, d), _) => format!("replay ({r}) and differences ({d}: where a replayed run failed)"),
+    }
+}
