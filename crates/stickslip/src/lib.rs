@@ -228,7 +228,7 @@ enum Command {
         /// How the Jacobians are made: `differences` (central, grown out of the solver's
         /// noise) or `replay` (forward differences of runs that take the point's own run's
         /// steps again: the derivative of the discrete solution, one run per parameter;
-        /// adaptive steps, the direct search).
+        /// adaptive steps).
         #[arg(long, value_name = "HOW", default_value = "differences", value_parser = ["differences", "replay"])]
         jacobian: String,
         /// Output directory [default: a fresh fit-NAME]; checked before any run, refused when

@@ -458,7 +458,7 @@ def fit(
     model so far is written too). ``jacobian``: ``"differences"`` (central differences grown out
     of the solver's noise) or ``"replay"`` (forward differences of runs that take the point's
     own run's steps again: the derivative of the discrete solution, one run per parameter;
-    adaptive steps, the direct search; fit.json's ``jacobian`` says which was used).
+    adaptive steps; fit.json's ``jacobian`` says which was used).
 
     Returns a ``FitResult`` (``.values``, ``.stderr``, ``.intervals``, ``.correlation``,
     ``.unidentified``, ``.scene``, ``.to_dict()``: fit.json's content).

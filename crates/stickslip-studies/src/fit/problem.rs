@@ -119,6 +119,8 @@ pub struct Problem<'a, 'p> {
     pub jacobian: JacobianKind,
     /// Jacobians made so far: replayed, and by differences.
     pub jacobians_made: (usize, usize),
+    /// Why the last Jacobian asked to be replayed was made by differences.
+    pub jacobian_fallback: Option<&'static str>,
     /// With replayed Jacobians, the step plans of the most recent runs: (z, level, plan).
     plans: Vec<(Vec<f64>, u32, Plan)>,
 }
@@ -158,6 +160,7 @@ impl<'a, 'p> Problem<'a, 'p> {
             stopped: false,
             jacobian: JacobianKind::default(),
             jacobians_made: (0, 0),
+            jacobian_fallback: None,
             plans: Vec::new(),
         }
     }
@@ -238,7 +241,6 @@ impl<'a, 'p> Problem<'a, 'p> {
         // Runs of the fit's own stepping keep their steps for a replayed Jacobian.
         let record = counts_as_best
             && self.jacobian == JacobianKind::Replay
-            && self.pin.is_none()
             && self.forward.tolerance.is_some();
         if self.interrupted() {
             self.stopped = true;
@@ -257,13 +259,23 @@ impl<'a, 'p> Problem<'a, 'p> {
             // A finer run measures the solver's noise at the point itself: the pin held.
             let r = match pinned.as_ref().filter(|_| counts_as_best) {
                 Some(p) => {
-                    let solved =
-                        pin::solve(model, how, &zs[i], p, |z| run_one(model, how, z, false));
+                    // The whole run at the solved point keeps its steps.
+                    let plan = std::cell::RefCell::new(Vec::new());
+                    let solved = pin::solve(model, how, &zs[i], p, |z| {
+                        let mut steps = plan.borrow_mut();
+                        let stepping = if record {
+                            Stepping::Record(&mut steps)
+                        } else {
+                            Stepping::Own
+                        };
+                        run_stepping(model, how, z, (false, stepping))
+                    });
                     onset_runs.fetch_add(solved.onset_runs, Ordering::Relaxed);
                     if let Some(s) = solved.slope {
                         slopes.lock().map(|mut v| v.push(s)).ok();
                     }
-                    solved.compared.map(|c| (solved.z, c, None))
+                    let plan = record.then(|| Arc::new(plan.into_inner()));
+                    solved.compared.map(|c| (solved.z, c, plan))
                 }
                 None => {
                     let mut plan = Vec::new();

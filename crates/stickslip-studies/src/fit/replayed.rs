@@ -5,9 +5,12 @@
 //! 0.8 of a run's cost: no rejected attempts), against 2–8 for central differences grown out
 //! of the solver's noise; and no noise band, so the step is small and the derivative local.
 //!
-//! It applies where the fit's runs are adaptive and every point is run as it is: with the
-//! profile strategy's pin (a parameter solved at every point) or fixed steps the fit keeps
-//! its differences, and fit.json's `jacobian` says which was used.
+//! It applies where the fit's runs are adaptive (with fixed steps the fit keeps its
+//! differences, and fit.json's `jacobian` says which was used). Under the profile strategy's
+//! pin (a parameter solved at every point so that the first onset matches) the pinned
+//! parameter's column is replayed too, and each other column follows the pin by the implicit
+//! function: the derivative along the surface where the first onset stays put, which the
+//! pinned model's differences approximate by re-solving the pin at every moved point.
 
 use super::forward::JacobianKind;
 use super::problem::{Eval, Problem};
@@ -24,8 +27,6 @@ pub const STEP_Z: f64 = 1e-6;
 pub fn not_applicable(problem: &Problem<'_, '_>) -> Option<&'static str> {
     if problem.jacobian != JacobianKind::Replay {
         Some("not asked for")
-    } else if problem.pin.is_some() {
-        Some("a pinned parameter is solved at every point")
     } else if problem.forward.tolerance.is_none() {
         Some("fixed steps")
     } else {
@@ -34,15 +35,31 @@ pub fn not_applicable(problem: &Problem<'_, '_>) -> Option<&'static str> {
 }
 
 /// The replayed Jacobian at `at` in the columns `free`: `Some(None)` where it does not apply
-/// (or `at`'s steps are not kept, or a replayed run failed: the caller takes differences),
+/// (the reason kept in the problem's `jacobian_fallback`: the caller takes differences),
 /// `None` when interrupted.
 pub fn columns(
     problem: &mut Problem<'_, '_>,
     at: &Eval,
     free: &[usize],
 ) -> Option<Option<Vec<Vec<f64>>>> {
-    if not_applicable(problem).is_some() || at.failed.is_some() {
+    if not_applicable(problem).is_some() {
         return Some(None);
+    }
+    let made = replayed(problem, at, free)?;
+    if let Err(why) = &made {
+        problem.jacobian_fallback = Some(why);
+    }
+    Some(made.ok())
+}
+
+/// [`columns`] where it applies: `Err` says why it was not made.
+fn replayed(
+    problem: &mut Problem<'_, '_>,
+    at: &Eval,
+    free: &[usize],
+) -> Option<Result<Vec<Vec<f64>>, &'static str>> {
+    if at.failed.is_some() {
+        return Some(Err("the point's run failed"));
     }
     // The run at `at` and its steps: kept from the batch that ran it, or run again at the
     // present level (the run is deterministic: the same residuals at the same level).
@@ -53,15 +70,27 @@ pub fn columns(
     let (plan, base) = match kept {
         Some(kept) => kept,
         None => {
-            let again = problem.evaluate_all(std::slice::from_ref(&at.z), false)?;
+            // As it is: with the pin off, a pinned coordinate keeps its solved value.
+            let pin = problem.pin.take();
+            let again = problem.evaluate_all(std::slice::from_ref(&at.z), false);
+            problem.pin = pin;
+            let again = again?;
             match (problem.plan_at(&at.z), again.first()) {
                 (Some(plan), Some(e)) if e.failed.is_none() => (plan, e.residuals.clone()),
-                _ => return Some(None),
+                _ => return Some(Err("the point's run failed")),
             }
         }
     };
+    // With the profile strategy's pin, the pinned coordinate k follows the others so that
+    // the first onset (residual 0) stays where it is: its column too, then each other
+    // column plus k's times dz_k/dz_j = −(∂r0/∂z_j)/(∂r0/∂z_k) (the implicit function).
+    let pinned = problem.pin.as_ref().map(|p| p.k);
+    if pinned.is_some_and(|k| free.contains(&k)) {
+        return Some(Err("the pinned parameter among the columns"));
+    }
+    let moved_coords: Vec<usize> = free.iter().copied().chain(pinned).collect();
     // Towards the inside of the box.
-    let steps: Vec<f64> = free
+    let steps: Vec<f64> = moved_coords
         .iter()
         .map(|&j| {
             if at.z[j] + STEP_Z <= 1.0 {
@@ -71,7 +100,7 @@ pub fn columns(
             }
         })
         .collect();
-    let zs: Vec<Vec<f64>> = free
+    let zs: Vec<Vec<f64>> = moved_coords
         .iter()
         .zip(&steps)
         .map(|(&j, &h)| {
@@ -80,23 +109,40 @@ pub fn columns(
             z
         })
         .collect();
-    let moved = problem.evaluate_replayed(&zs, &plan)?;
+    let pin = problem.pin.take();
+    let moved = problem.evaluate_replayed(&zs, &plan);
+    problem.pin = pin;
+    let moved = moved?;
     if moved.iter().any(|e| e.failed.is_some()) {
-        return Some(None);
+        return Some(Err("a replayed run failed"));
     }
-    Some(Some(
-        moved
-            .iter()
-            .zip(&steps)
-            .map(|(e, &h)| {
-                e.residuals
-                    .iter()
-                    .zip(&base)
-                    .map(|(a, b)| (a - b) / h)
-                    .collect()
-            })
-            .collect(),
-    ))
+    let mut columns: Vec<Vec<f64>> = moved
+        .iter()
+        .zip(&steps)
+        .map(|(e, &h)| {
+            e.residuals
+                .iter()
+                .zip(&base)
+                .map(|(a, b)| (a - b) / h)
+                .collect()
+        })
+        .collect();
+    if pinned.is_some() {
+        let k_column = columns.pop()?;
+        let onset_slope = k_column[0];
+        if onset_slope == 0.0 || !onset_slope.is_finite() {
+            return Some(Err(
+                "the first onset does not move with the pinned parameter",
+            ));
+        }
+        for column in &mut columns {
+            let follow = -column[0] / onset_slope;
+            for (c, k) in column.iter_mut().zip(&k_column) {
+                *c += follow * k;
+            }
+        }
+    }
+    Some(Ok(columns))
 }
 
 /// fit.json's `jacobian`: `differences`, `replay`, or both with their counts and why replay
@@ -108,8 +154,12 @@ pub fn words(problem: &Problem<'_, '_>) -> String {
         ((_, 0), _) => JacobianKind::Replay.name().into(),
         ((0, _), why) => format!(
             "differences (replay asked for; it does not apply: {})",
-            why.unwrap_or("the points' runs failed")
+            why.or(problem.jacobian_fallback)
+                .unwrap_or("the points' runs failed")
         ),
-        ((r, d), _) => format!("replay ({r}) and differences ({d}: where a replayed run failed)"),
+        ((r, d), _) => format!(
+            "replay ({r}) and differences ({d}; the last because {})",
+            problem.jacobian_fallback.unwrap_or("replay did not apply")
+        ),
     }
 }

@@ -85,6 +85,7 @@ pub fn profile_fit(
     let end_s = *short.trace.t_s.last()?;
     let forward = Forward::new(&problem.forward.base, end_s).ok()?;
     let mut sp = Problem::new(&forward, problem.params, &short, problem.jobs);
+    sp.jacobian = problem.jacobian;
     sp.max_level = 0;
     sp.interrupt = problem.interrupt;
     sp.progress = problem.progress.take();
@@ -96,6 +97,9 @@ pub fn profile_fit(
     problem.progress = sp.progress.take();
     (problem.evaluations, problem.failed_runs, problem.onset_runs) =
         (sp.evaluations, sp.failed_runs, sp.onset_runs);
+    problem.jacobians_made.0 += sp.jacobians_made.0;
+    problem.jacobians_made.1 += sp.jacobians_made.1;
+    problem.jacobian_fallback = problem.jacobian_fallback.or(sp.jacobian_fallback);
     if problem.first_failure.is_none() {
         problem.first_failure = sp.first_failure.take();
     }
