@@ -18,16 +18,22 @@ fn main() -> Result<(), String> {
         &std::env::args().nth(2).unwrap_or_else(|| "profile".into()),
     )
     .map_err(|e| e.to_string())?;
+    let jacobian = stickslip_studies::fit::JacobianKind::from_name(
+        &std::env::args()
+            .nth(3)
+            .unwrap_or_else(|| "differences".into()),
+    )
+    .map_err(|e| e.to_string())?;
     let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
     let case = cases::first_slip(&cases::Sizes::full());
     let mut log = |line: &str| eprintln!("{line}");
-    let fitted = fits::per_seed(&root, case, 1..=seeds, (2, strategy), &mut log)?;
+    let fitted = fits::per_seed(&root, case, 1..=seeds, (2, strategy, jacobian), &mut log)?;
     for (s, out) in &fitted {
         let r = &out.report;
         let held = s.params.iter().filter(|p| p.covers() == Some(true)).count();
         println!(
             "seed {}: {:.1} s wall, {} runs + {} onset runs, χ² {:.2} (truth {}), {held} of {} \
-             intervals hold the truth, strategy {}{}",
+             intervals hold the truth, strategy {}, Jacobians {}{}",
             s.seed,
             s.wall_s,
             r.evaluations,
@@ -36,6 +42,7 @@ fn main() -> Result<(), String> {
             s.chi2_truth.map_or("–".into(), |c| format!("{c:.2}")),
             s.params.len(),
             r.strategy,
+            r.jacobian,
             r.scan.as_ref().map_or(String::new(), |sc| format!(
                 " (pinned {}, scanned {} at {:?}: χ² {:?})",
                 sc.pinned, sc.key, sc.values, sc.chi2

@@ -8,7 +8,7 @@ use crate::jacobian;
 use crate::prepared::{Prepared, prepare};
 use crate::record::{CoverageRun, Curves, FitSummary, JacobianCheck, SingleFit, WidthRun};
 use std::path::Path;
-use stickslip_studies::fit::{FitOutcome, MisfitKind, Strategy};
+use stickslip_studies::fit::{FitOutcome, JacobianKind, MisfitKind, Strategy};
 
 /// The CPU time of this process so far (user and system, all threads), s: from
 /// `/proc/self/stat` in clock ticks of 1/100 s; none where unreadable.
@@ -148,7 +148,7 @@ pub fn per_seed(
     root: &Path,
     case: Case,
     seeds: std::ops::RangeInclusive<u64>,
-    (jobs, strategy): (usize, Strategy),
+    (jobs, strategy, jacobian): (usize, Strategy, JacobianKind),
     log: &mut Log<'_>,
 ) -> Result<Vec<(FitSummary, FitOutcome)>, String> {
     let p = prepare(root, case)?;
@@ -160,7 +160,12 @@ pub fn per_seed(
     for seed in seeds {
         let trace = p.trace(p.case.samples, seed)?;
         let cpu0 = cpu_time_s();
-        let fit = p.fit_with(trace, MisfitKind::Events, (jobs, false), strategy)?;
+        let fit = p.fit_with(
+            trace,
+            MisfitKind::Events,
+            (jobs, false),
+            (strategy, jacobian),
+        )?;
         let s = summary(&p, &fit, (seed, p.case.samples), cpu0, jobs)?;
         log(&line(&format!("{} seed {seed}", p.case.id), &s));
         out.push((s, fit));

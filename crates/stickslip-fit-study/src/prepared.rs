@@ -10,7 +10,9 @@ use std::time::{Duration, Instant};
 use stickslip_run::Scene;
 use stickslip_run::scene::ResolvedScene;
 use stickslip_studies::fit::misfit::ModelCurve;
-use stickslip_studies::fit::{FitOptions, FitOutcome, MisfitKind, Progress, Strategy, Trace};
+use stickslip_studies::fit::{
+    FitOptions, FitOutcome, JacobianKind, MisfitKind, Progress, Strategy, Trace,
+};
 
 /// How often a long fit reports its progress.
 const PROGRESS_EVERY: Duration = Duration::from_secs(60);
@@ -70,10 +72,15 @@ impl Prepared {
         jobs: usize,
         known_noise: bool,
     ) -> Result<FitOutcome, String> {
-        self.fit_with(trace, kind, (jobs, known_noise), Strategy::Direct)
+        self.fit_with(
+            trace,
+            kind,
+            (jobs, known_noise),
+            (Strategy::Direct, JacobianKind::Differences),
+        )
     }
 
-    /// As [`Prepared::fit`], with the search `strategy`.
+    /// As [`Prepared::fit`], with the search `strategy` and the kind of `jacobian`.
     ///
     /// # Errors
     /// The fit's error, in words.
@@ -82,7 +89,7 @@ impl Prepared {
         trace: Trace,
         kind: MisfitKind,
         (jobs, known_noise): (usize, bool),
-        strategy: Strategy,
+        (strategy, jacobian): (Strategy, JacobianKind),
     ) -> Result<FitOutcome, String> {
         let (mut last, mut stage, mut level) = (Instant::now(), "", 0);
         let began = Instant::now();
@@ -108,6 +115,7 @@ impl Prepared {
             FitOptions {
                 misfit: kind,
                 strategy,
+                jacobian,
                 jobs,
                 noise_n: known_noise.then_some(self.case.noise_n),
                 progress: Some(&mut progress),
