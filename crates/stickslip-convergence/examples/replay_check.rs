@@ -13,6 +13,7 @@ use std::path::PathBuf;
 use stickslip_core::sim::Simulation;
 use stickslip_run::keys::{Key, contact, lubricant, output, time};
 use stickslip_run::{Control, NullSink, ResolvedScene, Scene, StepPlan};
+use stickslip_studies::fit::misfit::ModelCurve;
 
 /// One case: its scene file, fixed settings, window end and sample spacing, s, and its free
 /// keys at their values.
@@ -71,18 +72,14 @@ fn trace(scene: &ResolvedScene, plan: Option<StepPlan<'_>>) -> (Vec<f64>, Vec<f6
     (t, f, onsets)
 }
 
-/// F at `times`, linear between steps (as the fit takes it).
+/// F at `times` from the steps `t`, `f`, as the fit takes it (`ModelCurve::at`).
 fn at(t: &[f64], f: &[f64], times: &[f64]) -> Vec<f64> {
-    let mut k = 0;
-    times
-        .iter()
-        .map(|&x| {
-            while k + 2 < t.len() && t[k + 1] < x {
-                k += 1;
-            }
-            f[k] + (f[k + 1] - f[k]) * (x - t[k]) / (t[k + 1] - t[k])
-        })
-        .collect()
+    let curve = ModelCurve {
+        t_s: t.to_vec(),
+        f_n: f.to_vec(),
+        x_m: Vec::new(),
+    };
+    times.iter().map(|&x| curve.at(x)).collect()
 }
 
 fn norm(x: &[f64]) -> f64 {

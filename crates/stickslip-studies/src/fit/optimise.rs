@@ -321,16 +321,32 @@ pub fn jacobian(
     noise: f64,
     linear: bool,
 ) -> Option<Vec<Vec<f64>>> {
-    if let Some(columns) = super::replayed::columns(problem, at, free)? {
-        problem.jacobians_made.0 += 1;
-        problem.last_jacobian = Some(super::problem::LastJacobian {
-            z: at.z.clone(),
-            free: free.to_vec(),
-            columns: columns.clone(),
-        });
-        return Some(columns);
-    }
-    problem.jacobians_made.1 += 1;
+    let columns = match super::replayed::columns(problem, at, free)? {
+        Some(columns) => {
+            problem.jacobians_made.0 += 1;
+            columns
+        }
+        None => {
+            problem.jacobians_made.1 += 1;
+            differences(problem, at, (free, steps), noise, linear)?
+        }
+    };
+    problem.last_jacobian = Some(super::problem::LastJacobian {
+        z: at.z.clone(),
+        free: free.to_vec(),
+        columns: columns.clone(),
+    });
+    Some(columns)
+}
+
+/// [`jacobian`] by central differences (see there); `None` when interrupted.
+fn differences(
+    problem: &mut Problem<'_, '_>,
+    at: &Eval,
+    (free, steps): (&[usize], &mut [f64]),
+    noise: f64,
+    linear: bool,
+) -> Option<Vec<Vec<f64>>> {
     let m = at.residuals.len();
     let (lower, upper) = if linear {
         difference_band(noise, at.chi2, m)
@@ -409,11 +425,6 @@ pub fn jacobian(
     if linear {
         settle_scale(problem, at, free, steps, &mut columns)?;
     }
-    problem.last_jacobian = Some(super::problem::LastJacobian {
-        z: at.z.clone(),
-        free: free.to_vec(),
-        columns: columns.clone(),
-    });
     Some(columns)
 }
 

@@ -149,8 +149,10 @@ fn replayed(
 /// did not apply.
 #[must_use]
 pub fn words(problem: &Problem<'_, '_>) -> String {
+    if problem.jacobian == JacobianKind::Differences {
+        return JacobianKind::Differences.name().into();
+    }
     match (problem.jacobians_made, not_applicable(problem)) {
-        ((0, _), Some("not asked for")) => JacobianKind::Differences.name().into(),
         ((_, 0), _) => JacobianKind::Replay.name().into(),
         ((0, _), why) => format!(
             "differences (replay asked for; it does not apply: {})",
