@@ -379,6 +379,10 @@ fn profile_fit(jacobian: JacobianKind) -> stickslip_studies::fit::report::FitRep
     )
     .unwrap();
     let r = &out.report;
+    eprintln!(
+        "profile fit, {} Jacobians: χ² {:.4} in {} runs and {} onset runs",
+        r.jacobian, r.misfit, r.evaluations, r.onset_runs
+    );
     assert_eq!((r.status.as_str(), r.strategy.as_str()), ("ok", "profile"));
     let scan = r.scan.as_ref().unwrap();
     assert_eq!(scan.values.len(), stickslip_studies::fit::scan::SCAN_POINTS);
