@@ -34,8 +34,12 @@ pub const SAMPLE_PER_PARAM: usize = 8;
 /// within the differences between values, not to convergence.
 pub const SCAN_ITERATIONS: usize = 3;
 
-/// Meltings of the data in the first stage's window ([`profile_fit`]).
-pub const WINDOW_EVENTS: usize = 4;
+/// Meltings of the data in the first stage's window ([`profile_fit`]). Not fewer: on the
+/// SFA contact's first slip (12 meltings) the first four left several minima along the
+/// valley of τmax, h0 and γ at χ² 10³–10⁴ (γ from 3.6 to 25; the truth's 8), from which the
+/// whole trace's local stage did not come back; on the first eight the scan's best value
+/// led the local stage into the truth's valley (docs/fit.md, "The profile strategy").
+pub const WINDOW_EVENTS: usize = 8;
 
 /// The data's first `count` meltings alone: the trace cut half-way between the onsets of its
 /// meltings `count` and `count + 1`, with the whole trace's σF. `None` when the data hold
