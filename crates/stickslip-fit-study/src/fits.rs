@@ -139,8 +139,10 @@ pub fn coverage(
     Ok((CoverageRun { case: p.case, fits }, check))
 }
 
-/// The cost target's fits: `case` fitted on each of the seeds `seeds` with `strategy`, each fit's summary (time, runs, χ² against the truth's, intervals) logged as it
-/// ends.
+/// The cost target's fits: `case` fitted on each of the seeds `seeds` with `strategy`, each
+/// fit's summary (time, runs, χ² against the truth's, intervals) logged as it ends. With
+/// `from_truth` the local stage starts at the true values and the global search is skipped:
+/// what a fit costs once its search has found the truth's basin.
 ///
 /// # Errors
 /// As [`coverage`].
@@ -149,9 +151,12 @@ pub fn per_seed(
     case: Case,
     seeds: std::ops::RangeInclusive<u64>,
     (jobs, strategy, jacobian): (usize, Strategy, JacobianKind),
+    from_truth: bool,
     log: &mut Log<'_>,
 ) -> Result<Vec<(FitSummary, FitOutcome)>, String> {
     let p = prepare(root, case)?;
+    // The case's parameters are in the order of its truth.
+    let truth: Vec<f64> = p.case.truth.iter().map(|(_, v)| *v).collect();
     log(&format!(
         "{}: {} samples over {} s",
         p.case.id, p.case.samples, p.case.end_s
@@ -165,6 +170,7 @@ pub fn per_seed(
             MisfitKind::Events,
             (jobs, false),
             (strategy, jacobian),
+            from_truth.then(|| truth.clone()),
         )?;
         let s = summary(&p, &fit, (seed, p.case.samples), cpu0, jobs)?;
         log(&line(&format!("{} seed {seed}", p.case.id), &s));

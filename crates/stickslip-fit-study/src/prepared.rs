@@ -77,10 +77,13 @@ impl Prepared {
             kind,
             (jobs, known_noise),
             (Strategy::Direct, JacobianKind::Differences),
+            None,
         )
     }
 
-    /// As [`Prepared::fit`], with the search `strategy` and the kind of `jacobian`.
+    /// As [`Prepared::fit`], with the search `strategy` and the kind of `jacobian`; with
+    /// `start` (values in the order of the case's parameters) the local stage starts there
+    /// and the global search is skipped, as when a fit resumes.
     ///
     /// # Errors
     /// The fit's error, in words.
@@ -90,6 +93,7 @@ impl Prepared {
         kind: MisfitKind,
         (jobs, known_noise): (usize, bool),
         (strategy, jacobian): (Strategy, JacobianKind),
+        start: Option<Vec<f64>>,
     ) -> Result<FitOutcome, String> {
         let (mut last, mut stage, mut level) = (Instant::now(), "", 0);
         let began = Instant::now();
@@ -119,6 +123,7 @@ impl Prepared {
                 jobs,
                 noise_n: known_noise.then_some(self.case.noise_n),
                 progress: Some(&mut progress),
+                start,
                 ..FitOptions::default()
             },
         )

@@ -137,8 +137,14 @@ pub fn valley(
     Some(out)
 }
 
-/// Stop when an accepted step lowers χ² by less than this fraction.
+/// Stop when an accepted step lowers χ² by less than this fraction...
 pub const RTOL_CHI2: f64 = 1e-6;
+/// ...or by less than this (σ² units): the parameters are then within a tenth of their
+/// standard errors of where the step came from, and gains below it are the solver's noise
+/// more than the misfit's slope. On the SFA contact's first slip, started at the truth, the
+/// local stage spent about 100 runs at the runs' tightest tolerances on gains from 0.14 to
+/// 0.01.
+pub const CHI2_GAIN_MIN: f64 = 1e-2;
 
 /// A small deterministic generator (SplitMix64) for the sample: the fit must not depend on
 /// the host.
@@ -371,6 +377,9 @@ fn differences(
     } else {
         (NOISE_RATIO * noise, f64::INFINITY)
     };
+    if linear {
+        predict_steps(problem.last_jacobian.as_ref(), free, (lower, upper), steps);
+    }
     let mut columns = vec![vec![0.0; m]; free.len()];
     let mut todo: Vec<usize> = (0..free.len()).collect();
     // Per column: +1 once its step grew, −1 once it shrank (it never turns back).
@@ -444,6 +453,36 @@ fn differences(
         settle_scale(problem, at, free, steps, &mut columns)?;
     }
     Some(columns)
+}
+
+/// The steps of a Jacobian steered into the band (`lower`, `upper`) (the uncertainty's),
+/// predicted from the `last` Jacobian's columns: each parameter's step set so that its central
+/// difference, 2·h·‖column‖, lands at half the band's top, max(`upper`/2, `lower`) (within
+/// [`FD_STEP_MIN`], [`FD_STEP_MAX`]), the middle of where shrinking by 4 from above lands. A
+/// parameter without a column there keeps its step. Why: the steps start again from
+/// [`FD_STEP_START`] whenever the noise is measured, and a parameter the data fix to a
+/// millionth then shrinks by 4 a round, two runs each, into the band, at the runs' tightest
+/// tolerances (on the SFA contact's first slip 2–5 s a run).
+pub fn predict_steps(
+    last: Option<&super::problem::LastJacobian>,
+    free: &[usize],
+    (lower, upper): (f64, f64),
+    steps: &mut [f64],
+) {
+    let Some(last) = last else { return };
+    let middle = (0.5 * upper).max(lower);
+    if !(middle.is_finite() && middle > 0.0 && lower > 0.0) {
+        return;
+    }
+    for &j in free {
+        let Some(c) = last.free.iter().position(|&k| k == j) else {
+            continue;
+        };
+        let norm = dot(&last.columns[c], &last.columns[c]).sqrt();
+        if norm > 0.0 && norm.is_finite() {
+            steps[j] = (middle / (2.0 * norm)).clamp(FD_STEP_MIN, FD_STEP_MAX);
+        }
+    }
 }
 
 /// Two columns agree when they differ by at most this fraction of the first's norm.
@@ -667,7 +706,7 @@ pub fn levenberg_marquardt_damped(
             .zip(&cur.z)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
-        let small = gain <= RTOL_CHI2 * cur.chi2 || moved < 1e-7;
+        let small = gain <= (RTOL_CHI2 * cur.chi2).max(CHI2_GAIN_MIN) || moved < 1e-7;
         cur = next;
         let weakest = d.s.last().map_or(0.0, |s| s * s);
         match after_step(small, used, weakest, retried) {
@@ -695,6 +734,28 @@ pub fn levenberg_marquardt_damped(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn uncertainty_steps_are_predicted_from_the_last_jacobian() {
+        let last = super::super::problem::LastJacobian {
+            z: vec![0.5; 3],
+            free: vec![0, 2],
+            // Norms 1e4 (a sharp parameter) and 1e-3 (a flat one).
+            columns: vec![vec![6e3, 8e3], vec![0.0, 1e-3]],
+        };
+        let mut steps = vec![FD_STEP_START; 3];
+        predict_steps(Some(&last), &[0, 1, 2], (10.0, 1000.0), &mut steps);
+        // Half the band's top, 500, over twice the norm; the flat one at the largest step;
+        // the parameter without a column keeps its own.
+        assert!((steps[0] - 2.5e-2).abs() < 1e-15, "{steps:?}");
+        assert_eq!(steps[1], FD_STEP_START);
+        assert_eq!(steps[2], FD_STEP_MAX);
+        // No Jacobian yet, or an empty band: nothing changes.
+        let mut fresh = vec![FD_STEP_START; 3];
+        predict_steps(None, &[0, 1, 2], (10.0, 1000.0), &mut fresh);
+        predict_steps(Some(&last), &[0, 1, 2], (0.0, 1000.0), &mut fresh);
+        assert_eq!(fresh, vec![FD_STEP_START; 3]);
+    }
 
     #[test]
     fn a_pinned_onsets_row_is_held_at_zero_only_under_the_pin() {
