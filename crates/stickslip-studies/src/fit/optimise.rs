@@ -470,8 +470,8 @@ pub fn predict_steps(
     steps: &mut [f64],
 ) {
     let Some(last) = last else { return };
-    let middle = (0.5 * upper).max(lower);
-    if !(middle.is_finite() && middle > 0.0 && lower > 0.0) {
+    let aim = (0.5 * upper).max(lower);
+    if !(aim.is_finite() && aim > 0.0 && lower > 0.0) {
         return;
     }
     for &j in free {
@@ -480,7 +480,7 @@ pub fn predict_steps(
         };
         let norm = dot(&last.columns[c], &last.columns[c]).sqrt();
         if norm > 0.0 && norm.is_finite() {
-            steps[j] = (middle / (2.0 * norm)).clamp(FD_STEP_MIN, FD_STEP_MAX);
+            steps[j] = (aim / (2.0 * norm)).clamp(FD_STEP_MIN, FD_STEP_MAX);
         }
     }
 }
