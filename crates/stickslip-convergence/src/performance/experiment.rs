@@ -1,13 +1,15 @@
 //! P7–P8 (issue 31): the SFA contact (`validation/scenes/sfa.toml`, beside the fig2 scene)
 //! with a soft drive spring, run by the CLI as a user runs it — step evaluations, wall time,
 //! loop time per evaluation and its meltings against a tighter-tolerance reference computed
-//! here, each also with `numerics.phi_error_floor` — and the step trace of one melting cycle
-//! of its slip ([`super::step_trace`]).
+//! here, each also with `numerics.phi_error_floor`, and with the cascades' steps at a looser
+//! tolerance — the step trace of one melting cycle of its slip ([`super::step_trace`]), and
+//! where P7's evaluations go, phase by phase ([`super::phases`]).
 //!
 //! This module writes the P7 and P8 rows of the targets table and the section "P7–P8: the SFA
 //! contact" (with the step trace's paragraph); [`super::report`] places them. Every number
 //! comes from the measurements in [`SfaBench`] or the goals below.
 
+use super::phases::{self, Phase, Phases};
 use super::step_trace::{self, StepTrace};
 use super::targets::verdict;
 use super::{BenchSettings, Timed, timed_scene};
@@ -54,6 +56,23 @@ pub const PHI_ERROR_FLOOR: f64 = 0.1;
 /// steps of a melting event only; the default is 0), beside the default's verdict.
 pub const EVENT_PHI_ERROR_FLOOR: f64 = 0.1;
 
+/// P7–P8: the run also taken with a cascade's steps at this multiple of the tolerance
+/// (`numerics.event_tolerance_factor`) and `numerics.phi_error_floor` = [`PHI_ERROR_FLOOR`]:
+/// the goal-oriented tolerance, today's stepper's cheapest settings that keep P7's meltings
+/// (measured: the same meltings up to 300, not at 1000), beside the default's verdict.
+pub const CASCADE_TOLERANCE_FACTOR: f64 = 100.0;
+
+/// The settings of the cascade-tolerance variant (see [`CASCADE_TOLERANCE_FACTOR`]).
+#[must_use]
+pub fn cascade_tolerance_sets() -> Vec<String> {
+    vec![
+        numerics::EVENT_TOLERANCE_FACTOR
+            .set(CASCADE_TOLERANCE_FACTOR)
+            .to_string(),
+        numerics::PHI_ERROR_FLOOR.set(PHI_ERROR_FLOOR).to_string(),
+    ]
+}
+
 /// One target on the SFA contact: a run at the default tolerance and its reference.
 #[derive(Debug, Clone, Serialize)]
 pub struct SfaTarget {
@@ -85,6 +104,9 @@ pub struct SfaTarget {
     /// The run again with `numerics.event_phi_error_floor` = [`EVENT_PHI_ERROR_FLOOR`], once,
     /// 2 threads (not part of the verdict either).
     pub event_floored: Option<Timed>,
+    /// The run again with [`cascade_tolerance_sets`], once, 2 threads (not part of the verdict
+    /// either).
+    pub cascade_tolerance: Option<Timed>,
 }
 
 /// |a − b| per pair of onsets, or nothing when the counts differ.
@@ -125,6 +147,7 @@ impl SfaTarget {
             reference_tolerance,
             floored: None,
             event_floored: None,
+            cascade_tolerance: None,
         }
     }
 
@@ -159,6 +182,18 @@ impl SfaTarget {
         Some(self.result_of(self.event_floored.as_ref()?))
     }
 
+    /// The cascade-tolerance run's result in words, as [`SfaTarget::floored_result`]'s, with
+    /// its wall time against the default run's in the same bench run.
+    #[must_use]
+    pub fn cascade_tolerance_result(&self) -> Option<String> {
+        let variant = self.cascade_tolerance.as_ref()?;
+        Some(format!(
+            "{}; {}× less wall time than the default settings' run",
+            self.result_of(variant),
+            sig(self.wall_s / variant.wall_s.max(f64::MIN_POSITIVE), 3)
+        ))
+    }
+
     /// A variant run's result in words (see [`SfaTarget::floored_result`]).
     fn result_of(&self, variant: &Timed) -> String {
         let deviation = self.max_onset_deviation_of(variant).map_or_else(
@@ -178,7 +213,8 @@ impl SfaTarget {
     }
 
     /// `; with numerics.phi_error_floor = 0.1: …; with numerics.event_phi_error_floor = 0.1:
-    /// …` for the targets table (each empty without its run).
+    /// …; with numerics.event_tolerance_factor = 100 and …: …` for the targets table (each
+    /// empty without its run).
     fn floored_words(&self) -> String {
         let floored = self
             .floored_result()
@@ -186,7 +222,14 @@ impl SfaTarget {
         let event = self.event_floored_result().map(|w| {
             format!("; with numerics.event_phi_error_floor = {EVENT_PHI_ERROR_FLOOR}: {w}")
         });
-        floored.into_iter().chain(event).collect()
+        let cascade = self.cascade_tolerance_result().map(|w| {
+            format!(
+                "; with numerics.event_tolerance_factor = {} and numerics.phi_error_floor = \
+                 {PHI_ERROR_FLOOR}: {w}",
+                tick(CASCADE_TOLERANCE_FACTOR)
+            )
+        });
+        floored.into_iter().chain(event).chain(cascade).collect()
     }
 
     /// (meltings − the reference's) / the reference's (none when the reference has none).
@@ -231,6 +274,9 @@ pub struct SfaBench {
     pub p8: SfaTarget,
     /// The steps through P7's first melting cycle.
     pub step_trace: StepTrace,
+    /// P7's evaluations by phase, in-process: the default settings and
+    /// [`cascade_tolerance_sets`] (empty with `--quick`).
+    pub p7_phases: [Phases; 2],
 }
 
 /// The small outputs and soft spring of P7–P8 up to `end_s`, on the uniform grid the targets
@@ -271,9 +317,21 @@ fn sfa_target(
         .set(EVENT_PHI_ERROR_FLOOR)
         .to_string();
     let event_floored = once(&format!("{tag}_event_floored"), Some(event_floor), onsets_s)?;
+    let mut with = sets.clone();
+    with.extend(cascade_tolerance_sets());
+    let cascade_tolerance = timed_scene(
+        s,
+        scene,
+        &format!("{tag}_cascade_tolerance"),
+        &with,
+        2,
+        1,
+        onsets_s,
+    )?;
     Ok(SfaTarget {
         floored: Some(floored),
         event_floored: Some(event_floored),
+        cascade_tolerance: Some(cascade_tolerance),
         ..SfaTarget::from_runs(sets, run, reference, reference_tolerance)
     })
 }
@@ -293,6 +351,17 @@ pub fn measure(s: &BenchSettings, progress: &dyn Fn(&str)) -> Result<SfaBench, S
     let p7 = sfa_target(s, &scene, "p7", sfa_sets(p7_end_s), P7_REFERENCE_TOLERANCE)?;
     progress("P7: the step trace through the first melting cycle, in-process");
     let step_trace = step_trace::trace(&scene, &p7.settings, &p7.run.event_values.onsets_s)?;
+    let p7_phases = if s.quick {
+        [Phases::default(), Phases::default()]
+    } else {
+        progress("P7: its evaluations by phase, in-process, with either settings");
+        let mut with = p7.settings.clone();
+        with.extend(cascade_tolerance_sets());
+        [
+            phases::measure(&scene, &p7.settings)?,
+            phases::measure(&scene, &with)?,
+        ]
+    };
     let p8_end_s = if s.quick { P8_QUICK_END_S } else { P8_END_S };
     progress(&format!(
         "P8: the SFA contact at V0 = {P8_VELOCITY:e} m/s to {p8_end_s} s and its reference at \
@@ -306,6 +375,7 @@ pub fn measure(s: &BenchSettings, progress: &dyn Fn(&str)) -> Result<SfaBench, S
         p7,
         p8,
         step_trace,
+        p7_phases,
     })
 }
 
@@ -497,12 +567,127 @@ pub(super) fn section(m: &mut String, b: &SfaBench) {
                 .unwrap_or_else(|| "not run".into()),
         );
     }
+    if p7.cascade_tolerance.is_some() || p8.cascade_tolerance.is_some() {
+        let _ = writeln!(
+            m,
+            "Both again with a cascade's steps at {f}× the tolerance \
+             (`numerics.event_tolerance_factor` = {f}: a step that starts while a melting event \
+             is open; from the event's end to the next onset, where the onset's error is made, \
+             the scene's tolerance) and `numerics.phi_error_floor` = {PHI_ERROR_FLOOR}: the \
+             goal-oriented tolerance, today's stepper at its cheapest settings that keep P7's \
+             meltings, against the same references; not part of the verdicts either. P7: {}. \
+             P8: {}.\n",
+            p7.cascade_tolerance_result()
+                .unwrap_or_else(|| "not run".into()),
+            p8.cascade_tolerance_result()
+                .unwrap_or_else(|| "not run".into()),
+            f = tick(CASCADE_TOLERANCE_FACTOR),
+        );
+    }
+    phases_section(m, &b.p7_phases);
     step_trace::section(m, &b.step_trace);
+}
+
+/// "Where P7's evaluations go": the two phase tables and what they leave for the goal
+/// (nothing without the phases, as with `--quick`).
+fn phases_section(m: &mut String, [default, cheap]: &[Phases; 2]) {
+    if default.phases.is_empty() || cheap.phases.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        m,
+        "### Where P7's evaluations go\n\n\
+         P7's scene run in-process through the driver with an observer (one thread), every \
+         accepted step put in one phase: a cascade (a node melted at the step's end), the \
+         recovery (an event open, none melted), the stick before the first onset, and the \
+         sticks after it, split by the smallest φ over the nodes against the solid film's φ_s \
+         (the approach to each onset). Evaluations count accepted steps, rejected attempts and \
+         onset retakes; each step is counted once, under the part of the error estimate that \
+         limited it.\n\n\
+         With the default settings:\n\n{}\n\
+         With the cascade tolerance (`numerics.event_tolerance_factor` = {}, \
+         `numerics.phi_error_floor` = {PHI_ERROR_FLOOR}):\n\n{}\n{}\n",
+        default.table(),
+        tick(CASCADE_TOLERANCE_FACTOR),
+        cheap.table(),
+        phases_words(cheap),
+    );
+}
+
+/// What the sticks leave of P7's goal once the cascades are cheap, in words.
+fn phases_words(p: &Phases) -> String {
+    let of = |phase: Phase| p.evaluations_of(phase);
+    let sticks = of(Phase::InitialStick) + of(Phase::LaterSticks) + of(Phase::Recovery);
+    let goal = if sticks > P7_EVALUATIONS_GOAL {
+        format!(
+            "{}× the goal of {P7_EVALUATIONS_GOAL} on their own",
+            sig(sticks as f64 / P7_EVALUATIONS_GOAL as f64, 3)
+        )
+    } else {
+        format!(
+            "{} of the goal of {P7_EVALUATIONS_GOAL}, leaving {} for the cascades",
+            sig(sticks as f64 / P7_EVALUATIONS_GOAL as f64, 2),
+            P7_EVALUATIONS_GOAL - sticks
+        )
+    };
+    format!(
+        "With the cascade tolerance the cascades take {} evaluations ({} per node that \
+         melted) and the sticks and recoveries {} of the {} ({} before the first onset, {} \
+         after it): {goal}.",
+        of(Phase::Cascade),
+        sig(of(Phase::Cascade) as f64 / p.node_meltings.max(1) as f64, 3),
+        sticks,
+        p.evaluations(),
+        of(Phase::InitialStick),
+        of(Phase::LaterSticks) + of(Phase::Recovery),
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run whose phases took `evaluations` in the order of [`Phase::ALL`].
+    fn phases_of(evaluations: [u64; 4], node_meltings: u64) -> Phases {
+        Phases {
+            phases: Phase::ALL
+                .iter()
+                .zip(evaluations)
+                .map(|(&p, e)| {
+                    (
+                        p,
+                        phases::PhaseSums {
+                            evaluations: e,
+                            ..phases::PhaseSums::default()
+                        },
+                    )
+                })
+                .collect(),
+            node_meltings,
+            ..Phases::default()
+        }
+    }
+
+    #[test]
+    fn the_phases_words_say_what_the_sticks_leave_of_the_goal() {
+        let over = phases_words(&phases_of([20_000, 10, 8_000, 26_000], 13_500));
+        assert!(over.contains("the cascades take 20000 evaluations (1.48 per node"));
+        assert!(over.contains(
+            "recoveries 34010 of the 54010 (8000 before the first onset, 26010 after it)"
+        ));
+        assert!(
+            over.contains("1.13× the goal of 30000 on their own"),
+            "{over}"
+        );
+        let under = phases_words(&phases_of([5_000, 0, 4_000, 16_000], 10_000));
+        assert!(
+            under.contains("0.67 of the goal of 30000, leaving 10000 for the cascades"),
+            "{under}"
+        );
+        let mut m = String::new();
+        phases_section(&mut m, &[Phases::default(), Phases::default()]);
+        assert!(m.is_empty(), "no section without the phases (--quick)");
+    }
 
     #[test]
     fn onsets_pair_only_with_equal_counts() {

@@ -31,7 +31,8 @@
 //! - **P6** fig2 at N = [`T1_NODES`] with the first-order film ([`P6_SCENE`]'s b₃) against
 //!   the paper's film, whole process and per step evaluation.
 //! - **P7–P8** the SFA contact with a soft drive spring: step evaluations and meltings against
-//!   tighter-tolerance references, and the steps through one melting cycle ([`experiment`]).
+//!   tighter-tolerance references (also with the φ floors and the cascade tolerance), the
+//!   steps through one melting cycle, and P7's evaluations by phase ([`experiment`]).
 //! - **T3** loop time per step against N (fixed steps, fast and dense operators), log–log slope.
 //! - **T4** work–precision of adaptive against fixed steps at N = [`T4_NODES`], against a
 //!   same-N reference at N = [`T4_NODES`] as for P3.

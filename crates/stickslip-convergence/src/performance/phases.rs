@@ -122,6 +122,16 @@ impl Phases {
         self.phases.iter().map(|(_, s)| s.evaluations).sum()
     }
 
+    /// The evaluations of one phase.
+    #[must_use]
+    pub fn evaluations_of(&self, phase: Phase) -> u64 {
+        self.phases
+            .iter()
+            .filter(|(p, _)| *p == phase)
+            .map(|(_, s)| s.evaluations)
+            .sum()
+    }
+
     /// The table (markdown) and a line on the cascades' evaluations per node that melted.
     #[must_use]
     pub fn table(&self) -> String {

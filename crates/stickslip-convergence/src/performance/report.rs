@@ -433,6 +433,10 @@ mod tests {
             p7,
             p8,
             step_trace,
+            p7_phases: [
+                crate::performance::phases::Phases::default(),
+                crate::performance::phases::Phases::default(),
+            ],
         }
     }
 
