@@ -302,30 +302,23 @@ fn sfa_target(
     reference_tolerance: f64,
 ) -> Result<SfaTarget, String> {
     // One run of the scene with `sets` and `extra`, once on 2 threads, judged against `onsets_s`.
-    let once = |name: &str, extra: Option<String>, onsets_s: &[f64]| {
-        let mut with = sets.clone();
-        with.extend(extra);
+    let once = |name: &str, extra: &[String], onsets_s: &[f64]| {
+        let with = [sets.as_slice(), extra].concat();
         timed_scene(s, scene, name, &with, 2, 1, onsets_s)
     };
     let tolerance = time::TOLERANCE.set(reference_tolerance).to_string();
-    let reference = once(&format!("{tag}_reference"), Some(tolerance), &[])?;
+    let reference = once(&format!("{tag}_reference"), &[tolerance], &[])?;
     let onsets_s = &reference.event_values.onsets_s;
-    let run = once(tag, None, onsets_s)?;
+    let run = once(tag, &[], onsets_s)?;
     let floor = numerics::PHI_ERROR_FLOOR.set(PHI_ERROR_FLOOR).to_string();
-    let floored = once(&format!("{tag}_floored"), Some(floor), onsets_s)?;
+    let floored = once(&format!("{tag}_floored"), &[floor], onsets_s)?;
     let event_floor = numerics::EVENT_PHI_ERROR_FLOOR
         .set(EVENT_PHI_ERROR_FLOOR)
         .to_string();
-    let event_floored = once(&format!("{tag}_event_floored"), Some(event_floor), onsets_s)?;
-    let mut with = sets.clone();
-    with.extend(cascade_tolerance_sets());
-    let cascade_tolerance = timed_scene(
-        s,
-        scene,
+    let event_floored = once(&format!("{tag}_event_floored"), &[event_floor], onsets_s)?;
+    let cascade_tolerance = once(
         &format!("{tag}_cascade_tolerance"),
-        &with,
-        2,
-        1,
+        &cascade_tolerance_sets(),
         onsets_s,
     )?;
     Ok(SfaTarget {
@@ -355,11 +348,10 @@ pub fn measure(s: &BenchSettings, progress: &dyn Fn(&str)) -> Result<SfaBench, S
         [Phases::default(), Phases::default()]
     } else {
         progress("P7: its evaluations by phase, in-process, with either settings");
-        let mut with = p7.settings.clone();
-        with.extend(cascade_tolerance_sets());
+        let cheap = [p7.settings.clone(), cascade_tolerance_sets()].concat();
         [
             phases::measure(&scene, &p7.settings)?,
-            phases::measure(&scene, &with)?,
+            phases::measure(&scene, &cheap)?,
         ]
     };
     let p8_end_s = if s.quick { P8_QUICK_END_S } else { P8_END_S };
