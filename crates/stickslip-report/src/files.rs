@@ -26,14 +26,27 @@ impl ReportFiles {
     }
 
     /// Writes `text` to `name` in the directory, atomically (a reader sees the old file or
-    /// the new one, never a part).
+    /// the new one, never a part). A file that says the same but when and where it was made
+    /// ([`crate::provenance::same_but_when`]) is kept as it is: regenerating unchanged
+    /// results changes no file.
     ///
     /// # Errors
     /// The file cannot be written (the message names it).
     pub fn put(&mut self, name: &str, text: impl AsRef<[u8]>) -> Result<(), String> {
         let path = self.dir.join(name);
-        crate::write_atomic(&path, text.as_ref())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let unchanged = std::fs::read(&path).is_ok_and(|old| {
+            match (
+                std::str::from_utf8(&old),
+                std::str::from_utf8(text.as_ref()),
+            ) {
+                (Ok(old), Ok(new)) => crate::provenance::same_but_when(old, new),
+                _ => old == text.as_ref(),
+            }
+        });
+        if !unchanged {
+            crate::write_atomic(&path, text.as_ref())
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
         self.written.push(path);
         Ok(())
     }

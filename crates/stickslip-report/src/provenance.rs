@@ -61,7 +61,11 @@ pub fn host_name() -> Option<String> {
 
 impl Commit {
     /// The commit checked out in the repository at `root`; none outside a git checkout or
-    /// without git.
+    /// without git. Its hash is that of the last commit that changed anything but the
+    /// generated files (reports/, README.md): a commit that only regenerates reports makes
+    /// no new code, so a report regenerated after it names the same commit, and
+    /// `cargo xtask validate` run again leaves the tree as it was. HEAD's where the history
+    /// cannot tell (a shallow clone).
     #[must_use]
     pub fn of(root: &Path) -> Option<Self> {
         let git = |args: &[&str]| {
@@ -74,18 +78,22 @@ impl Commit {
                 .filter(|o| o.status.success())
                 .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
         };
-        let hash = git(&["rev-parse", "--short=10", "HEAD"])?;
-        // The generated files themselves (reports/, README.md's generated blocks) do not make
-        // the sources dirty: a report regenerated over an older one is the usual state.
+        // The generated files themselves (reports/, README.md's generated blocks) are not
+        // sources: neither a commit of them nor their uncommitted state changes the code.
+        let sources = ["--", ".", ":(exclude)reports", ":(exclude)README.md"];
+        let head = git(&["rev-parse", "--short=10", "HEAD"])?;
+        let hash = git(&[
+            &["log", "-1", "--format=%h", "--abbrev=10"][..],
+            &sources[..],
+        ]
+        .concat())
+        .filter(|h| h.len() == 10)
+        .unwrap_or(head);
         let dirty = git(&[
-            "status",
-            "--porcelain",
-            "--untracked-files=no",
-            "--",
-            ".",
-            ":(exclude)reports",
-            ":(exclude)README.md",
-        ])
+            &["status", "--porcelain", "--untracked-files=no"][..],
+            &sources[..],
+        ]
+        .concat())
         .is_some_and(|s| !s.is_empty());
         Some(Self {
             hash,
@@ -120,6 +128,50 @@ pub fn changed_since(root: &Path, commit: &Commit, paths: &[&str]) -> Option<Vec
             .map(str::to_string)
             .collect(),
     )
+}
+
+/// Whether two versions of a generated file say the same but when and where they were made:
+/// equal once each provenance's date and host are set aside (the markdown sentence's
+/// ` on YYYY-MM-DD` and `` (host `h`)``, a JSON record's `"date"` and `"host"` inside its
+/// `"commit"` object). The commit and its `dirty` flag count: a file from other code differs.
+/// The one report writer keeps the file it would otherwise rewrite with only these changed.
+#[must_use]
+pub fn same_but_when(old: &str, new: &str) -> bool {
+    fn normal(text: &str) -> Vec<String> {
+        let mut in_commit = false;
+        let mut out = Vec::new();
+        for line in text.lines() {
+            let t = line.trim_start();
+            if t.starts_with("\"commit\": {") {
+                in_commit = true;
+            } else if in_commit && t.starts_with('}') {
+                in_commit = false;
+            } else if in_commit && (t.starts_with("\"date\":") || t.starts_with("\"host\":")) {
+                continue;
+            }
+            let mut l = line.to_string();
+            if let Some(at) = l.find("Generated at commit `") {
+                let (head, tail) = l.split_at(at);
+                let mut tail = tail.to_string();
+                // ` on YYYY-MM-DD` right after the hash's closing backtick.
+                if let Some(close) = tail["Generated at commit `".len()..].find('`') {
+                    let after = "Generated at commit `".len() + close + 1;
+                    if tail[after..].starts_with(" on ") && tail.len() >= after + 14 {
+                        tail.replace_range(after..after + 14, "");
+                    }
+                }
+                if let Some(h) = tail.find(" (host `")
+                    && let Some(end) = tail[h + 8..].find("`)")
+                {
+                    tail.replace_range(h..h + 8 + end + 2, "");
+                }
+                l = format!("{head}{tail}");
+            }
+            out.push(l);
+        }
+        out
+    }
+    normal(old) == normal(new)
 }
 
 /// The sentence a report's first paragraph carries.
@@ -170,6 +222,57 @@ mod tests {
         // A record made before dates and hosts were kept still reads.
         let old: Commit = serde_json::from_str(r#"{"hash":"0123456789","dirty":false}"#).unwrap();
         assert_eq!((old.date, old.host), (None, None));
+    }
+
+    #[test]
+    fn files_differing_only_in_when_and_where_are_the_same() {
+        let md = |date: &str, host: &str, hash: &str, n: u32| {
+            format!(
+                "# Report\n\nGenerated at commit `{hash}` on {date} (host `{host}`).\n\n{n} runs\n"
+            )
+        };
+        let a = md("2026-12-08", "vm", "0123456789", 3);
+        assert!(same_but_when(
+            &a,
+            &md("2026-12-09", "ci-box", "0123456789", 3)
+        ));
+        assert!(
+            !same_but_when(&a, &md("2026-12-08", "vm", "abcdef0123", 3)),
+            "other code"
+        );
+        assert!(
+            !same_but_when(&a, &md("2026-12-08", "vm", "0123456789", 4)),
+            "other numbers"
+        );
+        let dirty = a.replace(
+            "(host `vm`).",
+            "(host `vm`) with uncommitted changes to tracked files.",
+        );
+        assert_ne!(dirty, a);
+        assert!(!same_but_when(&a, &dirty));
+        let json = |date: &str, host: &str, x: f64| {
+            format!(
+                "{{\n  \"commit\": {{\n    \"hash\": \"0123456789\",\n    \"dirty\": false,\n    \
+                 \"date\": \"{date}\",\n    \"host\": \"{host}\"\n  }},\n  \"host\": \"{host}\",\n  \
+                 \"x\": {x}\n}}\n"
+            )
+        };
+        assert!(same_but_when(
+            &json("2026-12-08", "vm", 1.0),
+            &json("2026-12-08", "vm", 1.0)
+        ));
+        assert!(!same_but_when(
+            &json("2026-12-08", "vm", 1.0),
+            &json("2026-12-08", "vm", 2.0)
+        ));
+        // A "host" outside the commit object is data, and counts.
+        assert!(!same_but_when(
+            &json("2026-12-08", "vm", 1.0),
+            &json("2026-12-09", "ci", 1.0)
+        ));
+        let inside_only =
+            json("2026-12-08", "vm", 1.0).replacen("\"host\": \"vm\"", "\"host\": \"ci\"", 1);
+        assert!(same_but_when(&json("2026-12-08", "vm", 1.0), &inside_only));
     }
 
     #[test]
