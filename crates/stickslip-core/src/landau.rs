@@ -608,18 +608,22 @@ pub(crate) fn bernoulli_finish(
         // One exponential per node (`vexp`, within 2 ulp of libm's): below ln 2,
         // e = 1 + expm1(−w) ≥ ½ is as accurate as exp(−w); above, 1 − e with e < ½ has no
         // cancellation.
+        // (One division per node where three would do the same: divisions dominate a
+        // node's arithmetic.)
+        let inv_s = 1.0 / s;
         if w <= std::f64::consts::LN_2 {
-            (1.0 + m_w, -m_w / s)
+            (1.0 + m_w, -m_w * inv_s)
         } else {
-            (e_w, (1.0 - e_w) / s)
+            (e_w, (1.0 - e_w) * inv_s)
         }
     } else {
         (1.0, two_gamma * t_s)
     };
+    // Growth y0·e/(1 + b·y0·h); decay 1/(e/y0 + b·h), taken as y0/(e + b·y0·h).
     let y = if c >= 0.0 {
         y0 * e / (1.0 + b * y0 * h)
     } else {
-        1.0 / (e / y0 + b * h)
+        y0 / (e + b * y0 * h)
     };
     y.sqrt()
 }
@@ -645,8 +649,9 @@ pub(crate) fn bernoulli_finish_select(
     let small = w <= std::f64::consts::LN_2;
     let normal = s.is_normal();
     let e_small = 1.0 + m_w;
-    let h_small = -m_w / s;
-    let h_large = (1.0 - e_w) / s;
+    let inv_s = 1.0 / s;
+    let h_small = -m_w * inv_s;
+    let h_large = (1.0 - e_w) * inv_s;
     let e = if !normal {
         1.0
     } else if small {
@@ -661,9 +666,12 @@ pub(crate) fn bernoulli_finish_select(
     } else {
         h_large
     };
-    let y_grow = y0 * e / (1.0 + b_pa * y0 * h);
-    let y_decay = 1.0 / (e / y0 + b_pa * h);
-    let y = if c >= 0.0 { y_grow } else { y_decay };
+    // One division: the growth's and the decay's numerators and denominators selected first.
+    let grow = c >= 0.0;
+    let bh = b_pa * y0 * h;
+    let numerator = if grow { y0 * e } else { y0 };
+    let denominator = if grow { 1.0 + bh } else { e + bh };
+    let y = numerator / denominator;
     let root = y.sqrt();
     if t_s == 0.0 || phi0 == 0.0 {
         phi0

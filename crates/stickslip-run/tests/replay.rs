@@ -6,8 +6,8 @@
 //! fig2's film at N = 100 over its first ten meltings (1.3 ms, the fit study's set A), and
 //! the h0 = 1 nm contact through its first meltings: a replay of the same scene is its run
 //! bit for bit; a replay that runs out goes on with error-controlled steps; the replayed
-//! difference does not depend on its step over two decades (the plain one does: that is
-//! the jitter); and where central differences at a 10⁵ times tighter tolerance agree among
+//! difference hardly depends on its step over two decades at a typical point (the plain one
+//! does: that is the jitter); and where central differences at a 10⁵ times tighter tolerance agree among
 //! themselves, the replayed derivative agrees with them to 1e-4 of the column's norm.
 
 use crate::common;
@@ -184,20 +184,45 @@ fn quotient(a: &[f64], b: &[f64], over: f64) -> Vec<f64> {
 /// difference of step `d` at `tolerance`, the moved run replaying the base run's steps or
 /// (`replay` false) stepping on its own.
 fn forward(key: &str, value: f64, tolerance: f64, d: f64, replay: bool) -> Vec<f64> {
-    let t = samples();
-    let (base, plan) = recorded(&set_a_at(key, value, tolerance));
+    forward_from(
+        &recorded(&set_a_at(key, value, tolerance)),
+        key,
+        value,
+        tolerance,
+        (d, replay),
+    )
+}
+
+/// [`forward`] from the base run already `recorded` at `value`.
+fn forward_from(
+    (base, plan): &(Trace, Vec<PlannedStep>),
+    key: &str,
+    value: f64,
+    tolerance: f64,
+    (d, replay): (f64, bool),
+) -> Vec<f64> {
     let scene = set_a_at(key, value * (1.0 + d), tolerance);
     let moved = if replay {
-        replayed(&scene, &plan)
+        replayed(&scene, plan)
     } else {
         run(&scene, None).0
     };
-    quotient(&moved.at(&t), &base.at(&t), d)
+    quotient(&moved.at(&samples()), &base.at(&samples()), d)
 }
 
-/// τmax's column by [`forward`].
-fn tau_difference(tolerance: f64, d: f64, replay: bool) -> Vec<f64> {
-    forward("lubricant.tau_max", 1.15e6, tolerance, d, replay)
+/// At τmax = `tau_max` and the fit's tolerance, the distances (relative to its norm) from the
+/// replayed difference at the fit's step, 1e-6 of the value, to the replayed ones at 1e-5
+/// and 1e-7, and to the plain one at 1e-6.
+fn step_distances(tau_max: f64) -> ([f64; 2], f64) {
+    let (key, tol) = ("lubricant.tau_max", 5e-7);
+    let base = recorded(&set_a_at(key, tau_max, tol));
+    let difference = |d: f64, replay: bool| forward_from(&base, key, tau_max, tol, (d, replay));
+    let at_fit = difference(1e-6, true);
+    let distance = |d: f64, replay: bool| relative_distance(&difference(d, replay), &at_fit);
+    (
+        [distance(1e-5, true), distance(1e-7, true)],
+        distance(1e-6, false),
+    )
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -209,26 +234,57 @@ fn relative_distance(a: &[f64], b: &[f64]) -> f64 {
     norm(&d) / norm(b)
 }
 
+/// The middle of `values` (the mean of the middle two for an even count).
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    0.5 * (values[(n - 1) / 2] + values[n / 2])
+}
+
 #[test]
 fn a_replayed_difference_does_not_depend_on_its_step() {
-    // The fit's tolerance (the scene's / 100).
-    let tol = 5e-7;
     // Over two decades around the fit's step (1e-6 of the value) the replayed difference is
-    // the derivative to 5e-5 (measured: 5.2e-5 and 1.4e-5). Beyond them it is not: at 1e-4
-    // it spans melting times that cross step boundaries (1.3e-3 off), and at 1e-8 the
-    // rounding of the steps' sums shows (3e-4 off).
-    let at_fit = tau_difference(tol, 1e-6, true);
-    for d in [1e-5, 1e-7] {
-        let dist = relative_distance(&tau_difference(tol, d, true), &at_fit);
-        assert!(
-            dist < 1e-4,
-            "replayed differences at {d:e} and 1e-6 differ by {dist:.2e}"
+    // the derivative to 1e-4 of the column's norm at a typical point, not at every one: a
+    // node melting that the moved run puts in another step shifts it (and at 1e-4 melting
+    // times cross step boundaries everywhere: 1.3e-3 off; at 1e-8 the rounding of the steps'
+    // sums shows: 3e-4 off). At twelve values of τmax from 1.138e6 to 1.160e6 Pa
+    // (`replayed_difference_steps_scan` below) it was within 1e-4 at 1e-7 at 10 of them, at
+    // 1e-5 at 7, the largest distance 7.7e-4. The code before the node passes' divisions
+    // became multiplications by reciprocals (the same values to their last bits) gave 11 and
+    // 5, the largest 0.036: within at τmax = 1.15e6, which this test took alone until the
+    // new bits put it among the points beyond. Hence the median over five points.
+    let mut replayed = Vec::new();
+    let mut plain = Vec::new();
+    for k in 0..5 {
+        let (at, jitter) = step_distances(1.15e6 * (1.0 + 0.00346 * (f64::from(k) - 2.0)));
+        replayed.extend(at);
+        plain.push(jitter);
+    }
+    let (replayed, plain) = (median(replayed), median(plain));
+    assert!(
+        replayed < 1e-4,
+        "replayed differences at 1e-5 and 1e-7 lie a median {replayed:.2e} from 1e-6's"
+    );
+    // The plain difference at 1e-6 is the controller's jitter over the step.
+    assert!(
+        plain > 0.1,
+        "the plain difference is a median {plain:.2e} away"
+    );
+}
+
+/// The scan behind the test above's figures: `cargo test --release -p stickslip-run --test
+/// integration replayed_difference_steps_scan -- --ignored --nocapture`.
+#[test]
+#[ignore = "a study (about a minute), not a check"]
+fn replayed_difference_steps_scan() {
+    for k in 0..12 {
+        let tau_max = 1.15e6 * (1.0 + 0.00173 * (f64::from(k) - 6.0));
+        let ([at_1e5, at_1e7], plain) = step_distances(tau_max);
+        eprintln!(
+            "τmax {tau_max:.7e} Pa: replayed at 1e-5 {at_1e5:.2e}, at 1e-7 {at_1e7:.2e}; plain \
+             {plain:.2e}"
         );
     }
-    // The plain difference at 1e-6 is the controller's jitter over the step.
-    let plain = tau_difference(tol, 1e-6, false);
-    let dist = relative_distance(&plain, &at_fit);
-    assert!(dist > 0.1, "the plain difference is within {dist:.2e}");
 }
 
 /// The same derivative by plain central differences of step `d` at `tolerance`.

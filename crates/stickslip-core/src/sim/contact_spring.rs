@@ -14,7 +14,7 @@
 
 use super::coupling::{CouplingSolver, CouplingTolerance};
 use super::problem::{Contact, Problem};
-use crate::config::Substrate;
+use crate::config::{ContactModel, SimConfig, Substrate};
 use crate::preflight::ContactSpring;
 
 impl Problem {
@@ -112,22 +112,10 @@ impl Problem {
         let Contact::Radial(ops) = &self.contact else {
             return Some(linear);
         };
-        let n = self.nodes();
-        if n > FOLD_NODES {
-            // The fold's sweeps on a fine grid would cost a run's start-up several times over:
-            // the same contact on the accurate scheme's graded grid of FOLD_NODES nodes, whose
-            // first onset is within 1e-3 of converged for thin films (docs/model.md, "The
-            // radial grid"), gives it well within the estimate's accuracy.
-            let mut coarse = self.config.clone();
-            coarse.contact.nodes = FOLD_NODES;
-            coarse.contact.grid = crate::grid::Grading::Edge { power: 3.0 };
-            coarse.time.scheme = crate::config::Scheme::Accurate;
-            coarse.numerics.operator = None;
-            return Problem::new(coarse)
-                .ok()
-                .and_then(|p| p.onset_spring())
-                .or(Some(linear));
+        if let Some(fold) = self.coarse_fold {
+            return fold.or(Some(linear));
         }
+        let n = self.nodes();
         let phi0_sq = l.solid_phi(0.0, a_coeff).powi(2);
         let kappa = self.kappa;
         let rho0 = self.rho0;
@@ -203,6 +191,29 @@ impl Problem {
             x_melt_m: lo,
             f_melt_n: f_lo,
         })
+    }
+
+    /// Whether the fold estimate of `config`'s contact is solved on its coarse copy
+    /// ([`Self::coarse_fold`]): an elastic radial contact of more than [`FOLD_NODES`] nodes.
+    pub(super) fn solves_coarse_fold(config: &SimConfig) -> bool {
+        config.contact.model == ContactModel::Radial
+            && config.contact.substrate == Substrate::Elastic
+            && config.simulated_nodes() > FOLD_NODES
+    }
+
+    /// The fold estimate of `config`'s contact on a coarse copy: the fold's sweeps on a fine grid
+    /// would cost a run's start-up several times over, and the same contact on the accurate
+    /// scheme's graded grid of [`FOLD_NODES`] nodes, whose first onset is within 1e-3 of converged
+    /// for thin films (docs/model.md, "The radial grid"), gives it well within the estimate's
+    /// accuracy. `None` where the copy has no fold estimate (the caller falls back on the linear
+    /// spring).
+    pub(super) fn coarse_fold(config: &SimConfig) -> Option<ContactSpring> {
+        let mut coarse = config.clone();
+        coarse.contact.nodes = FOLD_NODES;
+        coarse.contact.grid = crate::grid::Grading::Edge { power: 3.0 };
+        coarse.time.scheme = crate::config::Scheme::Accurate;
+        coarse.numerics.operator = None;
+        Self::new(coarse).ok().and_then(|p| p.onset_spring())
     }
 
     /// φ² at t = 0, against which ρ0 was computed.

@@ -56,14 +56,18 @@ pub fn defect_weights_from(z: f64, (e, m): (f64, f64)) -> (f64, f64) {
     }
     if z.abs() < 0.01 {
         // w0 = Σ (−z)^k/(k!(k+2)), w1 = Σ (−z)^k/(k+2)!
-        let w0 = 0.5 - z / 3.0 + z * z / 8.0 - z * z * z / 30.0;
-        let w1 = 0.5 - z / 6.0 + z * z / 24.0 - z * z * z / 120.0;
+        // (Constant reciprocals multiplied, not divided by: divisions dominate a node's
+        // arithmetic.)
+        let w0 = 0.5 - z * (1.0 / 3.0) + z * z * (1.0 / 8.0) - z * z * z * (1.0 / 30.0);
+        let w1 = 0.5 - z * (1.0 / 6.0) + z * z * (1.0 / 24.0) - z * z * z * (1.0 / 120.0);
         return (w0, w1);
     }
     // 1 − e^(−z) directly where it does not cancel, expm1 where it would.
     let one_minus_e = if z.abs() > 0.5 { 1.0 - e } else { -m };
-    let w0 = (one_minus_e - z * e) / (z * z);
-    let w1 = (z - one_minus_e) / (z * z);
+    let inv = 1.0 / z;
+    let inv_sq = inv * inv;
+    let w0 = (one_minus_e - z * e) * inv_sq;
+    let w1 = (z - one_minus_e) * inv_sq;
     (w0, w1)
 }
 
@@ -76,11 +80,12 @@ pub fn defect_weights_select(z: f64, (e, m): (f64, f64)) -> (f64, f64) {
     let inv = 1.0 / z;
     let stiff = (inv * inv, (z - 1.0) * inv * inv);
     let small = (
-        0.5 - z / 3.0 + z * z / 8.0 - z * z * z / 30.0,
-        0.5 - z / 6.0 + z * z / 24.0 - z * z * z / 120.0,
+        0.5 - z * (1.0 / 3.0) + z * z * (1.0 / 8.0) - z * z * z * (1.0 / 30.0),
+        0.5 - z * (1.0 / 6.0) + z * z * (1.0 / 24.0) - z * z * z * (1.0 / 120.0),
     );
     let one_minus_e = if z.abs() > 0.5 { 1.0 - e } else { -m };
-    let mid = ((one_minus_e - z * e) / (z * z), (z - one_minus_e) / (z * z));
+    let inv_sq = inv * inv;
+    let mid = ((one_minus_e - z * e) * inv_sq, (z - one_minus_e) * inv_sq);
     let (is_stiff, is_small) = (z > STIFF_Z, z.abs() < 0.01);
     let pick = |s: f64, sm: f64, md: f64| {
         if is_stiff {

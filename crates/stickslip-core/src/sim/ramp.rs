@@ -53,9 +53,10 @@ const Z_GROW: f64 = 40.0;
 /// m0, m1, m2 of z (|z| ≥ [`SERIES_Z`]) given E = e^(−z).
 #[inline(always)]
 fn moments_closed(z: f64, e: f64) -> (f64, f64, f64) {
-    let m0 = (1.0 - e) / z;
-    let m1 = (z - 1.0 + e) / (z * z);
-    let m2 = (z * z - 2.0 * z + 2.0 - 2.0 * e) / (z * z * z);
+    let iz = 1.0 / z;
+    let m0 = (1.0 - e) * iz;
+    let m1 = (z - 1.0 + e) * (iz * iz);
+    let m2 = (z * z - 2.0 * z + 2.0 - 2.0 * e) * (iz * iz * iz);
     (m0, m1, m2)
 }
 
@@ -112,7 +113,8 @@ pub fn correction<const SERIES: bool>(
     let (m0, m1, m2) = moments_closed(z, e);
     let mm1 = m1 - theta * m0;
     let mm2 = m2 - 2.0 * theta * m1 + theta * theta * m0;
-    let (q1c, q2c) = ((e * p1 - mm1) / z, (e * p2 - mm2) / z);
+    let iz = 1.0 / z;
+    let (q1c, q2c) = ((e * p1 - mm1) * iz, (e * p2 - mm2) * iz);
     let (q1, q2) = if SERIES {
         let sums = series_sums(z);
         let d = 1.0 - theta;
@@ -219,6 +221,7 @@ impl RampPass<'_> {
     #[inline(always)]
     fn pass<const SERIES: bool>(self) {
         let (a_pa, _, _) = self.coefficients;
+        let inv_h0 = 1.0 / self.h0_m;
         let nodes = self
             .phi0
             .iter()
@@ -234,7 +237,7 @@ impl RampPass<'_> {
             } else {
                 0.0
             };
-            let delta = (du0 - du3d) / self.h0_m;
+            let delta = (du0 - du3d) * inv_h0;
             let c_eff = a_pa * eps_eff * eps_eff - self.c_shift_pa;
             let uf = 1.0 / (frozen * frozen);
             let v = correction::<SERIES>(
@@ -247,10 +250,11 @@ impl RampPass<'_> {
             );
             let u1 = uf + v;
             let applied = v.abs() <= CORRECTION_MAX * uf && u1.is_finite();
-            let r = v / u1;
+            let inv_u1 = 1.0 / u1;
+            let r = v * inv_u1;
             let valid = !(phi0 <= 0.0 || frozen <= 0.0);
             *phi1 = if valid && applied {
-                (1.0 / u1).sqrt()
+                inv_u1.sqrt()
             } else {
                 frozen
             };
