@@ -270,9 +270,9 @@ fn t2_section(m: &mut String, p: &Performance) {
             sig(target_us, 2)
         )
     } else if elastic > target_us {
-        "Without the coupling a step fits the target, so fewer transforms per step (a \
+        "Without the coupling a step fits the time goal, so fewer transforms per step (a \
          preconditioner for the BiCGSTAB iterations that remain, a cheaper check of the guess) \
-         would reach it."
+         would meet that goal."
             .to_string()
     } else {
         "On the window, a step fits the target.".to_string()
@@ -287,6 +287,10 @@ fn t2_section(m: &mut String, p: &Performance) {
                 sig(1e6 * r.wall_s / r.steps.max(1) as f64, 3),
                 sig(p.full_resolution_s / r.wall_s, 3),
                 tick(super::P2_RATIO_GOAL)
+            ) + &p2_floor_words(
+                1e6 * r.wall_s / r.steps.max(1) as f64,
+                p.roofline.two_applies.median_us,
+                super::P2_RATIO_GOAL,
             )
         },
     );
@@ -325,9 +329,56 @@ fn t2_section(m: &mut String, p: &Performance) {
     );
 }
 
+/// P2's floor while every step checks its guess of u3D with one compliance: the rigid step
+/// (`rigid_us`, µs) plus one compliance and no iteration, split perfectly over the two cores
+/// (half the roofline's `two_applies_us` on one thread), against the ratio `goal`.
+fn p2_floor_words(rigid_us: f64, two_applies_us: f64, goal: f64) -> String {
+    let one_compliance_us = 0.5 * two_applies_us;
+    let floor = (rigid_us + one_compliance_us) / rigid_us;
+    let reach = if floor > goal {
+        format!(
+            "above the goal of {}×: fewer iterations cannot reach it, only a step that checks \
+             its guess with less than one compliance, or a compliance cheaper than its two \
+             transforms",
+            tick(goal)
+        )
+    } else {
+        format!(
+            "within the goal of {}×: fewer iterations alone can reach it",
+            tick(goal)
+        )
+    };
+    format!(
+        " Its floor in this design: with one compliance per step and no iteration, split \
+         perfectly over the two cores (half the roofline's two applies, {} µs), a step costs at \
+         least {} µs, elastic / rigid ≥ {}×, {reach}.",
+        sig(one_compliance_us, 3),
+        sig(rigid_us + one_compliance_us, 3),
+        sig(floor, 3)
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn p2_floor_words_say_whether_one_compliance_per_step_fits_the_goal() {
+        // Rigid 43.6 µs, two applies 39.9 µs: (43.6 + 19.95)/43.6 = 1.46 > 1.3.
+        let above = p2_floor_words(43.6, 39.9, 1.3);
+        assert!(above.contains("≥ 1.46×"), "{above}");
+        assert!(
+            above.contains("fewer iterations cannot reach it"),
+            "{above}"
+        );
+        // A compliance a tenth of the rigid step: (43.6 + 4.36)/43.6 = 1.1.
+        let within = p2_floor_words(43.6, 8.72, 1.3);
+        assert!(within.contains("≥ 1.10×"), "{within}");
+        assert!(
+            within.contains("fewer iterations alone can reach it"),
+            "{within}"
+        );
+    }
     use crate::performance::experiment::{SfaBench, SfaTarget};
     use crate::performance::step_trace::{StepTrace, TraceRow};
     use crate::performance::sweep::{SweepBench, SweepRun};
