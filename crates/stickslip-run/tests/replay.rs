@@ -207,7 +207,8 @@ fn forward_from(
     } else {
         run(&scene, None).0
     };
-    quotient(&moved.at(&samples()), &base.at(&samples()), d)
+    let t = samples();
+    quotient(&moved.at(&t), &base.at(&t), d)
 }
 
 /// At τmax = `tau_max` and the fit's tolerance, the distances (relative to its norm) from the

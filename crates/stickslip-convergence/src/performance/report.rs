@@ -280,15 +280,16 @@ fn t2_section(m: &mut String, p: &Performance) {
     let ratio = p.rigid_full.as_ref().map_or_else(
         || "The rigid substrate was not run in full (T2 was extrapolated).".to_string(),
         |r| {
+            let rigid_step_us = 1e6 * r.wall_s / r.steps.max(1) as f64;
             format!(
                 "The whole run with a rigid substrate takes {} s ({} µs per step): elastic / \
                  rigid = {}× against the goal of ≤ {}×.",
                 sig(r.wall_s, 3),
-                sig(1e6 * r.wall_s / r.steps.max(1) as f64, 3),
+                sig(rigid_step_us, 3),
                 sig(p.full_resolution_s / r.wall_s, 3),
                 tick(super::P2_RATIO_GOAL)
             ) + &p2_floor_words(
-                1e6 * r.wall_s / r.steps.max(1) as f64,
+                rigid_step_us,
                 p.roofline.two_applies.median_us,
                 super::P2_RATIO_GOAL,
             )
@@ -362,23 +363,6 @@ fn p2_floor_words(rigid_us: f64, two_applies_us: f64, goal: f64) -> String {
 mod tests {
     use super::*;
 
-    #[test]
-    fn p2_floor_words_say_whether_one_compliance_per_step_fits_the_goal() {
-        // Rigid 43.6 µs, two applies 39.9 µs: (43.6 + 19.95)/43.6 = 1.46 > 1.3.
-        let above = p2_floor_words(43.6, 39.9, 1.3);
-        assert!(above.contains("≥ 1.46×"), "{above}");
-        assert!(
-            above.contains("fewer iterations cannot reach it"),
-            "{above}"
-        );
-        // A compliance a tenth of the rigid step: (43.6 + 4.36)/43.6 = 1.1.
-        let within = p2_floor_words(43.6, 8.72, 1.3);
-        assert!(within.contains("≥ 1.10×"), "{within}");
-        assert!(
-            within.contains("fewer iterations alone can reach it"),
-            "{within}"
-        );
-    }
     use crate::performance::experiment::{SfaBench, SfaTarget};
     use crate::performance::step_trace::{StepTrace, TraceRow};
     use crate::performance::sweep::{SweepBench, SweepRun};
@@ -731,5 +715,23 @@ mod tests {
         assert!(cost_figure(&p).is_ok() && wp_figure(&p).is_ok());
         let svg = crate::performance::step_trace::trace_figure(&p.sfa.step_trace);
         assert!(svg.is_ok_and(|s| s.contains("limited by φ")));
+    }
+
+    #[test]
+    fn p2_floor_words_say_whether_one_compliance_per_step_fits_the_goal() {
+        // Rigid 43.6 µs, two applies 39.9 µs: (43.6 + 19.95)/43.6 = 1.46 > 1.3.
+        let above = p2_floor_words(43.6, 39.9, 1.3);
+        assert!(above.contains("≥ 1.46×"), "{above}");
+        assert!(
+            above.contains("fewer iterations cannot reach it"),
+            "{above}"
+        );
+        // A compliance a tenth of the rigid step: (43.6 + 4.36)/43.6 = 1.1.
+        let within = p2_floor_words(43.6, 8.72, 1.3);
+        assert!(within.contains("≥ 1.10×"), "{within}");
+        assert!(
+            within.contains("fewer iterations alone can reach it"),
+            "{within}"
+        );
     }
 }

@@ -50,10 +50,9 @@ const fn series_tables() -> [[f64; SERIES_TERMS]; 3] {
 /// v = h·ū(h)·I0 without forming E.
 const Z_GROW: f64 = 40.0;
 
-/// m0, m1, m2 of z (|z| ≥ [`SERIES_Z`]) given E = e^(−z).
+/// m0, m1, m2 of z (|z| ≥ [`SERIES_Z`]) given 1/z and E = e^(−z).
 #[inline(always)]
-fn moments_closed(z: f64, e: f64) -> (f64, f64, f64) {
-    let iz = 1.0 / z;
+fn moments_closed(z: f64, iz: f64, e: f64) -> (f64, f64, f64) {
     let m0 = (1.0 - e) * iz;
     let m1 = (z - 1.0 + e) * (iz * iz);
     let m2 = (z * z - 2.0 * z + 2.0 - 2.0 * e) * (iz * iz * iz);
@@ -110,10 +109,11 @@ pub fn correction<const SERIES: bool>(
     let z = -two_gamma * c_eff * h_s;
     let grow = h_s * u_frozen * i0;
     let e = if c_eff <= 0.0 { e_w } else { 1.0 / e_w };
-    let (m0, m1, m2) = moments_closed(z, e);
+    // One division for the moments and Q's closed forms.
+    let iz = 1.0 / z;
+    let (m0, m1, m2) = moments_closed(z, iz, e);
     let mm1 = m1 - theta * m0;
     let mm2 = m2 - 2.0 * theta * m1 + theta * theta * m0;
-    let iz = 1.0 / z;
     let (q1c, q2c) = ((e * p1 - mm1) * iz, (e * p2 - mm2) * iz);
     let (q1, q2) = if SERIES {
         let sums = series_sums(z);
@@ -360,7 +360,7 @@ mod tests {
     fn series_and_closed_forms_agree_at_the_switch() {
         for z in [-SERIES_Z, SERIES_Z] {
             let e = (-z).exp();
-            let (m0, m1, m2) = moments_closed(z, e);
+            let (m0, m1, m2) = moments_closed(z, 1.0 / z, e);
             let theta = 0.7;
             let p1 = 0.5 - theta;
             let closed = (e * p1 - (m1 - theta * m0)) / z;
